@@ -1,0 +1,39 @@
+#pragma once
+// The pole survey (SPEC §3.5): `poles.csv` with header `id,role,lat,lon,h` (WGS84 degrees,
+// ellipsoidal metres) or `id,role,E,N,U` (site ENU metres). Role `control` poles may serve as
+// calibration points (seed 002's Tsai baseline used them); `check` poles only ever serve the
+// intersection check, never calibration.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "config/mission_config.hpp"
+
+namespace rangecal {
+
+enum class PoleRole { control, check };
+const char* to_string(PoleRole r);
+
+struct SurveyedPole {
+  std::string id;
+  PoleRole role = PoleRole::check;
+  Eigen::Vector3d enu = Eigen::Vector3d::Zero();  ///< pole top, site ENU (m)
+  long line = 0;                                  ///< line in the survey file, for messages
+};
+
+/// Reads a pole survey; geodetic rows are converted to site ENU about `origin`. Throws
+/// rangecal::Error (input) naming file, line and field: unknown header, bad number, latitude out
+/// of range, unknown role, duplicate id, no poles.
+std::vector<SurveyedPole> read_pole_survey(const std::string& path, const GeodeticOrigin& origin);
+
+/// A pole-top pixel picked in one camera's images (SPEC §3.5 `<cam>/poles_px.csv`: `id,u,v`).
+struct PolePick {
+  std::string id;
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+  long line = 0;
+};
+
+/// Reads `id,u,v`; errors name file, line and field (bad number, duplicate id).
+std::vector<PolePick> read_pole_picks(const std::string& path);
+
+}  // namespace rangecal

@@ -1,0 +1,37 @@
+#pragma once
+// Each CLI subcommand lives in its own pipeline/<name>_command.cpp and registers itself on the
+// CLI11 app through one of these functions (called from cli.cpp). A subcommand's callback throws
+// rangecal::Error for user-caused failures; run_cli maps the error kind to the exit code.
+#include <CLI/CLI.hpp>
+
+namespace rangecal {
+
+struct CliContext {
+  bool quiet = false;    ///< --quiet: print only errors
+  bool verbose = false;  ///< --verbose: print more detail
+};
+
+void add_gnss_command(CLI::App& app, const CliContext& ctx);
+/// `rangecal align CONFIG` and `rangecal detect CONFIG` (pipeline/stage_command.cpp).
+void add_align_command(CLI::App& app, const CliContext& ctx);
+void add_detect_command(CLI::App& app, const CliContext& ctx);
+/// `rangecal calibrate CONFIG` (pipeline/stage_command.cpp).
+void add_calibrate_command(CLI::App& app, const CliContext& ctx);
+/// `rangecal run CONFIG`: every stage (pipeline/stage_command.cpp).
+void add_run_command(CLI::App& app, const CliContext& ctx);
+
+}  // namespace rangecal
+
+namespace rangecal {
+
+/// `rangecal simulate SCENARIO.json --out DIR` (SPEC §8; pipeline/simulate_command.cpp).
+void add_simulate_command(CLI::App& app, const CliContext& ctx);
+
+}  // namespace rangecal
+
+namespace rangecal {
+
+/// `rangecal project --calibration CAL.json --points PTS.csv` (SPEC §6; pipeline/project_command.cpp).
+void add_project_command(CLI::App& app, const CliContext& ctx);
+
+}  // namespace rangecal

@@ -1,0 +1,122 @@
+// Lever arm: hand-checked cases, the vertical form, a randomized round trip, total station.
+#include "gnss/lever_arm.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <random>
+
+#include "config/error.hpp"
+#include "gnss/attitude.hpp"
+
+namespace rangecal {
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+const Eigen::Vector3d kAntenna(12.0, -3.0, 40.0);
+
+TEST(LeverArm, Yaw90TurnsAForwardLeverEast) {
+  const Eigen::Vector3d lamp = lamp_enu_full(kAntenna, rotation_nb({0, 0, 90}), {1.0, 0, 0});
+  EXPECT_LT((lamp - (kAntenna + Eigen::Vector3d(1, 0, 0))).norm(), 1e-12);
+  // Yaw 0: forward is north.
+  EXPECT_LT(
+      (lamp_enu_full(kAntenna, rotation_nb({0, 0, 0}), {1.0, 0, 0}) - kAntenna - Eigen::Vector3d(0, 1, 0))
+          .norm(),
+      1e-12);
+}
+
+TEST(LeverArm, Roll90TurnsARightLeverDown) {
+  const Eigen::Vector3d lamp = lamp_enu_full(kAntenna, rotation_nb({90, 0, 0}), {0, 1.0, 0});
+  EXPECT_LT((lamp - (kAntenna + Eigen::Vector3d(0, 0, -1))).norm(), 1e-12);
+}
+
+TEST(LeverArm, Pitch90TurnsAForwardLeverUp) {
+  const Eigen::Vector3d lamp = lamp_enu_full(kAntenna, rotation_nb({0, 90, 0}), {1.0, 0, 0});
+  EXPECT_LT((lamp - (kAntenna + Eigen::Vector3d(0, 0, 1))).norm(), 1e-12);
+}
+
+TEST(LeverArm, VerticalFormEqualsFullFormAtZeroTilt) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> yaw(-180, 180), d(0.05, 0.6);
+  for (int i = 0; i < 50; ++i) {
+    const double v = d(rng);
+    const Eigen::Matrix3d R = rotation_nb({0, 0, yaw(rng)});
+    EXPECT_LT((lamp_enu_full(kAntenna, R, {0, 0, v}) - lamp_enu_vertical(kAntenna, v)).norm(), 1e-12);
+    EXPECT_LT(vertical_form_error_m(R, v), 1e-12);
+  }
+  EXPECT_DOUBLE_EQ(lamp_enu_vertical(kAntenna, 0.25)[2], 39.75);
+}
+
+TEST(LeverArm, VerticalFormErrorGrowsWithTilt) {
+  // |R·(0,0,d) − (0,0,d)| = d·2·sin(tilt/2); roll 10°, d = 0.25 m → 43.6 mm.
+  const double err = vertical_form_error_m(rotation_nb({10, 0, 30}), 0.25);
+  EXPECT_NEAR(err, 0.25 * 2 * std::sin(5 * kDeg), 1e-12);
+  const Attitude a{7, -4, 123};
+  const Eigen::Matrix3d R = rotation_nb(a);
+  EXPECT_NEAR(vertical_form_error_m(R, 0.3),
+              (lamp_enu_full(kAntenna, R, {0, 0, 0.3}) - lamp_enu_vertical(kAntenna, 0.3)).norm(), 1e-12);
+}
+
+TEST(LeverArm, RandomizedRoundTripAgainstAngleAxis) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 500; ++i) {
+    const Attitude a{u(rng) * 180, u(rng) * 89, u(rng) * 180};
+    const Eigen::Vector3d lever(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d ant(u(rng) * 1000, u(rng) * 1000, u(rng) * 100);
+    const Eigen::Matrix3d R = rotation_nb(a);
+    const Eigen::Vector3d lamp = lamp_enu_full(ant, R, lever);
+    // Independent construction of R_nb from Eigen's axis-angle rotations.
+    const Eigen::Matrix3d Re = (Eigen::AngleAxisd(a.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                                Eigen::AngleAxisd(a.pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
+                                Eigen::AngleAxisd(a.roll_deg * kDeg, Eigen::Vector3d::UnitX()))
+                                   .toRotationMatrix();
+    EXPECT_LT((R - Re).norm(), 1e-12);
+    // Back: lever = R_nbᵀ · NED(lamp − antenna); the distance is the lever's length.
+    EXPECT_LT((R.transpose() * enu_to_ned(lamp - ant) - lever).norm(), 1e-9);
+    EXPECT_NEAR((lamp - ant).norm(), lever.norm(), 1e-9);
+  }
+}
+
+TEST(TotalStation, MeanAndSampleSdOverSessions) {
+  const TotalStationOffset t = parse_total_station_csv(
+      "session,target,E,N,U\n"
+      "s1,antenna,1.0,2.0,10.300\n"
+      "s1,lamp,1.0,2.0,10.050\n"
+      "s2,lamp,5.0,6.0,20.000\n"
+      "s2,antenna,5.0,6.0,20.252\n"
+      "s3,antenna,0,0,-1.000\n"
+      "s3,lamp,0,0,-1.248\n",
+      "lever.csv");
+  ASSERT_EQ(t.sessions.size(), 3u);
+  EXPECT_EQ(t.sessions[1], "s2");
+  EXPECT_NEAR(t.per_session_m[0], 0.250, 1e-12);
+  EXPECT_NEAR(t.per_session_m[1], 0.252, 1e-12);
+  EXPECT_NEAR(t.per_session_m[2], 0.248, 1e-12);
+  EXPECT_NEAR(t.vertical_m, 0.250, 1e-12);
+  EXPECT_NEAR(t.sd_m, 0.002, 1e-12);  // sqrt((0 + 0.002² + 0.002²) / 2)
+}
+
+void expect_bad(const std::string& body, long line, const std::string& field) {
+  try {
+    parse_total_station_csv("session,target,E,N,U\n" + body, "lever.csv");
+    ADD_FAILURE() << "no error for " << body;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::input);
+    EXPECT_EQ(e.file(), "lever.csv");
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(e.field(), field) << e.what();
+  }
+}
+
+TEST(TotalStation, BadInput) {
+  expect_bad("s1,antenna,0,0,1\ns1,lens,0,0,0\n", 3, "target");
+  expect_bad("s1,antenna,0,0,1\ns1,antenna,0,0,0\n", 3, "target");
+  expect_bad("s1,antenna,0,0,1\ns1,lamp,0,0,0\ns2,antenna,0,0,1\n", 4, "target");
+  expect_bad("s1,antenna,0,0,1\ns1,lamp,0,0,x\n", 3, "U");
+  expect_bad("", 1, "session");
+}
+
+}  // namespace
+}  // namespace rangecal

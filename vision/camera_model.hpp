@@ -1,0 +1,170 @@
+#pragma once
+// Tsai's camera model as rangecal uses it (SPEC §2; seed 002 eqs. 6–7; Tsai 1987), with the
+// richer additive distortion terms of seed 000 eq. 7.
+//
+// Frames and units:
+//   world   ENU metres (x east, y north, z up);  Xc = R·Xw + T,  camera centre C = −Rᵀ·T.
+//   camera  x right, y down, z along the optical axis (metres).
+//   sensor  millimetres on the image plane, about the principal point, x right, y down.
+//   pixels  (u, v), u right, v down, centre of the top-left pixel is (0, 0).
+//
+// Projection (world → pixel):
+//   xu = f·Xc/Zc,  yu = f·Yc/Zc                        (undistorted sensor mm; seed 002 eq. 6)
+//   (xu, yu) = (xd, yd) + Δ(xd, yd)                    (distortion maps distorted → undistorted)
+//   Δx = xd·(k1 r² + k2 r⁴ + k3 r⁶) + p1 (r² + 2 xd²) + 2 p2 xd yd
+//   Δy = yd·(k1 r² + k2 r⁴ + k3 r⁶) + p2 (r² + 2 yd²) + 2 p1 xd yd + a1 xd + a2 yd
+//                                                      (seed 000 eq. 7; r² = xd² + yd², mm²)
+//   u = u0 + sx·xd/dx,  v = v0 + yd/dy                 (dx, dy pixel pitch in mm)
+// With only k1 this is exactly seed 002 eq. 7 / Tsai's model. `project` inverts the distortion
+// by Newton's method to < 1e-6 px; the templated form works with Ceres Jets (autodiff).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace rangecal {
+
+/// Distortion coefficients, distorted → undistorted, sensor mm (k1 in mm⁻², k2 mm⁻⁴, k3 mm⁻⁶,
+/// p1 p2 in mm⁻¹, a1 a2 dimensionless). Array order is kDistortionNames.
+struct Distortion {
+  double k1 = 0, k2 = 0, k3 = 0, p1 = 0, p2 = 0, a1 = 0, a2 = 0;
+  std::array<double, 7> as_array() const { return {k1, k2, k3, p1, p2, a1, a2}; }
+  static Distortion from_array(const double* a) { return {a[0], a[1], a[2], a[3], a[4], a[5], a[6]}; }
+};
+inline constexpr std::array<const char*, 7> kDistortionNames = {"k1", "k2", "k3", "p1", "p2", "a1", "a2"};
+
+/// Intrinsic parameters. f in mm, principal point in px, pixel pitch in mm.
+struct CameraIntrinsics {
+  int width_px = 0;
+  int height_px = 0;
+  double dx_mm = 0;  ///< horizontal pixel pitch (mm)
+  double dy_mm = 0;  ///< vertical pixel pitch (mm)
+  double f_mm = 0;   ///< effective focal length (mm)
+  double sx = 1;     ///< horizontal scale factor (Tsai's sx)
+  double u0_px = 0;  ///< principal point (px)
+  double v0_px = 0;
+  Distortion dist;
+};
+
+/// Exterior orientation: R rotates world (ENU) into camera axes; Xc = R·Xw + T (metres).
+struct CameraPose {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d T = Eigen::Vector3d::Zero();
+  /// Camera centre in world coordinates: C = −Rᵀ·T.
+  Eigen::Vector3d center() const { return -R.transpose() * T; }
+};
+
+struct Camera {
+  std::string id;
+  CameraIntrinsics intr;
+  CameraPose pose;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Templated building blocks (usable with double and ceres::Jet). `d` points to 7 coefficients
+// in Distortion::as_array() order.
+
+/// Δ of seed 000 eq. 7 at distorted sensor point (xd, yd).
+template <typename T>
+inline void distortion_delta(const T* d, const T& xd, const T& yd, T* dx, T* dy) {
+  const T r2 = xd * xd + yd * yd;
+  const T radial = d[0] * r2 + d[1] * r2 * r2 + d[2] * r2 * r2 * r2;
+  *dx = xd * radial + d[3] * (r2 + T(2) * xd * xd) + T(2) * d[4] * xd * yd;
+  *dy = yd * radial + d[4] * (r2 + T(2) * yd * yd) + T(2) * d[3] * xd * yd + d[5] * xd + d[6] * yd;
+}
+
+/// Distorted → undistorted sensor mm (closed form).
+template <typename T>
+inline void undistort_sensor(const T* d, const T& xd, const T& yd, T* xu, T* yu) {
+  T ddx, ddy;
+  distortion_delta(d, xd, yd, &ddx, &ddy);
+  *xu = xd + ddx;
+  *yu = yd + ddy;
+}
+
+/// Undistorted → distorted sensor mm by Newton's method on F(xd) = xd + Δ(xd) − xu.
+/// Converges to machine precision for any physically sensible lens (|Δ| ≪ r); with Jets the
+/// derivatives converge with the values (implicit-function theorem). Returns false if it did not
+/// converge (e.g. a point beyond the fold of a strongly barrel-distorted model).
+template <typename T>
+inline bool distort_sensor(const T* d, const T& xu, const T& yu, T* xd, T* yd) {
+  using std::abs;
+  T x = xu, y = yu;
+  for (int it = 0; it < 30; ++it) {
+    T ddx, ddy;
+    distortion_delta(d, x, y, &ddx, &ddy);
+    const T fx = x + ddx - xu, fy = y + ddy - yu;
+    // Jacobian of x + Δ(x) (analytic, seed 000 eq. 7 differentiated).
+    const T r2 = x * x + y * y;
+    const T radial = d[0] * r2 + d[1] * r2 * r2 + d[2] * r2 * r2 * r2;
+    const T dradial_dr2 = d[0] + T(2) * d[1] * r2 + T(3) * d[2] * r2 * r2;
+    const T j11 = T(1) + radial + T(2) * x * x * dradial_dr2 + T(6) * d[3] * x + T(2) * d[4] * y;
+    const T j12 = T(2) * x * y * dradial_dr2 + T(2) * d[3] * y + T(2) * d[4] * x;
+    const T j21 = T(2) * x * y * dradial_dr2 + T(2) * d[4] * x + T(2) * d[3] * y + d[5];
+    const T j22 = T(1) + radial + T(2) * y * y * dradial_dr2 + T(6) * d[4] * y + T(2) * d[3] * x + d[6];
+    const T det = j11 * j22 - j12 * j21;
+    const T sx = (j22 * fx - j12 * fy) / det;
+    const T sy = (j11 * fy - j21 * fx) / det;
+    x -= sx;
+    y -= sy;
+    if (abs(sx) + abs(sy) < T(1e-13)) {
+      *xd = x;
+      *yd = y;
+      return true;
+    }
+  }
+  *xd = x;
+  *yd = y;
+  return false;
+}
+
+/// Distorted sensor mm → pixel: u = u0 + sx·xd/dx, v = v0 + yd/dy.
+template <typename T>
+inline void sensor_to_pixel(const T& sx, const T& u0, const T& v0, double dx_mm, double dy_mm, const T& xd,
+                            const T& yd, T* u, T* v) {
+  *u = u0 + sx * xd / T(dx_mm);
+  *v = v0 + yd / T(dy_mm);
+}
+
+/// Pixel → distorted sensor mm (inverse of sensor_to_pixel).
+template <typename T>
+inline void pixel_to_sensor(const T& sx, const T& u0, const T& v0, double dx_mm, double dy_mm, const T& u,
+                            const T& v, T* xd, T* yd) {
+  *xd = (u - u0) * T(dx_mm) / sx;
+  *yd = (v - v0) * T(dy_mm);
+}
+
+/// Camera-frame point (metres) → pixel, for autodiff. intr = {f_mm, sx, u0, v0}; d = 7 distortion
+/// coefficients. Returns false behind the camera or if the distortion inverse failed.
+template <typename T>
+inline bool project_camera_point(const T* intr, const T* d, double dx_mm, double dy_mm, const T* xc, T* u,
+                                 T* v) {
+  if (!(xc[2] > T(0))) return false;
+  const T xu = intr[0] * xc[0] / xc[2];
+  const T yu = intr[0] * xc[1] / xc[2];
+  T xd, yd;
+  const bool ok = distort_sensor(d, xu, yu, &xd, &yd);
+  sensor_to_pixel(intr[1], intr[2], intr[3], dx_mm, dy_mm, xd, yd, u, v);
+  return ok;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Double-precision conveniences.
+
+/// World ENU (m) → camera frame (m).
+inline Eigen::Vector3d world_to_camera(const CameraPose& pose, const Eigen::Vector3d& Xw) {
+  return pose.R * Xw + pose.T;
+}
+
+/// World ENU (m) → pixel. Returns false when the point is behind the camera or the distortion
+/// inverse fails; `uv` is then unspecified.
+bool project(const Camera& cam, const Eigen::Vector3d& Xw, Eigen::Vector2d* uv);
+
+/// Pixel → unit ray direction in world ENU (undistorts exactly, closed form).
+Eigen::Vector3d pixel_ray_world(const Camera& cam, const Eigen::Vector2d& uv);
+
+/// Pixel → undistorted sensor mm (closed form: pixel → distorted mm → eq. 7).
+Eigen::Vector2d pixel_to_undistorted_sensor(const CameraIntrinsics& in, const Eigen::Vector2d& uv);
+
+}  // namespace rangecal
