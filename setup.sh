@@ -10,7 +10,7 @@ BUILD_DIR="${BUILD_DIR:-build}"
 JOBS="${JOBS:-$(nproc)}"
 
 PKGS=(cmake g++ make libgeographiclib-dev geographiclib-tools libeigen3-dev libopencv-dev libceres-dev
-      nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev libtbb-dev)
+      nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev libtbb-dev chromium)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -28,8 +28,7 @@ cmake --build "$BUILD_DIR" -j "$JOBS"
 case "$what" in
   build) ;;
   demo)
-    # Until the simulated end-to-end demo lands, the demo is the gnss stage on real PPK data.
-    "$BUILD_DIR/rangecal" gnss config/examples/galway_gnss.json ;;
+    "$BUILD_DIR/rangecal" demo --out "${DEMO_OUT:-demo-out}" ;;
   test)
     ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" ;;
   *) echo "usage: bash setup.sh [build|demo|test]" >&2; exit 2 ;;

@@ -285,7 +285,7 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
   const JsonView root(doc, path, "", ErrorKind::usage);
   root.require_object("a mission config object (SPEC §3.1)");
   root.check_keys({"mission", "site", "gnss", "attitude", "lever_arm", "poles", "cameras", "align", "detect",
-                   "calibrate", "output_dir"});
+                   "calibrate", "intersect", "output_dir"});
   const Loader L{path, abs.parent_path(), check_files};
 
   if (auto m = root.find("mission")) cfg.mission = m->string("a free-text string");
@@ -341,6 +341,12 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
     cfg.calibrate = parse_calibrate(*c);
     if (cfg.calibrate.use_control_poles && cfg.poles_file.empty())
       c->at("use_control_poles", "").fail("control poles are asked for but the config has no \"poles\" file");
+  }
+  if (auto x = root.find("intersect")) {
+    x->require_object("an object {\"pick_sigma_px\"}");
+    x->check_keys({"pick_sigma_px"});
+    if (auto v = x->find("pick_sigma_px"))
+      cfg.intersect.pick_sigma_px = Loader::positive(*v, "a positive pixel standard deviation");
   }
   fs::path out = "out";
   if (auto o = root.find("output_dir")) out = o->nonempty_string("a folder path");

@@ -76,6 +76,10 @@ struct CalibrateConfig {
   std::uint64_t seed = 1;                            ///< seed of every random search (RANSAC, SSA)
 };
 
+struct IntersectConfig {
+  double pick_sigma_px = 0.5;  ///< 1σ per axis of a hand-picked pole-top pixel (px)
+};
+
 struct MissionConfig {
   std::string config_path;    ///< absolute path of the config file
   std::string config_dir;     ///< its folder (relative paths resolve here)
@@ -90,6 +94,7 @@ struct MissionConfig {
   AlignConfig align;
   DetectConfig detect;
   CalibrateConfig calibrate;
+  IntersectConfig intersect;
   std::string output_dir;  ///< absolute; default "<config_dir>/out"
 };
 

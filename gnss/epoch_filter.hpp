@@ -28,7 +28,7 @@ struct EpochFilterCounts {
 
 /// Keeps the epochs that pass (order preserved) and counts the rest by reason. An epoch dropped
 /// for its Q is not also counted for its sd.
-std::vector<AntennaEpoch> filter_epochs(const std::vector<AntennaEpoch>& in, const EpochFilterOptions& opt,
+std::vector<AntennaEpoch> filter_epochs(std::vector<AntennaEpoch> in, const EpochFilterOptions& opt,
                                         EpochFilterCounts* counts);
 
 /// A stretch with no epoch: consecutive epochs `from` and `to` more than max_gap_s apart.

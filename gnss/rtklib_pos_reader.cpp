@@ -1,6 +1,7 @@
 #include "gnss/rtklib_pos_reader.hpp"
 
 #include <GeographicLib/Geocentric.hpp>
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -177,6 +178,9 @@ class Parser {
     long ref_pos_line = 0;
     bool in_data = false;
     std::array<std::string_view, kMaxTokens> tok{};
+    // One epoch per line at most: reserving avoids re-copying the (large) epochs as the vector
+    // grows, which dominated the ingest time of long files.
+    f.epochs.reserve(static_cast<std::size_t>(std::count(text_.begin(), text_.end(), '\n')) + 1);
     while (pos < text_.size()) {
       std::size_t end = text_.find('\n', pos);
       if (end == std::string_view::npos) end = text_.size();

@@ -144,6 +144,9 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
       try {
         all.push_back(calibrate_camera(m, problem));
         times[m] = std::round(all.back().wall_time_s * 1e4) / 1e4;
+        // Each compared method's full result, so any method's cameras can be used downstream
+        // (e.g. the demo's intersection with Tsai beside the bundle, seed 002 Table 4).
+        write_calibration_json(camera_output(cfg, cam.id, compare_calibration_json(m)), all.back());
       } catch (const Error& e) {
         if (e.kind() != ErrorKind::calibration) throw;
         log.warnings.push_back(cam.id + ": compare method " + m + " failed: " + e.what());

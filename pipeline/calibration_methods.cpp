@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "config/error.hpp"
 #include "optim/lm_qn.hpp"
+#include "optim/tsai_sassa.hpp"
 #include "vision/dlt.hpp"
 #include "vision/linear_distortion.hpp"
 #include "vision/tsai.hpp"
@@ -68,7 +70,7 @@ CalibrationResult finish(const std::string& method, const CalibrationProblem& p,
 }
 
 // ---------------------------------------------------------------------------------------------
-CalibrationResult run_tsai(const CalibrationProblem& p) {
+TsaiSensor tsai_sensor(const CalibrationProblem& p) {
   TsaiSensor s;
   s.width_px = p.sensor.width_px;
   s.height_px = p.sensor.height_px;
@@ -77,7 +79,11 @@ CalibrationResult run_tsai(const CalibrationProblem& p) {
   const Eigen::Vector2d pp = default_principal_point(p);
   s.u0_px = pp.x();
   s.v0_px = pp.y();
-  const TsaiResult t = tsai_calibrate(to_points(p.observations), s);
+  return s;
+}
+
+CalibrationResult run_tsai(const CalibrationProblem& p) {
+  const TsaiResult t = tsai_calibrate(to_points(p.observations), tsai_sensor(p));
   CalibrationResult r = finish("tsai", p, t.camera, {});
   r.details = {{"f_linear_mm", t.f_linear_mm},
                {"Tz_linear_m", t.Tz_linear},
@@ -86,6 +92,20 @@ CalibrationResult run_tsai(const CalibrationProblem& p) {
                {"step2_converged", t.converged},
                {"rms_sensor_mm", t.rms_sensor_mm},
                {"covariance", "not computed (Tsai's method gives no uncertainty; see the bundle method)"}};
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// seed 002 §3.2.3: Tsai step 1, then f, Tz, k1 by SA-sparrow search, finished by an LM polish
+// that the result records (optim/tsai_sassa.hpp). The search seed is the mission's seed.
+CalibrationResult run_tsai_sassa(const CalibrationProblem& p) {
+  TsaiSassaOptions o;
+  o.search.seed = p.seed;
+  TsaiSassaResult t = tsai_sassa_calibrate(to_points(p.observations), tsai_sensor(p), o);
+  CalibrationResult r = finish("tsai_sassa", p, t.camera, {});
+  r.details = t.calibration.details;
+  r.warnings = t.calibration.warnings;
+  r.details["covariance"] = "not computed (the search gives no uncertainty; see the bundle method)";
   return r;
 }
 
@@ -391,11 +411,51 @@ ReprojectionStats reprojection_stats(const std::vector<Eigen::Vector2d>& residua
   return s;
 }
 
+namespace {
+
+// A lamp track whose points lie in one plane (e.g. every ascent at the same depth) leaves f and the
+// distance along the optical axis inseparable for every method here: DLT and Tsai need
+// non-coplanar points and the bundle would start from nothing. The initialisers test exact
+// coplanarity; with PPK noise a flat track is only coplanar to within the noise, so the test here
+// compares the points' RMS distance from their best-fit plane with their own 1σ.
+void require_depth_beyond_noise(const std::string& method, const CalibrationProblem& p) {
+  const std::size_t n = p.observations.size();
+  if (n < 4) return;  // the methods' own point-count checks give the better message
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  double var_sum = 0;
+  for (const auto& o : p.observations) {
+    mean += o.world;
+    var_sum += o.world_cov.trace() / 3.0;
+  }
+  mean /= static_cast<double>(n);
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const auto& o : p.observations) scatter += (o.world - mean) * (o.world - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(scatter / static_cast<double>(n));
+  if (!es.eigenvalues().allFinite()) return;  // NaN input: the methods name the bad point
+  const double thickness_m = std::sqrt(std::max(0.0, es.eigenvalues()[0]));
+  const double extent_m = std::sqrt(std::max(0.0, es.eigenvalues()[2]));
+  const double sigma_m = std::sqrt(var_sum / static_cast<double>(n));
+  if (thickness_m > std::max(3.0 * sigma_m, 1e-6 * extent_m)) return;
+  const Eigen::Vector3d normal = es.eigenvectors().col(0);
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "the %zu world points lie in one plane (RMS distance from it %.4f m, within 3x their 1 sigma "
+                "%.4f m; plane normal E %.3f N %.3f U %.3f): focal length and depth cannot be separated — "
+                "fly routes at different distances from the camera",
+                n, thickness_m, sigma_m, normal.x(), normal.y(), normal.z());
+  throw_calibration_error(p.camera_id.empty() ? method : p.camera_id + " " + method, buf);
+}
+
+}  // namespace
+
 CalibrationResult calibrate_camera(const std::string& method, const CalibrationProblem& problem) {
   const auto t0 = std::chrono::steady_clock::now();
   CalibrationResult r;
+  if (method != "planar") require_depth_beyond_noise(method, problem);
   if (method == "tsai")
     r = run_tsai(problem);
+  else if (method == "tsai_sassa")
+    r = run_tsai_sassa(problem);
   else if (method == "bundle")
     r = run_bundle(problem);
   else if (method == "dlt_lmqn")

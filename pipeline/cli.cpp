@@ -25,6 +25,11 @@ int run_cli(int argc, char** argv) {
   add_calibrate_command(app, ctx);
   add_simulate_command(app, ctx);
   add_project_command(app, ctx);
+  add_intersect_command(app, ctx);
+  add_report_command(app, ctx);
+  add_montecarlo_command(app, ctx);
+  add_plan_command(app, ctx);
+  add_demo_command(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -35,3 +35,35 @@ namespace rangecal {
 void add_project_command(CLI::App& app, const CliContext& ctx);
 
 }  // namespace rangecal
+
+namespace rangecal {
+
+/// `rangecal intersect CONFIG` and `rangecal intersect --calibration A.json --observations A.csv
+/// ...` (SPEC §6; pipeline/intersect_command.cpp).
+void add_intersect_command(CLI::App& app, const CliContext& ctx);
+
+}  // namespace rangecal
+
+namespace rangecal {
+
+/// `rangecal report CONFIG`: report.html and summary.json (SPEC §4.6; pipeline/report_command.cpp).
+void add_report_command(CLI::App& app, const CliContext& ctx);
+
+}  // namespace rangecal
+
+namespace rangecal {
+
+/// `rangecal montecarlo CONFIG` and `rangecal plan SCENARIO.json ...` (SPEC §7;
+/// pipeline/montecarlo_command.cpp, pipeline/plan_command.cpp).
+void add_montecarlo_command(CLI::App& app, const CliContext& ctx);
+void add_plan_command(CLI::App& app, const CliContext& ctx);
+
+}  // namespace rangecal
+
+namespace rangecal {
+
+/// `rangecal demo [--out DIR]`: simulate the built-in scenario, run it, print Tables 1–4
+/// (SPEC §6; pipeline/demo_command.cpp).
+void add_demo_command(CLI::App& app, const CliContext& ctx);
+
+}  // namespace rangecal

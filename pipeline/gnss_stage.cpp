@@ -33,8 +33,8 @@ GnssStageResult compute_lamp_track(const GnssStageInputs& in) {
   GnssStageResult res;
   GnssStageReport& rep = res.report;
   const LocalEnu site(in.origin);
-  const std::vector<AntennaEpoch> antenna = merge_antenna_epochs(in.pos_files, site);
-  const std::vector<AntennaEpoch> kept = filter_epochs(antenna, in.filter, &rep.filter);
+  const std::vector<AntennaEpoch> kept =
+      filter_epochs(merge_antenna_epochs(in.pos_files, site), in.filter, &rep.filter);
 
   res.track.epochs.reserve(kept.size());
   double max_tilt_deg = 0;

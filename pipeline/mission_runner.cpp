@@ -3,15 +3,15 @@
 #include "pipeline/calibrate_stage.hpp"
 #include "pipeline/camera_stages.hpp"
 #include "pipeline/gnss_stage.hpp"
+#include "pipeline/intersect_stage.hpp"
+#include "pipeline/report_stage.hpp"
 
 namespace rangecal {
 
 const std::vector<NamedStage>& mission_stages() {
   static const std::vector<NamedStage> stages = {
-      {"gnss", run_gnss_stage},
-      {"align", run_align_stage},
-      {"detect", run_detect_stage},
-      {"calibrate", run_calibrate_stage},
+      {"gnss", run_gnss_stage},           {"align", run_align_stage},         {"detect", run_detect_stage},
+      {"calibrate", run_calibrate_stage}, {"intersect", run_intersect_stage}, {"report", run_report_stage},
   };
   return stages;
 }

@@ -487,6 +487,10 @@ std::string format_mission_config(const SimMission& m) {
   }
   j["cameras"] = cams;
   j["calibrate"] = {{"method", "bundle"}, {"seed", s.seed}};
+  if (s.mission_calibrate.is_object()) {
+    j["calibrate"] = s.mission_calibrate;
+    if (!j["calibrate"].contains("seed")) j["calibrate"]["seed"] = s.seed;
+  }
   j["output_dir"] = "out";
   return j.dump(2) + "\n";
 }

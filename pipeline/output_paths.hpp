@@ -23,5 +23,9 @@ inline constexpr const char* kCorrespondencesCsv = "correspondences.csv";  ///< 
 inline constexpr const char* kCalibrationJson = "calibration.json";        ///< calibrate stage
 inline constexpr const char* kCameraOpencvYml = "camera_opencv.yml";       ///< calibrate stage
 inline constexpr const char* kMethodsCsv = "methods.csv";  ///< calibrate stage, with `compare`
+/// calibrate stage, with `compare`: the full result of each compared method.
+inline std::string compare_calibration_json(const std::string& method) {
+  return "calibration_" + method + ".json";
+}
 
 }  // namespace rangecal

@@ -347,8 +347,8 @@ Scenario parse_scenario(const std::string& json_text, const std::string& path) {
   const JsonView root(j, path, "", kKind);
   root.require_object("a scenario object {\"seed\", \"start_utc\", \"site\", \"cameras\", \"routes\", …}");
   root.check_keys({"mission", "seed", "start_utc", "site", "gnss", "lever_arm", "attitude", "lamp", "sky",
-                   "cameras", "routes", "transit", "poles", "poles_format", "survey_noise_m",
-                   "pick_noise_px"});
+                   "cameras", "routes", "transit", "poles", "poles_format", "survey_noise_m", "pick_noise_px",
+                   "mission_calibrate"});
   Scenario s;
   s.file = path;
   if (auto x = root.find("mission")) s.mission = x->string("a string");
@@ -418,6 +418,11 @@ Scenario parse_scenario(const std::string& json_text, const std::string& path) {
   }
   if (auto x = root.find("survey_noise_m")) s.survey_noise_m = non_negative(*x, "m");
   if (auto x = root.find("pick_noise_px")) s.pick_noise_px = non_negative(*x, "px");
+  if (auto x = root.find("mission_calibrate")) {
+    // Copied into the written mission's "calibrate" section; the mission loader validates it.
+    x->require_object("an object, written as the mission config's \"calibrate\" section (SPEC §3.1)");
+    s.mission_calibrate = x->json();
+  }
 
   check_cameras_see_routes(s, root);
   return s;

@@ -6,6 +6,7 @@
 // keys are errors. Times inside the scenario are seconds from `start_utc` ("mission time").
 #include <Eigen/Core>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -92,6 +93,8 @@ struct Scenario {
   std::string file;  ///< path it was loaded from (for messages)
   std::string mission = "rangecal simulated mission";
   std::uint64_t seed = 1;
+  /// Optional "calibrate" section for the written mission config (empty: method bundle, the seed).
+  nlohmann::json mission_calibrate;
   UtcTime start_utc;
   GeodeticOrigin origin;
   ScenarioGnss gnss;

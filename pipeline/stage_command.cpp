@@ -64,7 +64,8 @@ void add_calibrate_command(CLI::App& app, const CliContext& ctx) {
 namespace rangecal {
 
 void add_run_command(CLI::App& app, const CliContext& ctx) {
-  CLI::App* sub = app.add_subcommand("run", "Run every stage: gnss, align, detect, calibrate");
+  CLI::App* sub =
+      app.add_subcommand("run", "Run every stage: gnss, align, detect, calibrate, intersect, report");
   auto config = std::make_shared<std::string>();
   sub->add_option("CONFIG", *config, "Mission config (JSON)")->required();
   sub->callback([&ctx, config] {

@@ -38,7 +38,7 @@ TEST(CalibrateStage, EveryMethodRecoversNoiseFreeTruth) {
   const Camera truth = test::range_camera(-3.4e-4, 1.0);
   const auto pts = test::observe(truth, test::range_world_points(truth));
   const auto p = problem_for(truth, pts, {"f", "k1", "pose"});
-  for (const std::string m : {"tsai", "dlt_lmqn", "bundle"}) {
+  for (const std::string m : {"tsai", "tsai_sassa", "dlt_lmqn", "bundle"}) {
     const CalibrationResult r = calibrate_camera(m, p);
     EXPECT_EQ(r.method, m);
     EXPECT_NEAR(r.camera.intr.f_mm / truth.intr.f_mm, 1.0, 1e-6) << m;
@@ -71,7 +71,7 @@ TEST(CalibrateStage, DegenerateGeometryIsACalibrationError) {
   const Eigen::Vector3d a = truth.pose.center() + truth.pose.R.transpose() * Eigen::Vector3d(0, 0, 64);
   for (int i = 0; i < 30; ++i) line.push_back(a + Eigen::Vector3d(0, 0, 0.3 * i));  // one vertical line
   const auto p = problem_for(truth, test::observe(truth, line), {"f", "k1", "pose"});
-  for (const std::string m : {"tsai", "dlt_lmqn", "bundle"}) {
+  for (const std::string m : {"tsai", "tsai_sassa", "dlt_lmqn", "bundle"}) {
     try {
       calibrate_camera(m, p);
       ADD_FAILURE() << m << " accepted points on one line";

@@ -1,0 +1,109 @@
+// `rangecal montecarlo CONFIG [--trials N] [--seed S] [--threads T] [--pick-sigma PX]` (SPEC §6,
+// §7): re-runs the calibration of a finished mission (each camera's correspondences.csv and
+// calibration.json) under simulated noise (pipeline/monte_carlo.hpp), prints a seed 001
+// Table 2-style table per camera and the check poles' intersection statistics, and writes
+// `<out>/montecarlo.csv`. docs/accuracy_analysis.md.
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "config/atomic_file.hpp"
+#include "config/error.hpp"
+#include "gnss/pole_survey.hpp"
+#include "pipeline/calibrate_stage.hpp"
+#include "pipeline/commands.hpp"
+#include "pipeline/monte_carlo.hpp"
+#include "pipeline/output_paths.hpp"
+#include "vision/calibration_io.hpp"
+
+namespace rangecal {
+namespace {
+
+constexpr const char* kMonteCarloCsv = "montecarlo.csv";
+
+/// Check poles picked in ≥ 2 of the cameras, for the intersection statistics.
+std::vector<MonteCarloPole> check_poles(const MissionConfig& cfg) {
+  std::vector<MonteCarloPole> out;
+  if (cfg.poles_file.empty() || cfg.cameras.size() < 2) return out;
+  std::map<std::string, std::vector<std::size_t>> seen_by;
+  for (std::size_t c = 0; c < cfg.cameras.size(); ++c) {
+    if (cfg.cameras[c].pole_observations.empty()) continue;
+    for (const PolePick& pick : read_pole_picks(cfg.cameras[c].pole_observations))
+      seen_by[pick.id].push_back(c);
+  }
+  for (const SurveyedPole& p : read_pole_survey(cfg.poles_file, cfg.origin)) {
+    if (p.role != PoleRole::check) continue;
+    const auto it = seen_by.find(p.id);
+    if (it == seen_by.end() || it->second.size() < 2) continue;
+    out.push_back({p.id, p.enu, it->second});
+  }
+  return out;
+}
+
+}  // namespace
+
+void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
+  struct Args {
+    std::string config;
+    int trials = 200;
+    long long seed = -1;
+    int threads = 0;
+    double pick_sigma_px = 0;  ///< 0: the config's intersect.pick_sigma_px
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* sub = app.add_subcommand(
+      "montecarlo",
+      "Monte Carlo accuracy of a finished calibration: bias and sd per parameter next to the "
+      "covariance σ (writes montecarlo.csv)");
+  sub->add_option("CONFIG", args->config, "Mission config (JSON) of a calibrated mission")->required();
+  sub->add_option("--trials", args->trials, "Number of trials (≥ 1; default 200)");
+  sub->add_option("--seed", args->seed, "Seed of the noise (default calibrate.seed)");
+  sub->add_option("--threads", args->threads, "Worker threads (0 = all; results do not depend on it)");
+  sub->add_option("--pick-sigma", args->pick_sigma_px,
+                  "1σ of a pole pick per axis, px (default: the config's intersect.pick_sigma_px)");
+  sub->callback([args, &ctx]() {
+    if (args->trials < 1)
+      throw_config_error("", "--trials", "must be at least 1, got " + std::to_string(args->trials));
+    if (args->threads < 0)
+      throw_config_error("", "--threads", "must be ≥ 0, got " + std::to_string(args->threads));
+    if (args->pick_sigma_px < 0 || !std::isfinite(args->pick_sigma_px))
+      throw_config_error("", "--pick-sigma", "must be positive");
+    const MissionConfig cfg = load_mission_config(args->config);
+    std::vector<MonteCarloCamera> cams;
+    for (const CameraConfig& cam : cfg.cameras) {
+      const std::string corr = camera_output(cfg, cam.id, kCorrespondencesCsv);
+      const std::string cal = camera_output(cfg, cam.id, kCalibrationJson);
+      if (!std::filesystem::exists(corr))
+        throw_input_error(corr, 0, "",
+                          "missing; montecarlo re-runs a finished calibration (run the "
+                          "detect and calibrate stages first)");
+      if (!std::filesystem::exists(cal))
+        throw_input_error(cal, 0, "",
+                          "missing; montecarlo needs the reference calibration (run "
+                          "`rangecal calibrate CONFIG` first)");
+      MonteCarloCamera m;
+      m.problem = make_calibration_problem(cfg, cam, read_correspondences_csv(corr));
+      m.reference = read_calibration_json(cal);
+      cams.push_back(std::move(m));
+    }
+    MonteCarloOptions o;
+    o.trials = args->trials;
+    o.seed = args->seed >= 0 ? static_cast<std::uint64_t>(args->seed) : cfg.calibrate.seed;
+    o.threads = args->threads;
+    o.pick_sigma_px = args->pick_sigma_px > 0 ? args->pick_sigma_px : cfg.intersect.pick_sigma_px;
+    const MonteCarloResult r = run_monte_carlo(cams, check_poles(cfg), o);
+    write_file_atomic(mission_output(cfg, kMonteCarloCsv), format_montecarlo_csv(r));
+    if (ctx.quiet) return;
+    for (const CameraMonteCarlo& c : r.cameras) {
+      std::cout << format_montecarlo_table(c);
+      if (!c.first_failure.empty()) std::cout << "  first failed trial: " << c.first_failure << "\n";
+    }
+    if (!r.poles.empty()) std::cout << format_montecarlo_pole_table(r.poles);
+    std::cout << "wrote " << mission_output(cfg, kMonteCarloCsv) << "\n";
+  });
+}
+
+}  // namespace rangecal

@@ -1,0 +1,152 @@
+// The demo scenario end to end (issue 5 acceptance; SPEC §9): simulate seed 002's experiment, run
+// every stage on the written files, and hold the results against the simulated truth. Then prove
+// the bar can fail: the same mission with its lever arm ignored, or its GPST read as UTC, misses it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "config/error.hpp"
+#include "pipeline/demo.hpp"
+#include "pipeline/demo_scenario_text.hpp"
+#include "pipeline/mission_runner.hpp"
+#include "pipeline/scenario.hpp"
+#include "support/paths.hpp"
+
+namespace rangecal {
+namespace {
+namespace fs = std::filesystem;
+
+struct DemoFixture {
+  fs::path dir;
+  DemoRun run;
+};
+
+// One simulation shared by the tests of this file (it takes most of the time).
+const DemoFixture& demo() {
+  static const DemoFixture f = [] {
+    DemoFixture d;
+    d.dir = test::scratch_dir("demo");
+    const Scenario s = parse_scenario(demo_scenario_json(), "<built-in demo scenario>");
+    d.run = simulate_and_run(s, (d.dir / "mission").string());
+    return d;
+  }();
+  return f;
+}
+
+const DemoIntersection* find_method(const DemoResults& r, const std::string& m) {
+  for (const auto& d : r.intersections)
+    if (d.method == m) return &d;
+  return nullptr;
+}
+
+// Copies the simulated mission (inputs only) to `name`, applies `edit` to it, runs every stage and
+// returns the results (or rethrows the stage error).
+DemoResults rerun_variant(const std::string& name, const std::function<void(const fs::path&)>& edit) {
+  const DemoFixture& d = demo();
+  const fs::path dst = d.dir / name;
+  fs::remove_all(dst);
+  fs::create_directories(dst);
+  for (const auto& e : fs::directory_iterator(d.dir / "mission"))
+    if (e.path().filename() != "out")
+      fs::copy(e.path(), dst / e.path().filename(), fs::copy_options::recursive);
+  edit(dst);
+  const MissionConfig cfg = load_mission_config((dst / "mission.json").string());
+  run_mission(cfg);
+  return collect_demo_results(d.run.mission, cfg);
+}
+
+TEST(Demo, CheckPolesWithinOneCentimetreOfTruthAndParametersWithinThreeSigma) {
+  const DemoRun& run = demo().run;
+  const DemoIntersection* b = find_method(run.results, "bundle");
+  ASSERT_NE(b, nullptr);
+  EXPECT_EQ(b->n_check, 11);
+  EXPECT_LE(b->mean_dR_truth_m, 0.010) << "SPEC §9: check-pole mean ΔR ≤ 1.0 cm";
+  // The predicted 1σ of ΔR is honest: the RMS error against truth is within a factor 2 of it.
+  double rms = 0;
+  int n = 0;
+  for (const PoleIntersection& p : b->result.poles) {
+    if (!p.surveyed || p.role != PoleRole::check) continue;
+    for (const SimPole& sp : run.mission.poles)
+      if (sp.truth.id == p.id) rms += (p.enu - sp.truth.enu_m).squaredNorm(), ++n;
+  }
+  rms = std::sqrt(rms / n);
+  EXPECT_LT(rms, 2.0 * b->result.check.mean_sigma_m);
+  EXPECT_GT(rms, 0.5 * b->result.check.mean_sigma_m);
+
+  ASSERT_EQ(run.results.cameras.size(), 2u);
+  for (const DemoCamera& c : run.results.cameras) {
+    const auto checks = bundle_parameter_checks(c);
+    ASSERT_EQ(checks.size(), 5u);
+    for (const ParameterCheck& p : checks) {
+      EXPECT_GT(p.sigma, 0) << c.id << " " << p.name;
+      EXPECT_LE(std::abs(p.z()), 3.0) << c.id << " " << p.name << " estimate " << p.estimate << " truth "
+                                      << p.truth << " sigma " << p.sigma;
+    }
+    // Reprojection rms consistent with the simulated PPK + centroid noise (the fit absorbs a few
+    // degrees of freedom, so slightly below the expectation).
+    const CalibrationResult& r = c.by_method.at("bundle");
+    EXPECT_GT(r.reprojection.rms_px, 0.8 * c.expected_rms_px) << c.id;
+    EXPECT_LT(r.reprojection.rms_px, 1.15 * c.expected_rms_px) << c.id;
+    // Tsai and the paper's SA-sparrow method are reported beside the bundle.
+    EXPECT_TRUE(c.by_method.count("tsai")) << c.id;
+    EXPECT_TRUE(c.by_method.count("tsai_sassa")) << c.id;
+  }
+  EXPECT_NE(find_method(run.results, "tsai"), nullptr);
+  EXPECT_NE(find_method(run.results, "tsai_sassa"), nullptr);
+}
+
+TEST(Demo, TablesNameEveryMethodAndThePapersFigures) {
+  const DemoResults& r = demo().run.results;
+  const std::string t1 = format_demo_table1(r.cameras[0]);
+  for (const char* s : {"paper Tsai", "paper SA-SSA", "136.12", "tsai_sassa", "bundle", "f/mm", "k1/mm-2"})
+    EXPECT_NE(t1.find(s), std::string::npos) << s;
+  const std::string t4 = format_demo_table4(r.intersections);
+  for (const char* s : {"A1", "A11", "3.0", "2.5", "dR truth"}) EXPECT_NE(t4.find(s), std::string::npos) << s;
+}
+
+TEST(Demo, RerunIsByteIdentical) {
+  const DemoFixture& d = demo();
+  const fs::path out = d.run.config.output_dir;
+  std::map<std::string, std::string> before;
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    if (e.is_regular_file() && e.path().filename() != "run.json")  // run.json holds wall times
+      before[fs::relative(e.path(), out).string()] = test::read_text(e.path());
+  ASSERT_GT(before.size(), 15u);
+  run_mission(d.run.config);
+  for (const auto& [rel, text] : before) EXPECT_EQ(test::read_text(out / rel), text) << rel;
+}
+
+TEST(Demo, IgnoringTheLeverArmFailsTheIntersectionBar) {
+  const DemoResults r = rerun_variant("no_lever", [](const fs::path& dir) {
+    nlohmann::json m = nlohmann::json::parse(test::read_text(dir / "mission.json"));
+    m["lever_arm"] = {{"vertical_m", 0.0}};
+    test::write_text(dir / "mission.json", m.dump(2));
+  });
+  const DemoIntersection* b = find_method(r, "bundle");
+  ASSERT_NE(b, nullptr);
+  EXPECT_GT(b->mean_dR_truth_m, 0.010) << "a 25 cm lever arm ignored must break the 1 cm bar";
+}
+
+TEST(Demo, ReadingGpstAsUtcFailsTheBar) {
+  // Relabel the .pos time system: the track moves 18 s late against the frames' UTC.
+  try {
+    const DemoResults r = rerun_variant("gpst_as_utc", [](const fs::path& dir) {
+      std::string pos = test::read_text(dir / "gnss/rover.pos");
+      const std::size_t h = pos.find("%  GPST");
+      ASSERT_NE(h, std::string::npos);
+      pos.replace(h, 7, "%  UTC ");
+      test::write_text(dir / "gnss/rover.pos", pos);
+    });
+    const DemoIntersection* b = find_method(r, "bundle");
+    EXPECT_TRUE(b == nullptr || b->n_check == 0 || b->mean_dR_truth_m > 0.010);
+  } catch (const Error& e) {
+    // Equally a failure of the bar: no camera can be calibrated from mismatched pairs.
+    EXPECT_TRUE(e.kind() == ErrorKind::calibration || e.kind() == ErrorKind::input) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rangecal
