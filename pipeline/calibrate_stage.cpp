@@ -118,6 +118,10 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
       continue;
     }
     ++calibrated;
+    if (pairs.empty())
+      log.warnings.push_back(cam.id + ": no lamp pairs; calibrated from its " +
+                             std::to_string(problem.observations.size()) +
+                             " control poles alone (seed 002's baseline setting, far fewer points)");
     write_calibration_json(camera_output(cfg, cam.id, kCalibrationJson), main);
     const OpenCvCamera ocv = fit_opencv_camera(main.camera);
     write_opencv_camera_yml(camera_output(cfg, cam.id, kCameraOpencvYml), ocv);

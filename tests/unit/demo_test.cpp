@@ -8,6 +8,11 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "pipeline/demo.hpp"
 #include "pipeline/demo_scenario_text.hpp"
@@ -44,7 +49,8 @@ const DemoIntersection* find_method(const DemoResults& r, const std::string& m) 
 
 // Copies the simulated mission (inputs only) to `name`, applies `edit` to it, runs every stage and
 // returns the results (or rethrows the stage error).
-DemoResults rerun_variant(const std::string& name, const std::function<void(const fs::path&)>& edit) {
+DemoResults rerun_variant(const std::string& name, const std::function<void(const fs::path&)>& edit,
+                          std::vector<StageLog>* logs = nullptr, fs::path* out_dir = nullptr) {
   const DemoFixture& d = demo();
   const fs::path dst = d.dir / name;
   fs::remove_all(dst);
@@ -54,7 +60,9 @@ DemoResults rerun_variant(const std::string& name, const std::function<void(cons
       fs::copy(e.path(), dst / e.path().filename(), fs::copy_options::recursive);
   edit(dst);
   const MissionConfig cfg = load_mission_config((dst / "mission.json").string());
-  run_mission(cfg);
+  std::vector<StageLog> l = run_mission(cfg);
+  if (logs) *logs = std::move(l);
+  if (out_dir) *out_dir = cfg.output_dir;
   return collect_demo_results(d.run.mission, cfg);
 }
 
@@ -146,6 +154,84 @@ TEST(Demo, ReadingGpstAsUtcFailsTheBar) {
     // Equally a failure of the bar: no camera can be calibrated from mismatched pairs.
     EXPECT_TRUE(e.kind() == ErrorKind::calibration || e.kind() == ErrorKind::input) << e.what();
   }
+}
+
+TEST(Demo, KillingARunMidwayLeavesNoPartialOutputFiles) {
+  const DemoFixture& d = demo();
+  int files_seen = 0;
+  for (const int delay_ms : {300, 900, 1800}) {
+    const fs::path dst = d.dir / ("killed_" + std::to_string(delay_ms));
+    fs::remove_all(dst);
+    fs::create_directories(dst);
+    for (const auto& e : fs::directory_iterator(d.dir / "mission"))
+      if (e.path().filename() != "out")
+        fs::copy(e.path(), dst / e.path().filename(), fs::copy_options::recursive);
+    const std::string bin = test::rangecal_binary().string(), cfg = (dst / "mission.json").string();
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr)) ::_exit(126);
+      ::execl(bin.c_str(), "rangecal", "-q", "run", cfg.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::usleep(delay_ms * 1000);
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const fs::path out = dst / "out";
+    if (!fs::exists(out)) continue;
+    for (const auto& e : fs::recursive_directory_iterator(out)) {
+      if (!e.is_regular_file()) continue;
+      ++files_seen;
+      const std::string name = e.path().filename().string(), text = test::read_text(e.path());
+      EXPECT_EQ(name.find(".tmp."), std::string::npos) << "temporary file left: " << e.path();
+      EXPECT_FALSE(text.empty()) << e.path();
+      EXPECT_EQ(text.back(), '\n') << "truncated: " << e.path();
+      const std::string ext = e.path().extension().string();
+      if (ext == ".csv") {
+        EXPECT_NO_THROW(parse_csv(text, e.path().string())) << e.path();
+      } else if (ext == ".json") {
+        EXPECT_TRUE(nlohmann::json::accept(text)) << e.path();
+      } else if (ext == ".html") {
+        EXPECT_NE(text.find("</html>"), std::string::npos) << e.path();
+      }
+    }
+  }
+  EXPECT_GT(files_seen, 0) << "the runs were killed before writing anything: nothing was checked";
+}
+
+TEST(Demo, CameraThatNeverSeesTheLampIsReportedAndTheRestRuns) {
+  // Every cam2 frame replaced by its first frame, which holds sky, hot pixels and the static
+  // distractor but no lamp.
+  std::vector<StageLog> logs;
+  fs::path out;
+  const DemoResults r = rerun_variant(
+      "blind_cam2",
+      [](const fs::path& dir) {
+        const fs::path frames = dir / "cam2/frames";
+        const fs::path first = frames / "cam2_0000000.png";
+        ASSERT_TRUE(fs::exists(first));
+        for (const auto& e : fs::directory_iterator(frames))
+          if (e.path() != first) fs::copy_file(first, e.path(), fs::copy_options::overwrite_existing);
+      },
+      &logs, &out);
+  ASSERT_EQ(logs.size(), 6u);  // every stage ran
+  auto warned = [&](const std::string& stage, const std::string& words) {
+    for (const StageLog& l : logs)
+      if (l.stage == stage)
+        for (const std::string& w : l.warnings)
+          if (w.find("cam2") != std::string::npos && w.find(words) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(warned("detect", "lamp was not found"));
+  // With its control poles cam2 may still be calibrated (from 6 points), and the log says so.
+  EXPECT_TRUE(warned("calibrate", "calibration failed") || warned("calibrate", "control poles alone"));
+  EXPECT_TRUE(fs::exists(out / "cam1/calibration.json"));
+  ASSERT_EQ(r.cameras.size(), 2u);
+  EXPECT_TRUE(r.cameras[0].by_method.count("bundle"));
+  const nlohmann::json summary = nlohmann::json::parse(test::read_text(out / "summary.json"));
+  EXPECT_TRUE(fs::exists(out / "report.html"));
+  EXPECT_NE(summary.dump().find("cam2"), std::string::npos);
 }
 
 }  // namespace
