@@ -11,6 +11,7 @@
 #include "pipeline/correspondences_io.hpp"
 #include "pipeline/gnss_stage.hpp"
 #include "pipeline/output_paths.hpp"
+#include "pipeline/progress_bar.hpp"
 #include "vision/detections_io.hpp"
 #include "vision/frame_source.hpp"
 #include "vision/lamp_detector.hpp"
@@ -89,7 +90,11 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
                               " (aligned.csv is from another frame list; rerun the align stage)");
       indices.push_back(it->second);
     }
-    const std::vector<LampDetection> det = detect_lamp(source, indices, options, cfg.detect.threads);
+    std::vector<LampDetection> det;
+    {
+      ProgressBar bar("detect " + cam.id, indices.size());
+      det = detect_lamp(source, indices, options, cfg.detect.threads, [&bar] { bar.tick(); });
+    }
     write_detections_csv(camera_output(cfg, cam.id, kDetectionsCsv), det);
 
     std::vector<Correspondence> pairs;

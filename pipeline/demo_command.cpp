@@ -1,6 +1,8 @@
 // `rangecal demo [--out DIR] [--scenario FILE]` (SPEC §6; issue 5): simulates the built-in scenario
 // mirroring seed 002's experiment, runs every stage on it and prints Tables 1–4 with the paper's
 // figures beside ours, then the accuracy bars of SPEC §9 with pass/fail.
+#include <unistd.h>
+
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -10,6 +12,7 @@
 #include "pipeline/commands.hpp"
 #include "pipeline/demo.hpp"
 #include "pipeline/demo_scenario_text.hpp"
+#include "pipeline/progress_bar.hpp"
 #include "pipeline/scenario.hpp"
 
 namespace rangecal {
@@ -22,6 +25,7 @@ void add_demo_command(CLI::App& app, const CliContext& ctx) {
   sub->add_option("--out", *out_dir, "Folder for the simulated mission and its outputs (default demo-out)");
   sub->add_option("--scenario", *scenario_path, "Use this scenario (JSON) instead of the built-in one");
   sub->callback([out_dir, scenario_path, &ctx]() {
+    set_progress_bars(!ctx.quiet && ::isatty(2));
     const Scenario scenario = scenario_path->empty()
                                   ? parse_scenario(demo_scenario_json(), "<built-in demo scenario>")
                                   : load_scenario(*scenario_path);

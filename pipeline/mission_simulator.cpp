@@ -14,6 +14,7 @@
 #include "config/error.hpp"
 #include "gnss/lever_arm.hpp"
 #include "gnss/rtklib_pos_writer.hpp"
+#include "pipeline/progress_bar.hpp"
 #include "vision/frame_renderer.hpp"
 
 namespace rangecal {
@@ -586,6 +587,7 @@ WrittenMission write_mission(const SimMission& m, const std::string& out_dir) {
   std::vector<std::pair<std::size_t, std::size_t>> jobs;
   for (std::size_t ci = 0; ci < m.cameras.size(); ++ci)
     for (std::size_t fi = 0; fi < m.cameras[ci].frames.size(); ++fi) jobs.emplace_back(ci, fi);
+  ProgressBar bar("render frames", jobs.size());
   tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t k) {
     const SimCamera& c = m.cameras[jobs[k].first];
     const SimFrame& f = c.frames[jobs[k].second];
@@ -599,6 +601,7 @@ WrittenMission write_mission(const SimMission& m, const std::string& out_dir) {
                        cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY}))
       throw_input_error(path.string(), 0, "", "cannot encode the frame as PNG");
     write_file_atomic(path.string(), std::string(png.begin(), png.end()));
+    bar.tick();
   });
   w.n_frames = jobs.size();
   w.n_files += jobs.size();

@@ -1,6 +1,8 @@
 // `rangecal simulate SCENARIO.json --out DIR` (SPEC §6, §8): renders a complete synthetic mission
 // (RTKLIB .pos, attitude CSV, PNG frames with timestamps, pole survey and picks, mission config,
 // truth.json) from a scenario; docs/simulator.md describes the scenario and the files.
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -9,6 +11,7 @@
 
 #include "pipeline/commands.hpp"
 #include "pipeline/mission_simulator.hpp"
+#include "pipeline/progress_bar.hpp"
 #include "pipeline/scenario.hpp"
 
 namespace rangecal {
@@ -21,6 +24,7 @@ void add_simulate_command(CLI::App& app, const CliContext& ctx) {
   sub->add_option("--out", *out_dir, "Output folder (created; files of the same names are replaced)")
       ->required();
   sub->callback([scenario_path, out_dir, &ctx]() {
+    set_progress_bars(!ctx.quiet && ::isatty(2));
     const auto t0 = std::chrono::steady_clock::now();
     const Scenario scenario = load_scenario(*scenario_path);
     const SimMission mission = simulate_mission(scenario);

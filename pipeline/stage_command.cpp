@@ -6,6 +6,7 @@
 #include "pipeline/calibrate_stage.hpp"
 #include "pipeline/camera_stages.hpp"
 #include "pipeline/mission_runner.hpp"
+#include "pipeline/progress_bar.hpp"
 
 #include <unistd.h>
 
@@ -28,6 +29,7 @@ void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& 
   sub->add_option("CONFIG", *config, "Mission config (JSON)")->required();
   sub->callback([&ctx, config, run] {
     const MissionConfig cfg = load_mission_config(*config);
+    set_progress_bars(!ctx.quiet && ::isatty(2));
     const StageLog log = run(cfg);
     update_run_log(cfg, log);
     if (!ctx.quiet) print_stage_summary(log, ctx.verbose);
@@ -72,6 +74,7 @@ void add_run_command(CLI::App& app, const CliContext& ctx) {
     const MissionConfig cfg = load_mission_config(*config);
     // Progress on stderr only when a person is watching it.
     const bool progress = !ctx.quiet && ::isatty(2);
+    set_progress_bars(progress);
     const std::size_t n = mission_stages().size();
     std::size_t done = 0;
     run_mission(cfg, [&](const StageLog& log) {

@@ -725,7 +725,8 @@ int arena_threads(int threads) {
 }  // namespace
 
 std::vector<LampDetection> detect_lamp(const FrameSource& source, const std::vector<std::size_t>& indices,
-                                       const LampDetectorOptions& options, int threads) {
+                                       const LampDetectorOptions& options, int threads,
+                                       const std::function<void()>& on_frame_done) {
   const std::size_t n = indices.size();
   std::vector<FrameCandidates> fcs(n);
   std::vector<std::exception_ptr> errors(n);
@@ -749,6 +750,7 @@ std::vector<LampDetection> detect_lamp(const FrameSource& source, const std::vec
                           } catch (...) {
                             errors[i] = std::current_exception();
                           }
+                          if (on_frame_done) on_frame_done();
                         }
                       });
   });

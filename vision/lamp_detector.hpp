@@ -16,6 +16,7 @@
 //      centre; the fit is unbiased where a thresholded centroid is not); intensity-weighted
 //      centroid as the fallback.
 #include <cstdint>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -90,7 +91,8 @@ std::vector<LampDetection> resolve_lamp_sequence(const std::vector<FrameCandidat
 /// lamp, in parallel with TBB over `threads` threads (0 = all); the result is in `indices` order
 /// and identical for any thread count. Missing frames the source allows to skip get missing_frame.
 std::vector<LampDetection> detect_lamp(const FrameSource& source, const std::vector<std::size_t>& indices,
-                                       const LampDetectorOptions& options, int threads);
+                                       const LampDetectorOptions& options, int threads,
+                                       const std::function<void()>& on_frame_done = {});
 
 /// As above for frames already in memory (in time order).
 std::vector<LampDetection> detect_lamp(const std::vector<ImageFrame>& frames,
