@@ -1,17 +1,20 @@
 #include "pipeline/camera_stages.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <unordered_map>
 
 #include "config/error.hpp"
+#include "gnss/hermite_interpolation.hpp"
 #include "gnss/lamp_track_csv.hpp"
 #include "pipeline/align_stage.hpp"
 #include "pipeline/correspondences_io.hpp"
 #include "pipeline/gnss_stage.hpp"
 #include "pipeline/output_paths.hpp"
 #include "pipeline/progress_bar.hpp"
+#include "pipeline/timestamp_check.hpp"
 #include "vision/detections_io.hpp"
 #include "vision/frame_source.hpp"
 #include "vision/lamp_detector.hpp"
@@ -72,6 +75,9 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
   StageLog log;
   log.stage = "detect";
   const LampDetectorOptions options = lamp_detector_options(cfg.detect);
+  const std::string track_path = lamp_track_path(cfg);
+  require_stage_file(track_path, "gnss");
+  const HermiteTrack track(read_lamp_track_csv(track_path), cfg.gnss.max_gap_s, track_path);
   std::size_t total_pairs = 0;
   for (const CameraConfig& cam : cfg.cameras) {
     const std::string aligned_path = camera_output(cfg, cam.id, kAlignedCsv);
@@ -114,6 +120,27 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
     counts["frames_examined"] = det.size();
     counts["by_status"] = by_status;
     counts["correspondences"] = pairs.size();
+    // A whole-second or leap-second error in the frame stamps (issue 6): pairs that no pinhole
+    // camera explains unless the track is shifted by δ.
+    std::vector<std::pair<UtcTime, Eigen::Vector2d>> stamped;
+    for (const Correspondence& c : pairs) stamped.emplace_back(c.utc, c.uv);
+    const TimestampOffsetCheck tc = check_timestamp_offset(stamped, track);
+    if (tc.n_points > 0)
+      counts["timestamp_check"] = {{"best_offset_s", tc.best_offset_s},
+                                   {"rms_at_zero_px", tc.rms_at_zero_px},
+                                   {"rms_at_best_px", tc.rms_at_best_px}};
+    if (tc.offset_detected) {
+      char b[400];
+      std::snprintf(
+          b, sizeof b,
+          "%s: frame time stamps look off by %+.0f s: the lamp pairs fit one pinhole camera with rms "
+          "%.2f px when the track is taken %+.0f s from each stamp, against %.1f px as stamped — a "
+          "%s; correct the time stamps (the calibration of this camera will be wrong)",
+          cam.id.c_str(), -tc.best_offset_s, tc.rms_at_best_px, tc.best_offset_s, tc.rms_at_zero_px,
+          std::abs(std::abs(tc.best_offset_s) - 18) <= 1 ? "GPST/UTC leap-second mix-up"
+                                                         : "whole-second clock error");
+      log.warnings.push_back(b);
+    }
     log.counts[cam.id] = counts;
     total_pairs += pairs.size();
     if (pairs.empty())

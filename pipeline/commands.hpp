@@ -20,47 +20,23 @@ void add_calibrate_command(CLI::App& app, const CliContext& ctx);
 /// `rangecal run CONFIG`: every stage (pipeline/stage_command.cpp).
 void add_run_command(CLI::App& app, const CliContext& ctx);
 
-}  // namespace rangecal
-
-namespace rangecal {
-
 /// `rangecal simulate SCENARIO.json --out DIR` (SPEC §8; pipeline/simulate_command.cpp).
 void add_simulate_command(CLI::App& app, const CliContext& ctx);
 
-}  // namespace rangecal
-
-namespace rangecal {
-
 /// `rangecal project --calibration CAL.json --points PTS.csv` (SPEC §6; pipeline/project_command.cpp).
 void add_project_command(CLI::App& app, const CliContext& ctx);
-
-}  // namespace rangecal
-
-namespace rangecal {
 
 /// `rangecal intersect CONFIG` and `rangecal intersect --calibration A.json --observations A.csv
 /// ...` (SPEC §6; pipeline/intersect_command.cpp).
 void add_intersect_command(CLI::App& app, const CliContext& ctx);
 
-}  // namespace rangecal
-
-namespace rangecal {
-
 /// `rangecal report CONFIG`: report.html and summary.json (SPEC §4.6; pipeline/report_command.cpp).
 void add_report_command(CLI::App& app, const CliContext& ctx);
-
-}  // namespace rangecal
-
-namespace rangecal {
 
 /// `rangecal montecarlo CONFIG` and `rangecal plan SCENARIO.json ...` (SPEC §7;
 /// pipeline/montecarlo_command.cpp, pipeline/plan_command.cpp).
 void add_montecarlo_command(CLI::App& app, const CliContext& ctx);
 void add_plan_command(CLI::App& app, const CliContext& ctx);
-
-}  // namespace rangecal
-
-namespace rangecal {
 
 /// `rangecal demo [--out DIR]`: simulate the built-in scenario, run it, print Tables 1–4
 /// (SPEC §6; pipeline/demo_command.cpp).

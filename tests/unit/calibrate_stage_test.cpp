@@ -9,6 +9,7 @@
 
 #include "config/error.hpp"
 #include "support/paths.hpp"
+#include "support/single_camera_mission.hpp"
 #include "support/synthetic_camera.hpp"
 #include "vision/calibration_io.hpp"
 
@@ -87,28 +88,8 @@ TEST(CalibrateStage, CliWritesCalibrationOpencvAndMethods) {
   const Camera truth = test::range_camera(-3.4e-4, 1.0);
   const auto pts = test::observe(truth, test::range_world_points(truth), 0.05, 0.005, 9);
   const auto dir = test::scratch_dir("calib_cli");
-  std::vector<Correspondence> pairs;
-  UtcTime t = *parse_iso8601_utc("2025-06-01T03:00:00Z");
-  for (const auto& c : pts) {
-    Correspondence k;
-    k.utc = t;
-    t.ns += 100'000'000;
-    k.enu = c.world;
-    k.uv = c.pixel;
-    k.sd_enu = Eigen::Vector3d::Constant(0.005);
-    pairs.push_back(k);
-  }
-  write_correspondences_csv((dir / "out/cam1/correspondences.csv").string(), pairs);
-  test::write_text(dir / "pos.pos", "");
-  test::write_text(dir / "frames.csv", "frame,file,utc\n");
-  test::write_text(dir / "mission.json", R"({
-    "mission": "calibrate test", "site": {"origin": {"lat": 45.6, "lon": 122.8, "h": 150}},
-    "gnss": {"pos_files": ["pos.pos"]}, "lever_arm": {"vertical_m": 0.25},
-    "cameras": [{"id": "cam1", "frames": {"timestamps": "frames.csv"},
-                 "sensor": {"width_px": 1280, "height_px": 800, "pixel_size_um": [20, 20]},
-                 "lens": {"nominal_focal_mm": 135}}],
-    "calibrate": {"method": "bundle", "compare": ["tsai", "dlt_lmqn"]},
-    "output_dir": "out"})");
+  test::write_single_camera_mission(
+      dir, pts, 0.005, R"({"method": "bundle", "compare": ["tsai", "dlt_lmqn"]})", "calibrate test");
   const auto r = test::run_cli("calibrate '" + (dir / "mission.json").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   const CalibrationResult cal = read_calibration_json((dir / "out/cam1/calibration.json").string());
@@ -136,7 +117,7 @@ TEST(CalibrateStage, CliWritesCalibrationOpencvAndMethods) {
   EXPECT_NE(methods.find("\ndlt_lmqn,"), std::string::npos);
   // Residuals and use flags were written back.
   const auto back = read_correspondences_csv((dir / "out/cam1/correspondences.csv").string());
-  ASSERT_EQ(back.size(), pairs.size());
+  ASSERT_EQ(back.size(), pts.size());
   EXPECT_TRUE(back[0].residual_px.has_value() && back[0].used.has_value());
   // Rerun → byte-identical calibration.json and methods.csv.
   const std::string cal1 = test::read_text(dir / "out/cam1/calibration.json");

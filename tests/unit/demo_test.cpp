@@ -14,6 +14,7 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "gnss/utc_time.hpp"
 #include "pipeline/demo.hpp"
 #include "pipeline/demo_scenario_text.hpp"
 #include "pipeline/mission_runner.hpp"
@@ -153,6 +154,41 @@ TEST(Demo, ReadingGpstAsUtcFailsTheBar) {
   } catch (const Error& e) {
     // Equally a failure of the bar: no camera can be calibrated from mismatched pairs.
     EXPECT_TRUE(e.kind() == ErrorKind::calibration || e.kind() == ErrorKind::input) << e.what();
+  }
+}
+
+TEST(Demo, FrameStampsEighteenSecondsLateAreReportedAsALeapSecondError) {
+  // cam2's timestamps.csv rewritten as if its clock carried GPST instead of UTC.
+  std::vector<StageLog> logs;
+  rerun_variant(
+      "cam2_gpst_stamps",
+      [](const fs::path& dir) {
+        const std::string text = test::read_text(dir / "cam2/timestamps.csv");
+        std::string out;
+        std::size_t pos = text.find('\n') + 1;
+        out = text.substr(0, pos);
+        while (pos < text.size()) {
+          const std::size_t end = text.find('\n', pos);
+          const std::string line = text.substr(pos, end - pos);
+          const std::size_t c = line.rfind(',');
+          UtcTime t = *parse_iso8601_utc(line.substr(c + 1));
+          t.ns += 18'000'000'000LL;
+          out += line.substr(0, c + 1) + format_iso8601_utc(t) + "\n";
+          pos = end + 1;
+        }
+        test::write_text(dir / "cam2/timestamps.csv", out);
+      },
+      &logs);
+  bool found = false;
+  for (const StageLog& l : logs)
+    if (l.stage == "detect")
+      for (const std::string& w : l.warnings)
+        found = found || (w.find("cam2") != std::string::npos && w.find("+18 s") != std::string::npos &&
+                          w.find("leap-second") != std::string::npos);
+  EXPECT_TRUE(found) << "no leap-second warning for cam2";
+  for (const StageLog& l : logs) {
+    if (l.stage != "detect") continue;
+    for (const std::string& w : l.warnings) EXPECT_EQ(w.find("cam1"), std::string::npos) << w;
   }
 }
 

@@ -12,6 +12,7 @@
 #include "config/error.hpp"
 #include "pipeline/correspondences_io.hpp"
 #include "support/paths.hpp"
+#include "support/single_camera_mission.hpp"
 #include "support/synthetic_camera.hpp"
 
 namespace rangecal {
@@ -121,28 +122,7 @@ std::filesystem::path calibrated_mission(const std::string& name) {
   const Camera truth = test::range_camera(-3.4e-4);
   const auto pts = test::observe(truth, test::range_world_points(truth), 0.1, 0.01, 9);
   const auto dir = test::scratch_dir(name);
-  std::vector<Correspondence> pairs;
-  UtcTime t = *parse_iso8601_utc("2025-06-01T03:00:00Z");
-  for (const auto& c : pts) {
-    Correspondence k;
-    k.utc = t;
-    t.ns += 100'000'000;
-    k.enu = c.world;
-    k.uv = c.pixel;
-    k.sd_enu = Eigen::Vector3d::Constant(0.01);
-    pairs.push_back(k);
-  }
-  write_correspondences_csv((dir / "out/cam1/correspondences.csv").string(), pairs);
-  test::write_text(dir / "pos.pos", "");
-  test::write_text(dir / "frames.csv", "frame,file,utc\n");
-  test::write_text(dir / "mission.json", R"({
-    "mission": "montecarlo test", "site": {"origin": {"lat": 45.6, "lon": 122.8, "h": 150}},
-    "gnss": {"pos_files": ["pos.pos"]}, "lever_arm": {"vertical_m": 0.25},
-    "cameras": [{"id": "cam1", "frames": {"timestamps": "frames.csv"},
-                 "sensor": {"width_px": 1280, "height_px": 800, "pixel_size_um": [20, 20]},
-                 "lens": {"nominal_focal_mm": 135}}],
-    "calibrate": {"method": "bundle"},
-    "output_dir": "out"})");
+  test::write_single_camera_mission(dir, pts, 0.01, R"({"method": "bundle"})", "montecarlo test");
   return dir;
 }
 

@@ -332,7 +332,7 @@ TEST(Report, MalformedIntersectionCsvNamesFileLineAndField) {
 TEST(Report, CliCommandWritesTheReport) {
   const fs::path dir = test::scratch_dir("report_cli");
   const Fixture fx = build_output(dir);
-  test::write_text(dir / "gnss/rover.pos", "% placeholder: the report stage does not read it\n");
+  test::write_text(dir / "gnss/rover.pos", "% not read by the report stage\n");
   test::write_text(dir / "mission.json", R"({
     "mission": "cli report",
     "site": {"origin": {"lat": 45.6, "lon": 122.8, "h": 150.0}},
