@@ -25,13 +25,20 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-// Ambient parameter layout: three Ceres blocks.
-constexpr int kIntr = 4;  // f, sx, u0, v0 (project_camera_point's intr order)
-constexpr int kDist = 7;  // kDistortionNames order
-constexpr int kPose = 6;  // wx wy wz (rad), CE CN CU (m)
-constexpr int kAll = kIntr + kDist + kPose;
-constexpr std::array<const char*, kAll> kNames = {"f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2",
-                                                  "a1", "a2", "wx", "wy", "wz", "CE", "CN", "CU"};
+// Ambient parameter layout: four Ceres blocks.
+constexpr int kIntr = 4;   // f, sx, u0, v0 (project_camera_point's intr order)
+constexpr int kDist = 7;   // kDistortionNames order
+constexpr int kPose = 6;   // wx wy wz (rad), CE CN CU (m)
+constexpr int kClock = 1;  // clock_offset (s)
+constexpr int kAll = kIntr + kDist + kPose + kClock;
+constexpr int kClockIndex = kIntr + kDist + kPose;
+constexpr std::array<const char*, kAll> kNames = {"f",  "sx", "u0", "v0", "k1", "k2", "k3",
+                                                  "p1", "p2", "a1", "a2", "wx", "wy", "wz",
+                                                  "CE", "CN", "CU", "clock_offset"};
+
+/// A clock offset whose 1σ moves the fastest lamp point by more than this (m) is poorly determined:
+/// twice the PPK noise of one epoch (docs/optimisation.md).
+constexpr double kClockWarningM = 0.02;
 
 std::string fmt(double v) {
   char b[32];
@@ -45,10 +52,12 @@ struct ParameterState {
   double intr[kIntr];
   double dist[kDist];
   double pose[kPose];
+  double clock[kClock] = {0};
   Matrix3d R0;
 
-  static ParameterState from_camera(const Camera& c) {
+  static ParameterState from_camera(const Camera& c, double clock_offset_s = 0) {
     ParameterState s;
+    s.clock[0] = clock_offset_s;
     s.intr[0] = c.intr.f_mm, s.intr[1] = c.intr.sx, s.intr[2] = c.intr.u0_px, s.intr[3] = c.intr.v0_px;
     const auto d = c.intr.dist.as_array();
     std::copy(d.begin(), d.end(), s.dist);
@@ -72,19 +81,23 @@ struct ParameterState {
 };
 
 /// Whitened reprojection residual of one point:
-///   Xc = exp([w]×)·R0·(Xw − C)                  (SPEC §2, T = −R·C)
+///   X  = Xw − v·δ                                (the lamp at the true exposure time, δ the clock
+///                                                 offset; bundle_adjustment.hpp)
+///   Xc = exp([w]×)·R0·(X − C)                    (SPEC §2, T = −R·C)
 ///   (u, v) = project_camera_point(intr, dist, Xc)  (seed 002 eqs. 6–7 + seed 000 eq. 7)
 ///   r = W·((u, v) − (u_obs, v_obs)),  W = L⁻¹, C_eff = L·Lᵀ
 struct ReprojectionResidual {
   Vector3d Xw;
+  Vector3d vel;
   Vector2d uv;
   Matrix2d W;
   Matrix3d R0;
   double dx_mm, dy_mm;
 
   template <typename T>
-  bool operator()(const T* intr, const T* dist, const T* pose, T* residual) const {
-    const T d[3] = {T(Xw.x()) - pose[3], T(Xw.y()) - pose[4], T(Xw.z()) - pose[5]};
+  bool operator()(const T* intr, const T* dist, const T* pose, const T* clock, T* residual) const {
+    const T d[3] = {T(Xw.x()) - T(vel.x()) * clock[0] - pose[3], T(Xw.y()) - T(vel.y()) * clock[0] - pose[4],
+                    T(Xw.z()) - T(vel.z()) * clock[0] - pose[5]};
     T q[3];
     for (int i = 0; i < 3; ++i) q[i] = T(R0(i, 0)) * d[0] + T(R0(i, 1)) * d[1] + T(R0(i, 2)) * d[2];
     T xc[3];
@@ -121,7 +134,7 @@ struct CenterPrior {
   }
 };
 
-using ReprojectionCost = ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntr, kDist, kPose>;
+using ReprojectionCost = ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntr, kDist, kPose, kClock>;
 using PrincipalPointCost = ceres::AutoDiffCostFunction<PrincipalPointPrior, 2, kIntr>;
 using CenterCost = ceres::AutoDiffCostFunction<CenterPrior, 3, kPose>;
 
@@ -159,9 +172,9 @@ int solve_stage(ParameterState& st, const Camera& base, const std::vector<Bundle
   bool lf_used = false;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!used[i]) continue;
-    auto* cost = new ReprojectionCost(
-        new ReprojectionResidual{obs[i].world, obs[i].pixel, W[i], st.R0, base.intr.dx_mm, base.intr.dy_mm});
-    problem.AddResidualBlock(cost, lf, st.intr, st.dist, st.pose);
+    auto* cost = new ReprojectionCost(new ReprojectionResidual{obs[i].world, obs[i].velocity, obs[i].pixel, W[i],
+                                                               st.R0, base.intr.dx_mm, base.intr.dy_mm});
+    problem.AddResidualBlock(cost, lf, st.intr, st.dist, st.pose, st.clock);
     lf_used = lf_used || lf;
   }
   if (lf && !lf_used) delete lf;
@@ -173,10 +186,10 @@ int solve_stage(ParameterState& st, const Camera& base, const std::vector<Bundle
     problem.AddResidualBlock(
         new CenterCost(new CenterPrior{opt.priors.center_enu_m, opt.priors.center_sigma_m}), nullptr,
         st.pose);
-  double* blocks[3] = {st.intr, st.dist, st.pose};
-  const int sizes[3] = {kIntr, kDist, kPose};
+  double* blocks[4] = {st.intr, st.dist, st.pose, st.clock};
+  const int sizes[4] = {kIntr, kDist, kPose, kClock};
   int offset = 0;
-  for (int b = 0; b < 3; ++b) {
+  for (int b = 0; b < 4; ++b) {
     const bool* fr = setup.free.data() + offset;
     const int nf = static_cast<int>(std::count(fr, fr + sizes[b], true));
     if (nf == 0)
@@ -216,16 +229,17 @@ void assemble(const ParameterState& st, const Camera& base, const std::vector<Bu
   rows += (setup.pp_prior ? 2 : 0) + (setup.center_prior ? 3 : 0);
   J->setZero(rows, kAll);
   r->setZero(rows);
-  const double* params[3] = {st.intr, st.dist, st.pose};
+  const double* params[4] = {st.intr, st.dist, st.pose, st.clock};
   int row = 0;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!used[i]) continue;
-    ReprojectionCost cost(
-        new ReprojectionResidual{obs[i].world, obs[i].pixel, W[i], st.R0, base.intr.dx_mm, base.intr.dy_mm});
+    ReprojectionCost cost(new ReprojectionResidual{obs[i].world, obs[i].velocity, obs[i].pixel, W[i], st.R0,
+                                                   base.intr.dx_mm, base.intr.dy_mm});
     Eigen::Matrix<double, 2, kIntr, Eigen::RowMajor> j0;
     Eigen::Matrix<double, 2, kDist, Eigen::RowMajor> j1;
     Eigen::Matrix<double, 2, kPose, Eigen::RowMajor> j2;
-    double* jac[3] = {j0.data(), j1.data(), j2.data()};
+    Eigen::Matrix<double, 2, kClock> j3;  // one column: row-major is not allowed (and the same)
+    double* jac[4] = {j0.data(), j1.data(), j2.data(), j3.data()};
     double res[2];
     if (!cost.Evaluate(params, res, jac))
       throw_calibration_error("bundle",
@@ -233,6 +247,7 @@ void assemble(const ParameterState& st, const Camera& base, const std::vector<Bu
     J->block(row, 0, 2, kIntr) = j0;
     J->block(row, kIntr, 2, kDist) = j1;
     J->block(row, kIntr + kDist, 2, kPose) = j2;
+    J->block(row, kClockIndex, 2, kClock) = j3;
     (*r)[row] = res[0], (*r)[row + 1] = res[1];
     row += 2;
   }
@@ -266,7 +281,7 @@ Setup make_setup(const std::vector<std::string>& free, const BundleOptions& opt)
       throw_config_error(
           "", "calibrate.free",
           "unknown parameter '" + name +
-              "' (expected f, sx, u0, v0, k1, k2, k3, p1, p2, a1, a2, pose, rotation, center)");
+              "' (expected f, sx, u0, v0, k1, k2, k3, p1, p2, a1, a2, pose, rotation, center, clock_offset)");
   }
   s.n_free = static_cast<int>(std::count(s.free.begin(), s.free.end(), true));
   const int o = kIntr + kDist;
@@ -307,7 +322,15 @@ void check_input(const Camera& cam, const std::vector<BundleObservation>& obs, c
       throw_calibration_error(at + ".world_cov",
                               "the world-point covariance must be finite and non-negative");
     if (!std::isfinite(o.pixel_sigma_px)) throw_calibration_error(at + ".pixel_sigma_px", "must be finite");
+    if (!o.velocity.allFinite())
+      throw_calibration_error(at + ".velocity", "the lamp velocity must be finite (got NaN or infinity)");
   }
+  if (setup.free[kClockIndex] &&
+      std::none_of(obs.begin(), obs.end(), [](const BundleObservation& ob) { return ob.velocity.norm() > 0; }))
+    throw_calibration_error("bundle.clock_offset",
+                            "the clock offset is free but no observation carries a lamp velocity "
+                            "(correspondences.csv without vE,vN,vU, or a lamp that never moved): rerun the "
+                            "align and detect stages, or fix clock_offset");
   const int n = static_cast<int>(obs.size());
   if (2 * n < setup.n_free)
     throw_calibration_error("bundle", "fewer observations than unknowns: " + std::to_string(n) +
@@ -363,6 +386,8 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   const Setup setup = make_setup(opt.free, opt);
   check_input(initial, obs, setup, opt);
   const std::size_t n = obs.size();
+  double max_speed = 0;  // m/s, scales the clock offset in the rank test and its warning
+  for (const auto& o : obs) max_speed = std::max(max_speed, o.velocity.norm());
 
   // SPEC §4.4: a fixed principal point stays at its prior when one is given.
   Camera start = initial;
@@ -380,7 +405,7 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   };
 
   BundleResult out;
-  ParameterState st = ParameterState::from_camera(start);
+  ParameterState st = ParameterState::from_camera(start, opt.initial_clock_offset_s);
   std::vector<char> used(n, 1);
   nlohmann::json stages = nlohmann::json::array();
 
@@ -400,7 +425,8 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
     std::vector<double> norms;
     for (std::size_t i = 0; i < n; ++i) {
       Vector2d uv;
-      if (!project(c, obs[i].world, &uv)) uv.setConstant(std::numeric_limits<double>::infinity());
+      if (!project(c, observed_world_point(obs[i], st.clock[0]), &uv))
+        uv.setConstant(std::numeric_limits<double>::infinity());
       out.residual_px[i] = uv - obs[i].pixel;
       out.whitened_norm[i] = (Wc[i] * out.residual_px[i]).norm();
       if (used[i]) norms.push_back(out.whitened_norm[i]);
@@ -454,6 +480,7 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   cal.camera_id = initial.id;
   cal.method = "bundle";
   cal.camera = cam;
+  cal.clock_offset_s = st.clock[0];
   cal.parameter_names = names;
 
   const MatrixXd N = J.transpose() * J;
@@ -494,7 +521,8 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
                                   1,
                                   dist,
                                   dist,
-                                  dist};
+                                  dist,
+                                  dist / std::max(max_speed, 1e-3)};
     VectorXd tscale(p);
     for (int k = 0; k < p; ++k) tscale[k] = typical[cols[k]];
     Eigen::SelfAdjointEigenSolver<MatrixXd> et(tscale.asDiagonal() * N * tscale.asDiagonal());
@@ -574,6 +602,9 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
       if ((nm == "wx" || nm == "wy" || nm == "wz") && s > 1e-3)
         why = "σ " + fmt(s) + " rad is more than 1 mrad";
       if ((nm == "CE" || nm == "CN" || nm == "CU") && s > 1.0) why = "σ " + fmt(s) + " m is more than 1 m";
+      if (nm == "clock_offset" && s * max_speed > kClockWarningM)
+        why = "σ " + fmt(s * 1e3) + " ms moves the fastest lamp point (" + fmt(max_speed) + " m/s) by " +
+              fmt(s * max_speed * 100) + " cm (> 2 cm); fly faster ascents and descents, or fix it";
       if (!why.empty()) cal.warnings.push_back("parameter " + nm + " is poorly determined: " + why);
     }
     for (int a = 0; a < p; ++a)
@@ -608,6 +639,7 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   d["rank_deficient"] = out.rank_deficient;
   d["outlier_threshold_sigma"] = threshold;
   d["pixel_sigma_px"] = opt.pixel_sigma_px;
+  if (setup.free[kClockIndex]) d["clock_offset_s"] = cal.clock_offset_s;
   if (out.covariance_unscaled.rows() == p) {
     nlohmann::json su, ss;
     for (int k = 0; k < p; ++k) {

@@ -14,9 +14,16 @@
 // Parameters (CalibrationResult naming, vision/calibration_result.hpp):
 //   f (mm), sx, u0, v0 (px), k1 k2 k3 p1 p2 a1 a2 (distorted → undistorted, sensor mm),
 //   wx wy wz (rad): rotation perturbation R = exp([w]×)·R̂ about the final R̂ (camera axes),
-//   CE CN CU (m): camera centre in ENU (Xc = R·(Xw − C), T = −R·C).
+//   CE CN CU (m): camera centre in ENU (Xc = R·(Xw − C), T = −R·C),
+//   clock_offset (s): camera clock − GNSS time, δ = frame stamp − true exposure time. The world
+//     point was interpolated at the frame's stamp, so the lamp really stood at
+//       X(t_true) = X(stamp − δ) ≈ Xw − v·δ        (v the lamp velocity at the stamp)
+//     and that is what the camera saw (docs/optimisation.md "Clock offset"). The lamp moves up to
+//     10 m/s, so 1 ms is up to 1 cm. Separable from the camera centre only where the velocity
+//     varies (ascents and descents, accelerations) or static points (control poles) are present;
+//     a constant velocity makes δ and the centre one direction, which the rank test reports.
 // Free-parameter names accepted in BundleOptions::free: f, sx, u0, v0, k1, k2, k3, p1, p2, a1, a2,
-// pose (= rotation + center), rotation (wx wy wz), center (CE CN CU).
+// pose (= rotation + center), rotation (wx wy wz), center (CE CN CU), clock_offset.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -31,7 +38,15 @@ struct BundleObservation {
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();      ///< (u, v), px
   Eigen::Matrix3d world_cov = Eigen::Matrix3d::Zero();  ///< Σ_X, m² (e.g. diag(sdE², sdN², sdU²))
   double pixel_sigma_px = 0;  ///< σ_px of this pixel; ≤ 0 → BundleOptions::pixel_sigma_px
+  /// Lamp velocity (ENU, m/s) at the observation's time stamp (Hermite derivative of the track);
+  /// zero for static points such as poles. Used only when clock_offset is free (or nonzero).
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
 };
+
+/// The world point the camera saw: Xw − v·δ for a camera clock offset δ (s), see above.
+inline Eigen::Vector3d observed_world_point(const BundleObservation& o, double clock_offset_s) {
+  return o.world - o.velocity * clock_offset_s;
+}
 
 struct BundlePriors {
   bool use_principal_point = false;
@@ -57,6 +72,8 @@ struct BundleOptions {
   double outlier_threshold = 3.5;
   bool resolve_without_outliers = true;  ///< final plain least squares on the inliers
   int max_iterations = 200;
+  /// Starting value of the clock offset (s); also its fixed value when clock_offset is not free.
+  double initial_clock_offset_s = 0;
   /// false (default): σ from the a-priori noise model (σ_px, Σ_X), honest when the noise is known;
   /// true: scaled by the a-posteriori variance factor χ²/dof. Both are always in `details`.
   bool scale_covariance = false;

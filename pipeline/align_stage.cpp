@@ -163,7 +163,7 @@ AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& 
       res.rejected.push_back(std::move(rej));
       continue;
     }
-    res.aligned.push_back(AlignedFrame{f.frame, f.utc, s.enu, s.sd_enu, dt_s});
+    res.aligned.push_back(AlignedFrame{f.frame, f.utc, s.enu, s.sd_enu, dt_s, s.vel_enu});
     const double speed = s.vel_enu.norm(), err = speed * std::fabs(dt_s);
     sum_dt += dt_s;
     sum_abs_dt += std::fabs(dt_s);
@@ -183,13 +183,14 @@ AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& 
 }
 
 std::string format_aligned_csv(const std::vector<AlignedFrame>& rows) {
-  std::string out = "frame,utc,E,N,U,sdE,sdN,sdU,dt_s\n";
-  out.reserve(out.size() + rows.size() * 128);
-  char buf[320];
+  std::string out = "frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU\n";
+  out.reserve(out.size() + rows.size() * 160);
+  char buf[400];
   for (const AlignedFrame& r : rows) {
-    std::snprintf(buf, sizeof buf, "%lld,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.9f\n",
+    std::snprintf(buf, sizeof buf, "%lld,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.9f,%.4f,%.4f,%.4f\n",
                   static_cast<long long>(r.frame), format_iso8601_utc(r.utc, 9).c_str(), r.enu.x(), r.enu.y(),
-                  r.enu.z(), r.sd_enu.x(), r.sd_enu.y(), r.sd_enu.z(), r.dt_s);
+                  r.enu.z(), r.sd_enu.x(), r.sd_enu.y(), r.sd_enu.z(), r.dt_s, r.vel_enu.x(), r.vel_enu.y(),
+                  r.vel_enu.z());
     out += buf;
   }
   return out;
@@ -205,6 +206,7 @@ std::vector<AlignedFrame> parse_aligned_csv(const std::string& text, const std::
   const std::size_t c_pos[3] = {t.column("E"), t.column("N"), t.column("U")};
   const std::size_t c_sd[3] = {t.column("sdE"), t.column("sdN"), t.column("sdU")};
   const std::size_t c_dt = t.column("dt_s");
+  const std::size_t c_vel[3] = {t.column("vE"), t.column("vN"), t.column("vU")};
   std::vector<AlignedFrame> rows;
   rows.reserve(t.records.size());
   for (const CsvRecord& rec : t.records) {
@@ -221,6 +223,7 @@ std::vector<AlignedFrame> parse_aligned_csv(const std::string& text, const std::
         throw_input_error(path, rec.line, t.header[c_sd[k]], "a standard deviation cannot be negative");
     }
     a.dt_s = t.number(rec, c_dt);
+    for (int k = 0; k < 3; ++k) a.vel_enu[k] = t.number(rec, c_vel[k]);
     if (!rows.empty() && !(a.frame > rows.back().frame)) {
       throw_input_error(path, rec.line, "frame",
                         "frame " + std::to_string(a.frame) + " does not follow frame " +

@@ -47,6 +47,9 @@ struct AlignedFrame {
   Eigen::Vector3d enu = Eigen::Vector3d::Zero();     ///< interpolated lamp ENU (m)
   Eigen::Vector3d sd_enu = Eigen::Vector3d::Zero();  ///< interpolated 1σ (m)
   double dt_s = 0;                                   ///< frame UTC − nearest epoch UTC (s)
+  /// Lamp velocity at the frame's UTC (m/s): the Hermite interpolant's derivative. The bundle's
+  /// clock-offset parameter moves the point by −velocity·δ (optim/bundle_adjustment.hpp).
+  Eigen::Vector3d vel_enu = Eigen::Vector3d::Zero();
 };
 
 enum class FrameRejection {
@@ -99,9 +102,9 @@ struct AlignResult {
 AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& frames,
                          const AlignOptions& options);
 
-/// `<cam>/aligned.csv`: header `frame,utc,E,N,U,sdE,sdN,sdU,dt_s`; utc ISO 8601 with 9 fraction
-/// digits; E, N, U and sd in metres with 6 decimals (µm); dt_s with 9 decimals (ns). Deterministic
-/// (locale-independent) text.
+/// `<cam>/aligned.csv`: header `frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU`; utc ISO 8601 with 9
+/// fraction digits; E, N, U and sd in metres with 6 decimals (µm); dt_s with 9 decimals (ns);
+/// velocity in m/s with 4 decimals. Deterministic (locale-independent) text.
 std::string format_aligned_csv(const std::vector<AlignedFrame>& rows);
 /// Writes format_aligned_csv atomically.
 void write_aligned_csv(const std::string& path, const std::vector<AlignedFrame>& rows);

@@ -33,6 +33,7 @@ CalibrationProblem make_calibration_problem(const MissionConfig& cfg, const Came
     o.pixel = c.uv;
     const Eigen::Vector3d sd = c.sd_enu ? *c.sd_enu : Eigen::Vector3d::Constant(kDefaultWorldSigmaM);
     o.world_cov = sd.cwiseProduct(sd).asDiagonal();
+    if (c.vel_enu) o.velocity = *c.vel_enu;
     p.observations.push_back(o);
   }
   if (cfg.calibrate.use_control_poles && !cfg.poles_file.empty() && !cam.pole_observations.empty()) {
@@ -130,7 +131,7 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
                              std::to_string(ocv.fit_max_px) + " px");
 
     // Residual and use of every lamp pair (control poles follow them in the problem).
-    const auto res = reprojection_residuals(main.camera, problem.observations);
+    const auto res = reprojection_residuals(main.camera, problem.observations, main.clock_offset_s);
     std::vector<bool> rejected(problem.observations.size(), false);
     for (std::size_t i : main.rejected)
       if (i < rejected.size()) rejected[i] = true;

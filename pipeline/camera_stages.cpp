@@ -112,6 +112,7 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
       c.utc = aligned[i].utc;
       c.enu = aligned[i].enu;
       c.sd_enu = aligned[i].sd_enu;
+      c.vel_enu = aligned[i].vel_enu;
       c.uv = {det[i].u, det[i].v};
       pairs.push_back(c);
     }

@@ -9,10 +9,11 @@
 namespace rangecal {
 
 std::string format_correspondences_csv(const std::vector<Correspondence>& pairs) {
-  bool with_sd = !pairs.empty();
-  for (const auto& p : pairs) with_sd = with_sd && p.sd_enu.has_value();
-  std::string out =
-      with_sd ? "utc,E,N,U,u,v,residual_px,used,sdE,sdN,sdU\n" : "utc,E,N,U,u,v,residual_px,used\n";
+  bool with_sd = !pairs.empty(), with_vel = !pairs.empty();
+  for (const auto& p : pairs) with_sd = with_sd && p.sd_enu.has_value(), with_vel = with_vel && p.vel_enu;
+  std::string out = "utc,E,N,U,u,v,residual_px,used";
+  out += with_sd ? ",sdE,sdN,sdU" : "";
+  out += with_vel ? ",vE,vN,vU\n" : "\n";
   char buf[256];
   for (const auto& p : pairs) {
     out += format_iso8601_utc(p.utc, 9);
@@ -27,6 +28,10 @@ std::string format_correspondences_csv(const std::vector<Correspondence>& pairs)
     if (p.used) out += *p.used ? "1" : "0";
     if (with_sd) {
       std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f", p.sd_enu->x(), p.sd_enu->y(), p.sd_enu->z());
+      out += buf;
+    }
+    if (with_vel) {
+      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f", p.vel_enu->x(), p.vel_enu->y(), p.vel_enu->z());
       out += buf;
     }
     out += "\n";
@@ -47,6 +52,9 @@ std::vector<Correspondence> read_correspondences_csv(const std::string& path) {
   const auto c_se = t.find_column("sdE"), c_sn = t.find_column("sdN"), c_su = t.find_column("sdU");
   if ((c_se || c_sn || c_su) && !(c_se && c_sn && c_su))
     throw_input_error(path, 1, "sdE", "the world-sd columns come as a set: sdE,sdN,sdU");
+  const auto c_ve = t.find_column("vE"), c_vn = t.find_column("vN"), c_vu = t.find_column("vU");
+  if ((c_ve || c_vn || c_vu) && !(c_ve && c_vn && c_vu))
+    throw_input_error(path, 1, "vE", "the velocity columns come as a set: vE,vN,vU");
   std::vector<Correspondence> out;
   out.reserve(t.records.size());
   for (const auto& r : t.records) {
@@ -71,6 +79,7 @@ std::vector<Correspondence> read_correspondences_csv(const std::string& path) {
       if ((p.sd_enu->array() < 0).any())
         throw_input_error(path, r.line, "sdE", "a standard deviation is negative");
     }
+    if (c_ve) p.vel_enu = Eigen::Vector3d(t.number(r, *c_ve), t.number(r, *c_vn), t.number(r, *c_vu));
     out.push_back(p);
   }
   return out;

@@ -2,7 +2,7 @@
 // `<cam>/correspondences.csv` (SPEC §5): the (lamp ENU, lamp pixel) pairs the calibrate stage
 // uses, written by align+detect — or by a user who already has point pairs.
 //
-// Columns: utc,E,N,U,u,v,residual_px,used[,sdE,sdN,sdU]
+// Columns: utc,E,N,U,u,v,residual_px,used[,sdE,sdN,sdU][,vE,vN,vU]
 //   utc      ISO 8601 UTC (Z, 9 digits) of the frame
 //   E,N,U    lamp centre, local ENU metres about site.origin
 //   u,v      lamp pixel (u right, v down, top-left pixel centre = (0,0))
@@ -10,6 +10,8 @@
 //   used     1 if the calibration used the pair, 0 if it rejected it as an outlier (blank before it)
 //   sdE,sdN,sdU  optional (our extension of SPEC §5): the world point's 1σ in metres, from the PPK
 //                sd interpolated to the frame; when absent the calibrate stage uses its default.
+//   vE,vN,vU     optional (our extension): the lamp velocity at the frame, m/s, for the bundle's
+//                clock-offset parameter; when absent the clock offset cannot be estimated.
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -26,6 +28,7 @@ struct Correspondence {
   std::optional<double> residual_px;  ///< filled by the calibrate stage
   std::optional<bool> used;           ///< filled by the calibrate stage
   std::optional<Eigen::Vector3d> sd_enu;
+  std::optional<Eigen::Vector3d> vel_enu;  ///< m/s
 };
 
 /// Deterministic text: same pairs → same bytes. Positions to 0.1 mm, pixels to 1e-4 px.

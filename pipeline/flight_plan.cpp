@@ -53,6 +53,7 @@ std::vector<BundleObservation> observations_of(const SimMission& m, const SimCam
     ob.pixel = frames[best].lamp_px;
     ob.world_cov = e.sd_enu.cwiseProduct(e.sd_enu).asDiagonal();
     ob.pixel_sigma_px = o.pixel_sigma_px;
+    ob.velocity = frames[best].lamp_velocity_enu;
     out.push_back(ob);
   }
   return out;
@@ -75,10 +76,14 @@ CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObserv
   b.n_points = static_cast<int>(obs.size());
   b.parameter_names = expand_free_parameters(free);
   const int n = static_cast<int>(b.parameter_names.size());
+  const auto it = std::find(b.parameter_names.begin(), b.parameter_names.end(), "clock_offset");
+  const int clock = it == b.parameter_names.end() ? -1 : static_cast<int>(it - b.parameter_names.begin());
   Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
   for (const BundleObservation& ob : obs) {
     Eigen::Matrix<double, 2, 3> Jx;
-    const Eigen::MatrixXd J = pixel_jacobian_wrt_parameters(truth, b.parameter_names, ob.world, &Jx);
+    Eigen::MatrixXd J = pixel_jacobian_wrt_parameters(truth, b.parameter_names, ob.world, &Jx);
+    // The clock offset δ moves the seen point by −v·δ (optim/bundle_adjustment.hpp).
+    if (clock >= 0) J.col(clock) = -Jx * ob.velocity;
     const double sp = ob.pixel_sigma_px > 0 ? ob.pixel_sigma_px : o.pixel_sigma_px;
     // Effective pixel covariance: centroid noise + PPK noise seen through the camera (as the bundle).
     const Eigen::Matrix2d C = sp * sp * Eigen::Matrix2d::Identity() + Jx * ob.world_cov * Jx.transpose();
@@ -191,6 +196,7 @@ std::string unit_of(const std::string& pn) {
   if (pn[0] == 'w') return " rad";
   if (pn[0] == 'C') return " m";
   if (pn == "k1") return " mm^-2";
+  if (pn == "clock_offset") return " s";
   return "";
 }
 

@@ -305,6 +305,9 @@ SimMission simulate_mission(const Scenario& s) {
       std::snprintf(name, sizeof name, "frames/%s_%07lld.png", sc.spec.id.c_str(), static_cast<long long>(n));
       f.file = name;
       f.lamp_enu = state_with(s, m.plan, wob, t).lamp_enu;
+      constexpr double h = 1e-3;
+      f.lamp_velocity_enu =
+          (state_with(s, m.plan, wob, t + h).lamp_enu - state_with(s, m.plan, wob, t - h).lamp_enu) / (2 * h);
       f.projects = project(cam, f.lamp_enu, &f.lamp_px);
       f.in_view = f.projects && inside_image(cam, f.lamp_px);
       sc.frames.push_back(f);

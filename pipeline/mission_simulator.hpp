@@ -77,6 +77,9 @@ struct SimFrame {
   UtcTime stamp_utc;       ///< what the camera wrote: true + clock_offset_s
   std::string file;        ///< relative to the camera folder, e.g. frames/cam1_0000050.png
   Eigen::Vector3d lamp_enu = Eigen::Vector3d::Zero();
+  /// Lamp velocity at the exposure (m/s): antenna velocity + the lever arm's turn with the attitude
+  /// (central difference over ±1 ms of the true lamp position).
+  Eigen::Vector3d lamp_velocity_enu = Eigen::Vector3d::Zero();
   Eigen::Vector2d lamp_px = Eigen::Vector2d::Zero();  ///< true lamp pixel (undefined if !projects)
   bool projects = false;  ///< in front of the camera and the distortion inverse converged
   bool in_view = false;   ///< projects and 0 ≤ u ≤ W−1, 0 ≤ v ≤ H−1

@@ -62,7 +62,8 @@ CameraTruth make_truth(const MonteCarloCamera& c) {
     if (rejected[i]) continue;
     BundleObservation o = c.problem.observations[i];
     Eigen::Vector2d uv;
-    if (!project(c.reference.camera, o.world, &uv)) continue;
+    // The reference clock offset is part of the truth: the camera saw the lamp at stamp − δ.
+    if (!project(c.reference.camera, observed_world_point(o, c.reference.clock_offset_s), &uv)) continue;
     o.pixel = uv;
     // A zero covariance (exact point) has no Cholesky factor; LDLᵀ handles semi-definite ones.
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(o.world_cov);
@@ -110,8 +111,17 @@ CalibrationProblem trial_problem(const MonteCarloCamera& c, const CameraTruth& t
   return p;
 }
 
+/// What a trial keeps of a calibration: the camera and its clock offset.
+struct TrialCamera {
+  Camera camera;
+  double clock_offset_s = 0;
+  double value(const Camera& reference, const std::string& name) const {
+    return camera_parameter_value(camera, reference, name, clock_offset_s);
+  }
+};
+
 struct TrialOutcome {
-  std::vector<std::optional<Camera>> cameras;  ///< per camera; empty when the calibration failed
+  std::vector<std::optional<TrialCamera>> cameras;  ///< per camera; empty when the calibration failed
   std::vector<std::string> failure;
   std::vector<std::optional<Eigen::Vector3d>> pole_error;  ///< triangulated − truth, per pole
 };
@@ -127,7 +137,7 @@ std::string fmt(const char* f, double v) {
 
 std::vector<std::string> expand_free_parameters(const std::vector<std::string>& free) {
   static const char* kOrder[] = {"f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2",
-                                 "a1", "a2", "wx", "wy", "wz", "CE", "CN", "CU"};
+                                 "a1", "a2", "wx", "wy", "wz", "CE", "CN", "CU", "clock_offset"};
   std::vector<std::string> out;
   for (const char* n : kOrder) {
     const std::string s = n;
@@ -140,7 +150,9 @@ std::vector<std::string> expand_free_parameters(const std::vector<std::string>& 
   return out;
 }
 
-double camera_parameter_value(const Camera& cam, const Camera& reference, const std::string& n) {
+double camera_parameter_value(const Camera& cam, const Camera& reference, const std::string& n,
+                              double clock_offset_s) {
+  if (n == "clock_offset") return clock_offset_s;
   const CameraIntrinsics& in = cam.intr;
   if (n == "f") return in.f_mm;
   if (n == "sx") return in.sx;
@@ -189,7 +201,8 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
       DeterministicRandom rng(trial_seed(options.seed, c, t));
       const CalibrationProblem p = trial_problem(cameras[c], truth[c], options, rng);
       try {
-        out.cameras[c] = calibrate_camera(truth[c].method, p).camera;
+        const CalibrationResult r = calibrate_camera(truth[c].method, p);
+        out.cameras[c] = TrialCamera{r.camera, r.clock_offset_s};
       } catch (const Error& e) {
         if (e.kind() != ErrorKind::calibration) throw;
         out.failure[c] = e.what();
@@ -204,7 +217,7 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
         const double zu = rng.normal(), zv = rng.normal();  // drawn always: streams stay aligned
         if (!ok || !out.cameras[c]) continue;
         TriangulationView v;
-        v.camera = *out.cameras[c];
+        v.camera = out.cameras[c]->camera;
         v.uv_px = uv + options.pick_sigma_px * Eigen::Vector2d(zu, zv);
         v.pick_sigma_px = options.pick_sigma_px;
         views.push_back(v);
@@ -249,15 +262,15 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
     for (const std::string& name : truth[c].names) {
       ParameterStatistics s;
       s.name = name;
-      s.estimate = camera_parameter_value(ref.camera, ref.camera, name);
+      s.estimate = camera_parameter_value(ref.camera, ref.camera, name, ref.clock_offset_s);
       double sum = 0;
       for (const TrialOutcome& o : outcome)
-        if (o.cameras[c]) sum += camera_parameter_value(*o.cameras[c], ref.camera, name);
+        if (o.cameras[c]) sum += o.cameras[c]->value(ref.camera, name);
       s.mean = sum / cm.trials_ok;
       double ss = 0;
       for (const TrialOutcome& o : outcome)
         if (o.cameras[c]) {
-          const double d = camera_parameter_value(*o.cameras[c], ref.camera, name) - s.mean;
+          const double d = o.cameras[c]->value(ref.camera, name) - s.mean;
           ss += d * d;
         }
       s.bias_mc = s.mean - s.estimate;

@@ -47,8 +47,8 @@ void add_plan_command(CLI::App& app, const CliContext& /*ctx*/) {
     std::stringstream ss(args->free);
     for (std::string item; std::getline(ss, item, ',');)
       if (!item.empty()) base.push_back(item);
-    static const char* kKnown[] = {"f",  "sx", "u0", "v0", "k1",   "k2",       "k3",
-                                   "p1", "p2", "a1", "a2", "pose", "rotation", "center"};
+    static const char* kKnown[] = {"f",  "sx", "u0", "v0",   "k1",       "k2",     "k3",          "p1",
+                                   "p2", "a1", "a2", "pose", "rotation", "center", "clock_offset"};
     for (const std::string& f : base)
       if (std::find(std::begin(kKnown), std::end(kKnown), f) == std::end(kKnown))
         throw_config_error("", "--free", "unknown parameter '" + f + "'");

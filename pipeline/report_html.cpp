@@ -142,6 +142,9 @@ std::string parameters_table(const CalibrationResult& r) {
     row(std::string("T") + "xyz"[i], "%.4f", r.camera.pose.T[i], "%.4f", r.sigma(t[i]), "m");
   const Eigen::Vector3d C = r.camera.pose.center(), cs = r.center_sigma_m();
   for (int i = 0; i < 3; ++i) row(std::string("centre ") + "ENU"[i], "%.4f", C[i], "%.4f", cs[i], "m");
+  if (r.parameter_index("clock_offset") >= 0)
+    row("clock offset", "%.3f", r.clock_offset_s * 1e3, "%.3f", r.sigma("clock_offset") * 1e3,
+        "ms (camera stamp &#8722; GNSS time)");
   s += "</table>\n<p>R (world ENU &#8594; camera):</p>\n<table class=\"matrix\">\n";
   for (int i = 0; i < 3; ++i) {
     s += "<tr>";
@@ -172,7 +175,12 @@ std::vector<PairResidual> pair_residuals(const CameraReportData& c) {
     PairResidual r;
     r.observed = p.uv;
     r.used = p.used.value_or(true);
-    if (c.calibration) r.projected = project(c.calibration->camera, p.enu, &r.reprojected);
+    if (c.calibration) {
+      // Where the lamp stood at the true exposure time (optim/bundle_adjustment.hpp clock offset).
+      const Eigen::Vector3d seen =
+          p.enu - p.vel_enu.value_or(Eigen::Vector3d::Zero()) * c.calibration->clock_offset_s;
+      r.projected = project(c.calibration->camera, seen, &r.reprojected);
+    }
     out.push_back(r);
   }
   return out;

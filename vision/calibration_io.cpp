@@ -79,6 +79,7 @@ ojson calibration_to_json(const CalibrationResult& r) {
   j["translation_m"] = vec(pose.T.data(), 3);
   const Eigen::Vector3d C = pose.center();
   j["center_enu_m"] = vec(C.data(), 3);
+  j["clock_offset_s"] = num(r.clock_offset_s);
 
   ojson s;
   s["focal_mm"] = num(r.sigma("f"));
@@ -89,6 +90,7 @@ ojson calibration_to_json(const CalibrationResult& r) {
   s["translation_m"] = {num(r.sigma("Tx")), num(r.sigma("Ty")), num(r.sigma("Tz"))};
   const Eigen::Vector3d cs = r.center_sigma_m();
   s["center_enu_m"] = vec(cs.data(), 3);
+  s["clock_offset_s"] = num(r.sigma("clock_offset"));
   j["sigma"] = s;
 
   ojson cov;
@@ -120,8 +122,8 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
   root.require_object("a calibration.json object");
   root.check_keys({"format", "camera", "method", "image_size_px", "pixel_size_um", "pixel_pitch_mm",
                    "focal_mm", "sx", "principal_point_px", "distortion", "rotation_world_to_camera",
-                   "translation_m", "center_enu_m", "sigma", "covariance", "reprojection", "rejected",
-                   "warnings", "details"});
+                   "translation_m", "center_enu_m", "clock_offset_s", "sigma", "covariance", "reprojection",
+                   "rejected", "warnings", "details"});
   CalibrationResult r;
   if (auto f = root.find("format")) {
     const std::string fmt = f->string(std::string("\"") + kFormat + "\"");
@@ -214,6 +216,11 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
                std::to_string((C - r.camera.pose.center()).norm()) + " m)");
   }
 
+  if (auto co = root.find("clock_offset_s")) {
+    const std::string form = "a number of seconds, |x| ≤ 10 (camera clock − GNSS time)";
+    r.clock_offset_s = co->number(form);
+    if (!(std::abs(r.clock_offset_s) <= 10)) co->fail_expected(form);
+  }
   if (auto sv = root.find("sigma")) {
     // σ are derived from the covariance; only their form is checked here.
     sv->require_object("an object of 1σ values");

@@ -11,6 +11,7 @@
 //   wx, wy, wz  rotation perturbation, rad: R = exp([w]×)·R̂ (left, in camera axes)
 //   Tx, Ty, Tz  translation, m (Xc = R·Xw + T)
 //   CE, CN, CU  camera centre in ENU, m (for methods that estimate the centre instead of T)
+//   clock_offset  camera clock − GNSS time, s (frame stamp − true exposure time; bundle only)
 // The camera centre's covariance is always given separately (`center_covariance_m2`), propagated
 // from whichever pose parameters the method used (see center_covariance_from_pose).
 #include <Eigen/Core>
@@ -39,6 +40,9 @@ struct CalibrationResult {
   std::string camera_id;  ///< the camera's id from the mission config
   std::string method;     ///< tsai | tsai_sassa | dlt_lmqn | bundle | planar
   Camera camera;          ///< the calibrated camera (intrinsics in mm/px, pose world→camera)
+  /// Camera clock − GNSS time (s): estimated when `clock_offset` is a free parameter, else 0. The
+  /// lamp pixels of this camera were seen at stamp − clock_offset_s (optim/bundle_adjustment.hpp).
+  double clock_offset_s = 0;
 
   /// Names of the estimated parameters (see the table above), in covariance order.
   std::vector<std::string> parameter_names;

@@ -26,11 +26,14 @@ namespace rangecal {
 ///   f (mm), sx, u0 v0 (px), k1 k2 k3 p1 p2 a1 a2 (sensor mm units),
 ///   wx wy wz (rad): rotation perturbation R = exp([w]×)·R̂ (left, camera axes),
 ///   Tx Ty Tz (m): translation (Xc = R·Xw + T), or CE CN CU (m): camera centre (Xc = R·(Xw − C)).
+///   clock_offset (s): the camera clock offset of the bundle; a static point's pixel does not
+///   depend on it (zero column), so it acts only through its correlations with the others, which
+///   the covariance already carries.
 /// T and C parameters cannot be mixed in one covariance; with C (or neither) a rotation
 /// perturbation turns the camera about its centre, with T about the world origin.
-inline constexpr std::array<const char*, 20> kTriangulationParameterNames = {
-    "f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2", "a1",
-    "a2", "wx", "wy", "wz", "Tx", "Ty", "Tz", "CE", "CN", "CU"};
+inline constexpr std::array<const char*, 21> kTriangulationParameterNames = {
+    "f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2", "a1", "a2",
+    "wx", "wy", "wz", "Tx", "Ty", "Tz", "CE", "CN", "CU", "clock_offset"};
 
 /// The calibration uncertainty of one camera: covariance over any subset of the names above, in
 /// their units (e.g. CalibrationResult::parameter_names / covariance). Empty = exactly known.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "config/error.hpp"
@@ -19,12 +20,13 @@ Eigen::Vector3d truth_pos(double t) {
   return {0.3 * std::sin(2 * kPi * 0.4 * t + 0.3), 0.2 * std::cos(2 * kPi * 0.25 * t),
           2.0 + 1.0 * t + 0.15 * t * t + 1.5 * (t / w - std::sin(w * t) / (w * w))};
 }
-double truth_speed(double t) {
+Eigen::Vector3d truth_vel(double t) {
   const double w = kPi / 2;
-  const Eigen::Vector3d v(0.3 * 2 * kPi * 0.4 * std::cos(2 * kPi * 0.4 * t + 0.3),
-                          -0.2 * 2 * kPi * 0.25 * std::sin(2 * kPi * 0.25 * t),
-                          1.0 + 0.3 * t + 1.5 * (1 - std::cos(w * t)) / w);
-  return v.norm();
+  return {0.3 * 2 * kPi * 0.4 * std::cos(2 * kPi * 0.4 * t + 0.3), -0.2 * 2 * kPi * 0.25 * std::sin(2 * kPi * 0.25 * t),
+          1.0 + 0.3 * t + 1.5 * (1 - std::cos(w * t)) / w};
+}
+double truth_speed(double t) {
+  return truth_vel(t).norm();
 }
 
 const UtcTime kT0 = utc_from_civil(2026, 5, 10, 3, 0, 0, 0);
@@ -88,8 +90,9 @@ TEST(AlignStage, DecimatedFramesPickTheNearestFrameAndInterpolateWithinOneMillim
   const AlignResult r = align_frames(tr, frames, opt);
   const auto expect = brute_force_kept(tr, frames, opt.max_frame_offset_s);
   ASSERT_EQ(r.aligned.size(), expect.size());
-  double worst = 0, max_dt = 0, sum_dt = 0, worst_err = 0;
+  double worst = 0, max_dt = 0, sum_dt = 0, worst_err = 0, worst_vel = 0;
   for (const AlignedFrame& a : r.aligned) {
+    worst_vel = std::max(worst_vel, (a.vel_enu - truth_vel(since(a.utc))).norm());
     ASSERT_EQ(expect.count(a.frame), 1u) << a.frame;
     EXPECT_EQ(std::llround(std::fabs(a.dt_s) * 1e9), expect.at(a.frame)) << a.frame;
     EXPECT_EQ(a.frame % 7, 0);
@@ -100,6 +103,9 @@ TEST(AlignStage, DecimatedFramesPickTheNearestFrameAndInterpolateWithinOneMillim
     EXPECT_LT((a.sd_enu - Eigen::Vector3d(0.01, 0.01, 0.02)).norm(), 1e-15);
   }
   EXPECT_LT(worst, 1e-3);
+  // The velocity (for the bundle's clock offset) to 2 cm/s: 0.04 mm over a 2 ms offset.
+  std::printf("  worst velocity error %.4f m/s\n", worst_vel);
+  EXPECT_LT(worst_vel, 0.02);
   EXPECT_EQ(r.report.frames_aligned, r.aligned.size());
   EXPECT_NEAR(r.report.max_abs_dt_s, max_dt, 1e-12);
   EXPECT_NEAR(r.report.mean_abs_dt_s, sum_dt / r.aligned.size(), 1e-12);
@@ -288,7 +294,7 @@ TEST(AlignedCsv, RoundTripAndDeterministicText) {
   const std::string path = (dir / "cam1" / "aligned.csv").string();
   write_aligned_csv(path, r.aligned);
   const std::string text = test::read_text(path);
-  EXPECT_EQ(text.rfind("frame,utc,E,N,U,sdE,sdN,sdU,dt_s\n", 0), 0u);
+  EXPECT_EQ(text.rfind("frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU\n", 0), 0u);
   const auto back = read_aligned_csv(path);
   ASSERT_EQ(back.size(), r.aligned.size());
   for (std::size_t i = 0; i < back.size(); ++i) {
@@ -297,6 +303,7 @@ TEST(AlignedCsv, RoundTripAndDeterministicText) {
     EXPECT_LT((back[i].enu - r.aligned[i].enu).cwiseAbs().maxCoeff(), 5.1e-7);
     EXPECT_LT((back[i].sd_enu - r.aligned[i].sd_enu).cwiseAbs().maxCoeff(), 5.1e-7);
     EXPECT_NEAR(back[i].dt_s, r.aligned[i].dt_s, 5.1e-10);
+    EXPECT_LT((back[i].vel_enu - r.aligned[i].vel_enu).cwiseAbs().maxCoeff(), 5.1e-5);
   }
   EXPECT_EQ(format_aligned_csv(back), text);  // re-formatting is byte-identical
   // One hand-checked row.
@@ -304,37 +311,42 @@ TEST(AlignedCsv, RoundTripAndDeterministicText) {
                  utc_from_civil(2026, 5, 10, 3, 0, 1, 2'500'000),
                  {1.25, -3.5, 20.0000004},
                  {0.01, 0.01, 0.02},
-                 -0.0013};
+                 -0.0013,
+                 {0.5, -0.25, 2.75}};
   EXPECT_EQ(format_aligned_csv({a}),
-            "frame,utc,E,N,U,sdE,sdN,sdU,dt_s\n"
+            "frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU\n"
             "42,2026-05-10T03:00:01.002500000Z,1.250000,-3.500000,20.000000,0.010000,0.010000,0.020000,-0."
-            "001300000\n");
+            "001300000,0.5000,-0.2500,2.7500\n");
 }
 
 TEST(AlignedCsv, BadInputNamesFileLineAndField) {
-  const std::string head = "frame,utc,E,N,U,sdE,sdN,sdU,dt_s\n";
-  const std::string row1 = "1,2026-05-10T03:00:01.000000000Z,1,2,3,0.01,0.01,0.02,0.001\n";
+  const std::string head = "frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU\n";
+  const std::string row1 = "1,2026-05-10T03:00:01.000000000Z,1,2,3,0.01,0.01,0.02,0.001,0,0,2\n";
   Error e = expect_error(
-      [&] { parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:01.1Z,1,x,3,0.01,0.01,0.02,0\n", "a.csv"); });
+      [&] { parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:01.1Z,1,x,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
   EXPECT_EQ(e.kind(), ErrorKind::input);
   EXPECT_EQ(e.file(), "a.csv");
   EXPECT_EQ(e.line(), 3);
   EXPECT_EQ(e.field(), "N");
-  e = expect_error([&] { parse_aligned_csv(head + row1 + "2,yesterday,1,2,3,0.01,0.01,0.02,0\n", "a.csv"); });
+  e = expect_error([&] { parse_aligned_csv(head + row1 + "2,yesterday,1,2,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
   EXPECT_EQ(e.line(), 3);
   EXPECT_EQ(e.field(), "utc");
   e = expect_error(
-      [&] { parse_aligned_csv(head + row1 + "1,2026-05-10T03:00:02Z,1,2,3,0.01,0.01,0.02,0\n", "a.csv"); });
+      [&] { parse_aligned_csv(head + row1 + "1,2026-05-10T03:00:02Z,1,2,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
   EXPECT_EQ(e.field(), "frame");
   e = expect_error(
-      [&] { parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:00Z,1,2,3,0.01,0.01,0.02,0\n", "a.csv"); });
+      [&] { parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:00Z,1,2,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
   EXPECT_EQ(e.field(), "utc");
   e = expect_error(
-      [&] { parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:02Z,1,2,3,-0.01,0.01,0.02,0\n", "a.csv"); });
+      [&] { parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:02Z,1,2,3,-0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
   EXPECT_EQ(e.field(), "sdE");
   e = expect_error([&] { parse_aligned_csv("frame,utc,E,N,U,sdE,sdN,sdU\n", "a.csv"); });
   EXPECT_EQ(e.kind(), ErrorKind::input);
   EXPECT_NE(std::string(e.what()).find("dt_s"), std::string::npos) << e.what();
+  e = expect_error([&] { parse_aligned_csv(head + "2,2026-05-10T03:00:02Z,1,2,3,0.01,0.01,0.02,0,0,nan,2\n", "a.csv"); });
+  EXPECT_EQ(e.field(), "vN");
+  e = expect_error([&] { parse_aligned_csv("frame,utc,E,N,U,sdE,sdN,sdU,dt_s\n", "a.csv"); });
+  EXPECT_NE(std::string(e.what()).find("vE"), std::string::npos) << e.what();
   e = expect_error([&] { read_aligned_csv("/nonexistent/cam9/aligned.csv"); });
   EXPECT_EQ(e.kind(), ErrorKind::input);
 }

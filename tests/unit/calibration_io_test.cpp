@@ -43,7 +43,8 @@ CalibrationResult sample_result() {
 }
 
 TEST(CalibrationIo, RoundTripIsExact) {
-  const CalibrationResult r = sample_result();
+  CalibrationResult r = sample_result();
+  r.clock_offset_s = 0.0021;
   const std::string text = calibration_to_json_text(r);
   const CalibrationResult b = calibration_from_json_text(text, "cal.json");
   EXPECT_EQ(b.camera_id, r.camera_id);
@@ -72,6 +73,7 @@ TEST(CalibrationIo, RoundTripIsExact) {
   EXPECT_EQ(b.rejected, r.rejected);
   EXPECT_EQ(b.warnings, r.warnings);
   EXPECT_EQ(b.details, r.details);
+  EXPECT_EQ(b.clock_offset_s, 0.0021);
   // Byte-identical on a second write (deterministic, and the read lost nothing).
   EXPECT_EQ(calibration_to_json_text(b), text);
 }
@@ -203,6 +205,9 @@ TEST(CalibrationIo, BadFilesNameFileAndKey) {
   j = good;
   j["translation_m"][1] = "x";
   expect_bad("translation_type", j, "translation_m", "the string \"x\"");
+  j = good;
+  j["clock_offset_s"] = 18.0;
+  expect_bad("clock_offset", j, "clock_offset_s", "|x| ≤ 10");
   const auto path = (test::scratch_dir("calibration_bad_syntax") / "calibration.json").string();
   test::write_text(path, "{\n  \"camera\": \"c\",\n  oops\n}\n");
   try {

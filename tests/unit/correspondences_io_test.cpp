@@ -14,6 +14,7 @@ TEST(CorrespondencesIo, RoundTripIsExactToPrintedPrecision) {
   pairs[0].enu = {12.3456, -7.0001, 55.5};
   pairs[0].uv = {640.1234, 399.9876};
   pairs[0].sd_enu = Eigen::Vector3d(0.01, 0.01, 0.015);
+  pairs[0].vel_enu = Eigen::Vector3d(0.25, -0.5, 2.5);
   pairs[1] = pairs[0];
   pairs[1].utc.ns += 100'000'000;
   pairs[1].residual_px = 0.25;
@@ -31,6 +32,9 @@ TEST(CorrespondencesIo, RoundTripIsExactToPrintedPrecision) {
   EXPECT_DOUBLE_EQ(*back[1].residual_px, 0.25);
   ASSERT_TRUE(back[1].sd_enu);
   EXPECT_DOUBLE_EQ(back[1].sd_enu->z(), 0.015);
+  ASSERT_TRUE(back[1].vel_enu);
+  EXPECT_DOUBLE_EQ(back[1].vel_enu->z(), 2.5);
+  EXPECT_NE(test::read_text(path).find(",sdE,sdN,sdU,vE,vN,vU\n"), std::string::npos);
   // Same pairs → same bytes.
   EXPECT_EQ(format_correspondences_csv(back), test::read_text(path));
 }
@@ -60,6 +64,14 @@ TEST(CorrespondencesIo, BadLinesNameFileLineAndField) {
       EXPECT_EQ(e.field(), c.field) << e.what();
       EXPECT_NE(std::string(e.what()).find("c.csv"), std::string::npos);
     }
+  }
+  test::write_text(dir / "vel.csv", "utc,E,N,U,u,v,residual_px,used,vE,vN\n2025-06-01T03:00:00Z,1,2,3,4,5,,,0,1\n");
+  try {
+    read_correspondences_csv((dir / "vel.csv").string());
+    ADD_FAILURE() << "no error for an incomplete velocity set";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "vE");
+    EXPECT_NE(std::string(e.what()).find("vE,vN,vU"), std::string::npos) << e.what();
   }
   test::write_text(dir / "short.csv", header + "2025-06-01T03:00:00Z,1,2,3\n");
   EXPECT_THROW(read_correspondences_csv((dir / "short.csv").string()), Error);

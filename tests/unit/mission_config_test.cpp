@@ -255,8 +255,15 @@ TEST(MissionConfigErrors, UnknownFreeParameterSuggests) {
   auto j = minimal();
   j["calibrate"] = {{"free", {"f", "kl"}}};
   expect_error(j, "calibrate.free[1]", "did you mean 'k1'?");
-  j["calibrate"] = {{"free", {"f", "clock_offset"}}};
-  expect_error(j, "calibrate.free[1]", "unknown parameter 'clock_offset'");
+  j["calibrate"] = {{"free", {"f", "clock_ofset"}}};
+  expect_error(j, "calibrate.free[1]", "did you mean 'clock_offset'?");
+}
+
+TEST(MissionConfig, ClockOffsetIsAFreeParameter) {
+  auto j = minimal();
+  j["calibrate"] = {{"free", {"f", "k1", "pose", "clock_offset"}}};
+  const MissionConfig cfg = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_EQ(cfg.calibrate.free.back(), "clock_offset");
 }
 
 TEST(MissionConfigErrors, EmptyPosFiles) {
