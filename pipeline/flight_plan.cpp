@@ -298,13 +298,16 @@ std::string escape_html(const std::string& in) {
 std::string format_plan_table(const std::vector<FlightPlanAnalysis>& cands) {
   std::string s;
   char line[256];
+  // Columns as wide as the longest candidate name (at least 16), so names are never cut.
+  int width = 16;
+  for (const FlightPlanAnalysis& c : cands) width = std::max(width, static_cast<int>(c.name.size()));
   for (const PlanTable& t : plan_tables(cands)) {
     s += t.title + "\n";
     auto add_row = [&](const std::vector<std::string>& row) {
       std::snprintf(line, sizeof line, "  %-14s", row[0].c_str());
       s += line;
       for (std::size_t i = 1; i < row.size(); ++i) {
-        std::snprintf(line, sizeof line, " %16s", row[i].substr(0, 16).c_str());
+        std::snprintf(line, sizeof line, " %*s", width, row[i].substr(0, 64).c_str());
         s += line;
       }
       s += "\n";

@@ -21,22 +21,10 @@ std::string join(const std::string& dir, const std::string& a, const std::string
   return p.string();
 }
 
-// A number, or nullopt for a blank field (the survey columns of an unsurveyed pole).
+// A number, or nullopt for a blank field (methods.csv's sigma_f_mm of a method without covariance).
 std::optional<double> optional_number(const CsvTable& t, const CsvRecord& r, std::size_t col) {
   if (t.text(r, col).empty()) return std::nullopt;
   return t.number(r, col);
-}
-
-// Three optional numbers that must be all blank or all present.
-std::optional<Eigen::Vector3d> optional_vector(const CsvTable& t, const CsvRecord& r,
-                                               const std::size_t (&cols)[3]) {
-  const std::optional<double> a = optional_number(t, r, cols[0]), b = optional_number(t, r, cols[1]),
-                              c = optional_number(t, r, cols[2]);
-  if (!a && !b && !c) return std::nullopt;
-  for (std::size_t col : cols)
-    if (t.text(r, col).empty())
-      throw_input_error(t.path, r.line, t.header[col], "blank while the other two of its triple are set");
-  return Eigen::Vector3d(*a, *b, *c);
 }
 
 int count_field(const CsvTable& t, const CsvRecord& r, std::size_t col) {
@@ -117,45 +105,6 @@ std::vector<MethodRow> parse_methods_csv(const std::string& text, const std::str
   return rows;
 }
 
-std::vector<IntersectionReportRow> parse_intersection_report_csv(const std::string& text,
-                                                                 const std::string& path) {
-  const CsvTable t = parse_csv(text, path);
-  const std::size_t c_id = t.column("id");
-  const std::size_t c_p[3] = {t.column("E"), t.column("N"), t.column("U")};
-  const std::size_t c_s[3] = {t.column("E_survey"), t.column("N_survey"), t.column("U_survey")};
-  const std::size_t c_d[3] = {t.column("dE"), t.column("dN"), t.column("dU")};
-  const std::size_t c_dr = t.column("dR"), c_sig = t.column("sigma_m");
-  std::vector<IntersectionReportRow> rows;
-  for (const CsvRecord& r : t.records) {
-    IntersectionReportRow row;
-    row.id = t.text(r, c_id);
-    if (row.id.empty()) throw_input_error(path, r.line, "id", "empty pole id");
-    for (int i = 0; i < 3; ++i) row.enu[i] = t.number(r, c_p[i]);
-    row.survey_enu = optional_vector(t, r, c_s);
-    row.d_enu = optional_vector(t, r, c_d);
-    row.dR_m = optional_number(t, r, c_dr);
-    if (row.dR_m && *row.dR_m < 0) throw_input_error(path, r.line, "dR", "negative distance");
-    row.sigma_m = optional_number(t, r, c_sig);
-    if (row.sigma_m && *row.sigma_m < 0) throw_input_error(path, r.line, "sigma_m", "negative sigma");
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-std::optional<DrStats> intersection_dr_stats(const std::vector<IntersectionReportRow>& rows) {
-  DrStats s;
-  double sum = 0;
-  for (const IntersectionReportRow& r : rows) {
-    if (!r.dR_m) continue;
-    ++s.n;
-    sum += *r.dR_m;
-    s.max_m = std::max(s.max_m, *r.dR_m);
-  }
-  if (s.n == 0) return std::nullopt;
-  s.mean_m = sum / static_cast<double>(s.n);
-  return s;
-}
-
 ReportData read_report_data(const std::string& output_dir, const std::string& mission,
                             const std::vector<std::string>& camera_ids) {
   ReportData data;
@@ -194,7 +143,7 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
   }
 
   const std::string inter = join(output_dir, "intersection.csv");
-  if (fs::exists(inter)) data.intersection = parse_intersection_report_csv(read_file_text(inter), inter);
+  if (fs::exists(inter)) data.intersection = read_intersection_csv(inter);
   return data;
 }
 

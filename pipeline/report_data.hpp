@@ -11,6 +11,7 @@
 
 #include "gnss/utc_time.hpp"
 #include "pipeline/correspondences_io.hpp"
+#include "pipeline/intersection_csv.hpp"
 #include "vision/calibration_result.hpp"
 
 namespace rangecal {
@@ -47,17 +48,6 @@ struct CameraReportData {
   int height_px = 0;
 };
 
-/// One row of `intersection.csv` (`id,E,N,U,E_survey,N_survey,U_survey,dE,dN,dU,dR,sigma_m`). The
-/// survey and difference fields may be blank (a pole triangulated but not surveyed as `check`).
-struct IntersectionReportRow {
-  std::string id;
-  Eigen::Vector3d enu = Eigen::Vector3d::Zero();
-  std::optional<Eigen::Vector3d> survey_enu;
-  std::optional<Eigen::Vector3d> d_enu;
-  std::optional<double> dR_m;
-  std::optional<double> sigma_m;
-};
-
 /// Warnings of one stage, from run.json (`stages.<name>.warnings`).
 struct StageWarnings {
   std::string stage;
@@ -70,27 +60,18 @@ struct ReportData {
   std::string config_sha256;              ///< from run.json; empty when run.json is missing
   std::optional<LampTrackSummary> track;  ///< absent: gnss/lamp_track.csv missing
   std::vector<CameraReportData> cameras;  ///< in config order
-  std::optional<std::vector<IntersectionReportRow>> intersection;  ///< absent: intersection.csv missing
+  /// intersection.csv as the intersect stage wrote it (pipeline/intersection_csv.hpp); absent:
+  /// the file is missing.
+  std::optional<std::vector<IntersectionRow>> intersection;
   std::vector<StageWarnings> stage_warnings;  ///< stages in run.json order (sorted by name)
 };
 
 /// Parses methods.csv text (`path` for messages); errors name file, line and column.
 std::vector<MethodRow> parse_methods_csv(const std::string& text, const std::string& path);
-/// Parses intersection.csv text (`path` for messages); errors name file, line and column.
-std::vector<IntersectionReportRow> parse_intersection_report_csv(const std::string& text,
-                                                                 const std::string& path);
 
 /// Reads `output_dir` for the given cameras. Missing files are recorded as absent; malformed files
 /// throw rangecal::Error (kind input) naming file, line and field.
 ReportData read_report_data(const std::string& output_dir, const std::string& mission,
                             const std::vector<std::string>& camera_ids);
-
-/// Mean and max of the dR column over rows that have it; nullopt when none has it.
-struct DrStats {
-  std::size_t n = 0;
-  double mean_m = 0;
-  double max_m = 0;
-};
-std::optional<DrStats> intersection_dr_stats(const std::vector<IntersectionReportRow>& rows);
 
 }  // namespace rangecal

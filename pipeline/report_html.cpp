@@ -346,30 +346,19 @@ std::string intersection_section(const ReportData& d) {
   s += "<table class=\"intersection\">\n<tr>" + th("Pole") + th("E /m") + th("N /m") + th("U /m") +
        th("&#916;E /cm") + th("&#916;N /cm") + th("&#916;U /cm") + th("&#916;R /cm") + th("&#963; /cm") +
        "</tr>\n";
-  Eigen::Vector3d sum_abs = Eigen::Vector3d::Zero();
-  double sum_sigma = 0;
-  int n_d = 0, n_sigma = 0;
-  for (const IntersectionReportRow& r : *d.intersection) {
+  for (const IntersectionRow& r : *d.intersection) {
     s += "<tr>" + td(html_escape(r.id), "txt") + td(fmt("%.4f", r.enu.x())) + td(fmt("%.4f", r.enu.y())) +
          td(fmt("%.4f", r.enu.z()));
-    for (int i = 0; i < 3; ++i) s += td(r.d_enu ? cm((*r.d_enu)[i]) : std::string(kDash));
-    s += td(cm(r.dR_m)) + td(cm(r.sigma_m)) + "</tr>\n";
-    if (r.d_enu) {
-      sum_abs += r.d_enu->cwiseAbs();
-      ++n_d;
-    }
-    if (r.dR_m && r.sigma_m) {
-      sum_sigma += *r.sigma_m;
-      ++n_sigma;
-    }
+    for (int i = 0; i < 3; ++i) s += td(cm(r.d_enu[i]));
+    s += td(cm(r.dR)) + td(cm(r.sigma_m)) + "</tr>\n";
   }
-  const std::optional<DrStats> st = intersection_dr_stats(*d.intersection);
+  const IntersectionMeans m = intersection_means(*d.intersection);
+  auto mean_cell = [&](double v) { return m.n > 0 ? fmt("%.2f", v * 100.0) : std::string(kDash); };
   s += "<tr class=\"mean\">" + td("mean", "txt") + td("") + td("") + td("");
-  for (int i = 0; i < 3; ++i) s += td(n_d ? fmt("%.2f", sum_abs[i] / n_d * 100.0) : std::string(kDash));
-  s += td(st ? fmt("%.2f", st->mean_m * 100.0) : std::string(kDash)) +
-       td(n_sigma ? fmt("%.2f", sum_sigma / n_sigma * 100.0) : std::string(kDash)) + "</tr>\n";
+  for (int i = 0; i < 3; ++i) s += td(mean_cell(m.mean_abs_d[i]));
+  s += td(mean_cell(m.mean_dR)) + td(mean_cell(m.mean_sigma_m)) + "</tr>\n";
   s += "<tr class=\"mean\">" + td("max", "txt") + td("") + td("") + td("") + td("") + td("") + td("") +
-       td(st ? fmt("%.2f", st->max_m * 100.0) : std::string(kDash)) + td("") + "</tr>\n</table>\n";
+       td(mean_cell(m.max_dR)) + td("") + "</tr>\n</table>\n";
   s +=
       "<p>&#916; = intersected &#8722; surveyed; mean row: mean |&#916;E|, |&#916;N|, |&#916;U|, &#916;R and "
       "&#963; over surveyed poles; &#963; = predicted 1&#963; of &#916;R (calibration covariance and pick "

@@ -43,11 +43,10 @@ std::string format_summary_json(const ReportData& data) {
   }
   j["cameras"] = cams;
   ojson inter;
-  const std::optional<DrStats> st =
-      data.intersection ? intersection_dr_stats(*data.intersection) : std::optional<DrStats>();
-  inter["n_poles"] = st ? st->n : 0;
-  inter["mean_dR_m"] = st ? num_or_null(st->mean_m) : ojson(nullptr);
-  inter["max_dR_m"] = st ? num_or_null(st->max_m) : ojson(nullptr);
+  const IntersectionMeans m = data.intersection ? intersection_means(*data.intersection) : IntersectionMeans{};
+  inter["n_poles"] = m.n;
+  inter["mean_dR_m"] = m.n > 0 ? num_or_null(m.mean_dR) : ojson(nullptr);
+  inter["max_dR_m"] = m.n > 0 ? num_or_null(m.max_dR) : ojson(nullptr);
   j["intersection"] = inter;
   return dump_json_compact_arrays(j);
 }

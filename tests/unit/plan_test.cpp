@@ -150,6 +150,14 @@ TEST(Plan, CliComparesCandidatesSideBySide) {
   EXPECT_NE(html.find("<td class=\"flag\">"), std::string::npos);  // u0 with three ascents
   EXPECT_NE(html.find("A1 check"), std::string::npos);
 
+  // The clock offset as a free parameter: its σ in seconds, and long candidate names are not cut.
+  test::write_text(dir / "three_vertical_ascents.json", test::read_text(dir / "three.json"));
+  const auto clock = test::run_cli("plan '" + (dir / "three_vertical_ascents.json").string() + "' '" +
+                                   (dir / "five.json").string() + "' --free f,k1,pose,clock_offset");
+  ASSERT_EQ(clock.exit_code, 0) << clock.err;
+  EXPECT_NE(clock.out.find("clock_offset s"), std::string::npos) << clock.out;
+  EXPECT_NE(clock.out.find("three_vertical_ascents"), std::string::npos) << clock.out;
+
   const auto missing = test::run_cli("plan '" + (dir / "nope.json").string() + "'");
   EXPECT_EQ(missing.exit_code, 3) << missing.err;
   const auto bad_free = test::run_cli("plan '" + (dir / "three.json").string() + "' --free f,zoom");
