@@ -59,6 +59,35 @@ std::vector<BundleObservation> observations_of(const SimMission& m, const SimCam
   return out;
 }
 
+/// The control poles the mission would calibrate with (mission_calibrate.use_control_poles): each
+/// pole top inside the image, surveyed with the scenario's survey σ and picked with its pick σ.
+std::vector<BundleObservation> control_pole_observations(const Scenario& s, const Camera& cam) {
+  std::vector<BundleObservation> out;
+  const auto use = s.mission_calibrate.find("use_control_poles");
+  if (use == s.mission_calibrate.end() || !use->is_boolean() || !use->get<bool>()) return out;
+  for (const ScenarioPole& pole : s.poles) {
+    if (pole.role != "control") continue;
+    BundleObservation ob;
+    if (!project(cam, pole.enu_m, &ob.pixel) || ob.pixel.x() < 0 || ob.pixel.y() < 0 ||
+        ob.pixel.x() > cam.intr.width_px - 1 || ob.pixel.y() > cam.intr.height_px - 1)
+      continue;
+    ob.world = pole.enu_m;
+    ob.world_cov = Eigen::Matrix3d::Identity() * s.survey_noise_m * s.survey_noise_m;
+    ob.pixel_sigma_px = s.pick_noise_px;
+    out.push_back(ob);
+  }
+  return out;
+}
+
+/// Lamp points, then control poles when the mission uses them.
+std::vector<BundleObservation> all_observations(const SimMission& m, const SimCamera& cam, const PlanOptions& o,
+                                                std::size_t* n_lamp) {
+  std::vector<BundleObservation> obs = observations_of(m, cam, o);
+  *n_lamp = obs.size();
+  for (const BundleObservation& p : control_pole_observations(m.scenario, cam.spec.camera)) obs.push_back(p);
+  return obs;
+}
+
 }  // namespace
 
 std::vector<BundleObservation> planned_observations(const Scenario& s, std::size_t camera_index,
@@ -66,7 +95,8 @@ std::vector<BundleObservation> planned_observations(const Scenario& s, std::size
   const SimMission m = simulate_mission(s);
   if (camera_index >= m.cameras.size())
     throw_config_error(s.file, "cameras", "no camera " + std::to_string(camera_index));
-  return observations_of(m, m.cameras[camera_index], options);
+  std::size_t n_lamp = 0;
+  return all_observations(m, m.cameras[camera_index], options, &n_lamp);
 }
 
 CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObservation>& obs,
@@ -129,10 +159,11 @@ FlightPlanAnalysis analyse_flight_plan(const Scenario& s, const std::string& nam
   const SimMission m = simulate_mission(s);
   std::vector<std::vector<BundleObservation>> obs;
   for (const SimCamera& c : m.cameras) {
-    obs.push_back(observations_of(m, c, o));
-    if (obs.back().size() < 6)
+    std::size_t n_lamp = 0;
+    obs.push_back(all_observations(m, c, o, &n_lamp));
+    if (n_lamp < 6)
       throw_calibration_error(s.file + " camera " + c.spec.id,
-                              "the routes give only " + std::to_string(obs.back().size()) +
+                              "the routes give only " + std::to_string(n_lamp) +
                                   " lamp points in view; the camera cannot be calibrated from them");
   }
   FlightPlanAnalysis a;

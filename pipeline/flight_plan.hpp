@@ -6,7 +6,8 @@
 // Observations are the ones the pipeline would get: the simulator's trajectory and frame timing
 // (pipeline/mission_simulator.hpp, noise-free values) give, for every fix GNSS epoch, the nearest
 // exported frame within align.max_frame_offset_s in which the lamp is in view — the lamp's true
-// ENU position and its exact pixel. The noise model is the calibration's: pixel σ (centroid), and
+// ENU position and its exact pixel (and, when the mission calibrates with control poles, those pole
+// tops with the survey and pick noise). The noise model is the calibration's: pixel σ (centroid), and
 // the PPK σ of the epoch propagated to the pixel, C_i = σ_px²·I + J_X·Σ_X·J_Xᵀ
 // (optim/bundle_adjustment.hpp). At the true parameters θ, with J_i = ∂pixel_i/∂θ
 // (vision/triangulation.hpp pixel_jacobian_wrt_parameters),
@@ -36,7 +37,10 @@ struct PlanOptions {
   double rank_tolerance = 1e-14;  ///< relative eigenvalue of the scaled F below which it is singular
 };
 
-/// The lamp observations camera `camera_index` of the scenario would calibrate from (see above).
+/// The observations camera `camera_index` of the scenario would calibrate from (see above): the
+/// lamp points, then — when the scenario's mission_calibrate has use_control_poles: true, as the
+/// mission's calibrate stage would — every control pole top inside the image, with the scenario's
+/// survey σ per axis and pick σ (the true noise, so the bound is the Cramér–Rao bound).
 std::vector<BundleObservation> planned_observations(const Scenario& s, std::size_t camera_index,
                                                     const PlanOptions& options = {});
 
@@ -56,7 +60,7 @@ struct ParameterBound {
 
 struct CameraBound {
   std::string camera_id;
-  int n_points = 0;
+  int n_points = 0;  ///< observations: lamp points + control poles (when the mission uses them)
   std::vector<std::string> parameter_names;
   Eigen::MatrixXd covariance;  ///< the CRB; empty when F is singular
   bool singular = false;
