@@ -17,8 +17,8 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::vector<std::string> kMethods = {"tsai", "tsai_sassa", "dlt_lmqn", "bundle", "planar"};
-const std::vector<std::string> kFreeNames = {"f",  "u0", "v0", "sx", "k1",   "k2",
-                                             "k3", "p1", "p2", "a1", "a2", "pose", "clock_offset"};
+const std::vector<std::string> kFreeNames = {"f",  "u0", "v0", "sx", "k1",   "k2",          "k3",
+                                             "p1", "p2", "a1", "a2", "pose", "clock_offset"};
 
 std::string join(const std::vector<std::string>& v) {
   std::string s;

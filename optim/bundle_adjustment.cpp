@@ -32,9 +32,9 @@ constexpr int kPose = 6;   // wx wy wz (rad), CE CN CU (m)
 constexpr int kClock = 1;  // clock_offset (s)
 constexpr int kAll = kIntr + kDist + kPose + kClock;
 constexpr int kClockIndex = kIntr + kDist + kPose;
-constexpr std::array<const char*, kAll> kNames = {"f",  "sx", "u0", "v0", "k1", "k2", "k3",
-                                                  "p1", "p2", "a1", "a2", "wx", "wy", "wz",
-                                                  "CE", "CN", "CU", "clock_offset"};
+constexpr std::array<const char*, kAll> kNames = {"f",  "sx", "u0", "v0", "k1", "k2",
+                                                  "k3", "p1", "p2", "a1", "a2", "wx",
+                                                  "wy", "wz", "CE", "CN", "CU", "clock_offset"};
 
 /// A clock offset whose 1σ moves the fastest lamp point by more than this (m) is poorly determined:
 /// twice the PPK noise of one epoch (docs/optimisation.md).
@@ -172,8 +172,8 @@ int solve_stage(ParameterState& st, const Camera& base, const std::vector<Bundle
   bool lf_used = false;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!used[i]) continue;
-    auto* cost = new ReprojectionCost(new ReprojectionResidual{obs[i].world, obs[i].velocity, obs[i].pixel, W[i],
-                                                               st.R0, base.intr.dx_mm, base.intr.dy_mm});
+    auto* cost = new ReprojectionCost(new ReprojectionResidual{
+        obs[i].world, obs[i].velocity, obs[i].pixel, W[i], st.R0, base.intr.dx_mm, base.intr.dy_mm});
     problem.AddResidualBlock(cost, lf, st.intr, st.dist, st.pose, st.clock);
     lf_used = lf_used || lf;
   }
@@ -325,8 +325,9 @@ void check_input(const Camera& cam, const std::vector<BundleObservation>& obs, c
     if (!o.velocity.allFinite())
       throw_calibration_error(at + ".velocity", "the lamp velocity must be finite (got NaN or infinity)");
   }
-  if (setup.free[kClockIndex] &&
-      std::none_of(obs.begin(), obs.end(), [](const BundleObservation& ob) { return ob.velocity.norm() > 0; }))
+  if (setup.free[kClockIndex] && std::none_of(obs.begin(), obs.end(), [](const BundleObservation& ob) {
+        return ob.velocity.norm() > 0;
+      }))
     throw_calibration_error("bundle.clock_offset",
                             "the clock offset is free but no observation carries a lamp velocity "
                             "(correspondences.csv without vE,vN,vU, or a lamp that never moved): rerun the "

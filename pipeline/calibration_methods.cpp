@@ -374,7 +374,8 @@ const std::vector<std::string>& calibration_method_names() {
   return names;
 }
 
-std::vector<Eigen::Vector2d> reprojection_residuals(const Camera& cam, const std::vector<BundleObservation>& obs,
+std::vector<Eigen::Vector2d> reprojection_residuals(const Camera& cam,
+                                                    const std::vector<BundleObservation>& obs,
                                                     double clock_offset_s) {
   std::vector<Eigen::Vector2d> out;
   out.reserve(obs.size());
@@ -467,7 +468,8 @@ CalibrationResult calibrate_camera(const std::string& method, const CalibrationP
                 "view of non-coplanar points — use bundle, tsai, tsai_sassa or dlt_lmqn");
   else
     throw Error(ErrorKind::usage, "", 0, "calibrate.method", "unknown method '" + method + "'");
-  if (method != "bundle" && std::find(problem.free.begin(), problem.free.end(), "clock_offset") != problem.free.end())
+  if (method != "bundle" &&
+      std::find(problem.free.begin(), problem.free.end(), "clock_offset") != problem.free.end())
     r.warnings.push_back("clock_offset is estimated by the bundle method only; " + method +
                          " takes the frame time stamps as exact (clock offset 0)");
   // Exact symmetry (round-off makes C and Cᵀ differ in the last bit; readers check symmetry).

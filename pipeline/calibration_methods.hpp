@@ -47,7 +47,8 @@ CalibrationResult calibrate_camera(const std::string& method, const CalibrationP
 /// Per-observation reprojection residual (projected − observed, px) of `cam`, each world point
 /// moved to where the lamp stood at the true exposure time for a camera clock offset (s,
 /// observed_world_point); NaN when a point cannot be projected.
-std::vector<Eigen::Vector2d> reprojection_residuals(const Camera& cam, const std::vector<BundleObservation>& obs,
+std::vector<Eigen::Vector2d> reprojection_residuals(const Camera& cam,
+                                                    const std::vector<BundleObservation>& obs,
                                                     double clock_offset_s = 0);
 /// rms/mean/max of |residual| over the observations not in `rejected`.
 ReprojectionStats reprojection_stats(const std::vector<Eigen::Vector2d>& residuals,

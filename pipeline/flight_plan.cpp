@@ -80,8 +80,8 @@ std::vector<BundleObservation> control_pole_observations(const Scenario& s, cons
 }
 
 /// Lamp points, then control poles when the mission uses them.
-std::vector<BundleObservation> all_observations(const SimMission& m, const SimCamera& cam, const PlanOptions& o,
-                                                std::size_t* n_lamp) {
+std::vector<BundleObservation> all_observations(const SimMission& m, const SimCamera& cam,
+                                                const PlanOptions& o, std::size_t* n_lamp) {
   std::vector<BundleObservation> obs = observations_of(m, cam, o);
   *n_lamp = obs.size();
   for (const BundleObservation& p : control_pole_observations(m.scenario, cam.spec.camera)) obs.push_back(p);

@@ -43,7 +43,8 @@ std::string format_summary_json(const ReportData& data) {
   }
   j["cameras"] = cams;
   ojson inter;
-  const IntersectionMeans m = data.intersection ? intersection_means(*data.intersection) : IntersectionMeans{};
+  const IntersectionMeans m =
+      data.intersection ? intersection_means(*data.intersection) : IntersectionMeans{};
   inter["n_poles"] = m.n;
   inter["mean_dR_m"] = m.n > 0 ? num_or_null(m.mean_dR) : ojson(nullptr);
   inter["max_dR_m"] = m.n > 0 ? num_or_null(m.max_dR) : ojson(nullptr);

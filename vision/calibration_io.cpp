@@ -120,10 +120,26 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
   const nlohmann::json doc = parse_json_text(text, file, ErrorKind::input);
   const JsonView root(doc, file, "", ErrorKind::input);
   root.require_object("a calibration.json object");
-  root.check_keys({"format", "camera", "method", "image_size_px", "pixel_size_um", "pixel_pitch_mm",
-                   "focal_mm", "sx", "principal_point_px", "distortion", "rotation_world_to_camera",
-                   "translation_m", "center_enu_m", "clock_offset_s", "sigma", "covariance", "reprojection",
-                   "rejected", "warnings", "details"});
+  root.check_keys({"format",
+                   "camera",
+                   "method",
+                   "image_size_px",
+                   "pixel_size_um",
+                   "pixel_pitch_mm",
+                   "focal_mm",
+                   "sx",
+                   "principal_point_px",
+                   "distortion",
+                   "rotation_world_to_camera",
+                   "translation_m",
+                   "center_enu_m",
+                   "clock_offset_s",
+                   "sigma",
+                   "covariance",
+                   "reprojection",
+                   "rejected",
+                   "warnings",
+                   "details"});
   CalibrationResult r;
   if (auto f = root.find("format")) {
     const std::string fmt = f->string(std::string("\"") + kFormat + "\"");

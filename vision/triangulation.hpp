@@ -32,7 +32,7 @@ namespace rangecal {
 /// T and C parameters cannot be mixed in one covariance; with C (or neither) a rotation
 /// perturbation turns the camera about its centre, with T about the world origin.
 inline constexpr std::array<const char*, 21> kTriangulationParameterNames = {
-    "f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2", "a1", "a2",
+    "f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2", "a1",          "a2",
     "wx", "wy", "wz", "Tx", "Ty", "Tz", "CE", "CN", "CU", "clock_offset"};
 
 /// The calibration uncertainty of one camera: covariance over any subset of the names above, in

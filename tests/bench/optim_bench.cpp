@@ -127,7 +127,7 @@ struct Seed000Problem {
     t.intr.f_mm = 150, t.intr.u0_px = 4110, t.intr.v0_px = 3135;
     t.intr.dist = {2e-6, -3e-10, 1e-14, 4e-6, -2e-6, 5e-5, -3e-5};
     const Vector3d C(0, 0, 1.5);
-    t.pose.R = test::look_at(C, Vector3d(5, 40, 6));
+    t.pose.R = test::look_at_pose(C, Vector3d(5, 40, 6)).R;
     t.pose.T = -t.pose.R * C;
     const auto pts = test::synthetic_points(t, 150, 11, 30, 55);
     std::mt19937_64 rng(12);

@@ -3,34 +3,12 @@
 #include <random>
 #include <stdexcept>
 
+#include "support/synthetic_camera.hpp"
+
 namespace rangecal::test {
 
-Eigen::Matrix3d look_at(const Eigen::Vector3d& C, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d z = (target - C).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();  // right
-  const Eigen::Vector3d y = z.cross(x);                                      // down
-  Eigen::Matrix3d R;
-  R.row(0) = x.transpose();
-  R.row(1) = y.transpose();
-  R.row(2) = z.transpose();
-  return R;
-}
-
 Camera narrow_fov_camera(double k1_per_mm2) {
-  Camera c;
-  c.id = "cam_synthetic";
-  c.intr.width_px = 1280;
-  c.intr.height_px = 800;
-  c.intr.dx_mm = c.intr.dy_mm = 0.020;
-  c.intr.f_mm = 135.0;
-  c.intr.sx = 1.0;
-  c.intr.u0_px = 641.3;
-  c.intr.v0_px = 398.6;
-  c.intr.dist.k1 = k1_per_mm2;
-  const Eigen::Vector3d C(0, 0, 1.5);
-  c.pose.R = look_at(C, Eigen::Vector3d(40, 48, 22));
-  c.pose.T = -c.pose.R * C;
-  return c;
+  return range_camera_at("cam_synthetic", {0, 0, 1.5}, {40, 48, 22}, k1_per_mm2, {641.3, 398.6});
 }
 
 SyntheticPoints synthetic_points(const Camera& cam, int n, std::uint64_t seed, double depth_min,

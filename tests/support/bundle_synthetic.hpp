@@ -10,10 +10,6 @@
 
 namespace rangecal::test {
 
-/// World→camera rotation looking from C toward `target` (camera x right, y down, z forward; the
-/// world up (ENU z) projects to image up).
-Eigen::Matrix3d look_at(const Eigen::Vector3d& C, const Eigen::Vector3d& target);
-
 /// The seed-002-like truth camera: f 135 mm, 20 µm pixels, 1280×800, u0 v0 near the centre,
 /// sx 1, k1 = k1_per_mm2, centre (0, 0, 1.5) looking ~64 m north-east and up.
 Camera narrow_fov_camera(double k1_per_mm2 = 2e-5);

@@ -24,19 +24,27 @@ CameraPose look_at_pose(const Eigen::Vector3d& center, const Eigen::Vector3d& ta
   return pose;
 }
 
-Camera range_camera(double k1_per_mm2, double sx, double du_px, double dv_px) {
+Camera range_camera_at(const std::string& id, const Eigen::Vector3d& center, const Eigen::Vector3d& target,
+                       double k1_per_mm2, const Eigen::Vector2d& principal_point_px) {
   Camera cam;
-  cam.id = "range_cam";
+  cam.id = id;
   cam.intr.width_px = 1280;
   cam.intr.height_px = 800;
   cam.intr.dx_mm = 0.020;
   cam.intr.dy_mm = 0.020;
   cam.intr.f_mm = 135.0;
-  cam.intr.sx = sx;
-  cam.intr.u0_px = 639.5 + du_px;
-  cam.intr.v0_px = 399.5 + dv_px;
+  cam.intr.sx = 1.0;
+  cam.intr.u0_px = principal_point_px.x();
+  cam.intr.v0_px = principal_point_px.y();
   cam.intr.dist.k1 = k1_per_mm2;
-  cam.pose = look_at_pose({0.0, 0.0, 1.5}, {0.5, 64.0, 7.5});
+  cam.pose = look_at_pose(center, target);
+  return cam;
+}
+
+Camera range_camera(double k1_per_mm2, double sx, double du_px, double dv_px) {
+  Camera cam = range_camera_at("range_cam", {0.0, 0.0, 1.5}, {0.5, 64.0, 7.5}, k1_per_mm2,
+                               {639.5 + du_px, 399.5 + dv_px});
+  cam.intr.sx = sx;
   return cam;
 }
 

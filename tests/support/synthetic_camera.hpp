@@ -9,6 +9,7 @@
 // Conventions are SPEC §2 (world ENU m, Xc = R·Xw + T, camera x right / y down / z forward).
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "vision/camera_model.hpp"
@@ -20,6 +21,13 @@ namespace rangecal::test {
 /// horizontal (camera x = forward × up, normalised), i.e. no roll; looking straight up or down,
 /// north (+y) takes the place of up.
 CameraPose look_at_pose(const Eigen::Vector3d& center, const Eigen::Vector3d& target);
+
+/// A seed-002-like range camera named `id`: 1280×800, 20 µm pixels, f = 135 mm, sx = 1, radial k1
+/// (mm⁻², distorted → undistorted) and the principal point given, at `center` looking at `target`
+/// (look_at_pose). The one builder of the range cameras the tests use.
+Camera range_camera_at(const std::string& id, const Eigen::Vector3d& center, const Eigen::Vector3d& target,
+                       double k1_per_mm2 = -3.4e-4,
+                       const Eigen::Vector2d& principal_point_px = Eigen::Vector2d(639.5, 399.5));
 
 /// The paper-like range camera: 1280×800, 20 µm, f = 135 mm, u0 = 639.5 + du, v0 = 399.5 + dv,
 /// given sx and k1 (mm⁻², distorted → undistorted), centre (0, 0, 1.5), looking at (0.5, 64, 7.5).

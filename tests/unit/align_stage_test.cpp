@@ -22,7 +22,8 @@ Eigen::Vector3d truth_pos(double t) {
 }
 Eigen::Vector3d truth_vel(double t) {
   const double w = kPi / 2;
-  return {0.3 * 2 * kPi * 0.4 * std::cos(2 * kPi * 0.4 * t + 0.3), -0.2 * 2 * kPi * 0.25 * std::sin(2 * kPi * 0.25 * t),
+  return {0.3 * 2 * kPi * 0.4 * std::cos(2 * kPi * 0.4 * t + 0.3),
+          -0.2 * 2 * kPi * 0.25 * std::sin(2 * kPi * 0.25 * t),
           1.0 + 0.3 * t + 1.5 * (1 - std::cos(w * t)) / w};
 }
 double truth_speed(double t) {
@@ -322,28 +323,34 @@ TEST(AlignedCsv, RoundTripAndDeterministicText) {
 TEST(AlignedCsv, BadInputNamesFileLineAndField) {
   const std::string head = "frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU\n";
   const std::string row1 = "1,2026-05-10T03:00:01.000000000Z,1,2,3,0.01,0.01,0.02,0.001,0,0,2\n";
-  Error e = expect_error(
-      [&] { parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:01.1Z,1,x,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
+  Error e = expect_error([&] {
+    parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:01.1Z,1,x,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv");
+  });
   EXPECT_EQ(e.kind(), ErrorKind::input);
   EXPECT_EQ(e.file(), "a.csv");
   EXPECT_EQ(e.line(), 3);
   EXPECT_EQ(e.field(), "N");
-  e = expect_error([&] { parse_aligned_csv(head + row1 + "2,yesterday,1,2,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
+  e = expect_error(
+      [&] { parse_aligned_csv(head + row1 + "2,yesterday,1,2,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
   EXPECT_EQ(e.line(), 3);
   EXPECT_EQ(e.field(), "utc");
-  e = expect_error(
-      [&] { parse_aligned_csv(head + row1 + "1,2026-05-10T03:00:02Z,1,2,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
+  e = expect_error([&] {
+    parse_aligned_csv(head + row1 + "1,2026-05-10T03:00:02Z,1,2,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv");
+  });
   EXPECT_EQ(e.field(), "frame");
-  e = expect_error(
-      [&] { parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:00Z,1,2,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
+  e = expect_error([&] {
+    parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:00Z,1,2,3,0.01,0.01,0.02,0,0,0,2\n", "a.csv");
+  });
   EXPECT_EQ(e.field(), "utc");
-  e = expect_error(
-      [&] { parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:02Z,1,2,3,-0.01,0.01,0.02,0,0,0,2\n", "a.csv"); });
+  e = expect_error([&] {
+    parse_aligned_csv(head + row1 + "2,2026-05-10T03:00:02Z,1,2,3,-0.01,0.01,0.02,0,0,0,2\n", "a.csv");
+  });
   EXPECT_EQ(e.field(), "sdE");
   e = expect_error([&] { parse_aligned_csv("frame,utc,E,N,U,sdE,sdN,sdU\n", "a.csv"); });
   EXPECT_EQ(e.kind(), ErrorKind::input);
   EXPECT_NE(std::string(e.what()).find("dt_s"), std::string::npos) << e.what();
-  e = expect_error([&] { parse_aligned_csv(head + "2,2026-05-10T03:00:02Z,1,2,3,0.01,0.01,0.02,0,0,nan,2\n", "a.csv"); });
+  e = expect_error(
+      [&] { parse_aligned_csv(head + "2,2026-05-10T03:00:02Z,1,2,3,0.01,0.01,0.02,0,0,nan,2\n", "a.csv"); });
   EXPECT_EQ(e.field(), "vN");
   e = expect_error([&] { parse_aligned_csv("frame,utc,E,N,U,sdE,sdN,sdU,dt_s\n", "a.csv"); });
   EXPECT_NE(std::string(e.what()).find("vE"), std::string::npos) << e.what();

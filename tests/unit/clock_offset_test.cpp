@@ -19,7 +19,7 @@
 #include "pipeline/flight_plan.hpp"
 #include "pipeline/monte_carlo.hpp"
 #include "pipeline/scenario.hpp"
-#include "support/paths.hpp"
+#include "support/simulated_mission.hpp"
 #include "support/synthetic_camera.hpp"
 
 namespace rangecal {
@@ -75,7 +75,8 @@ CalibrationProblem problem_of(const Camera& truth, std::vector<BundleObservation
 
 TEST(ClockOffset, NoiseFreeBundleRecoversTheOffsetAndTheCamera) {
   const Camera truth = test::range_camera(-3.4e-4);
-  const CalibrationResult r = calibrate_camera("bundle", problem_of(truth, late_clock_observations(truth, false, 1)));
+  const CalibrationResult r =
+      calibrate_camera("bundle", problem_of(truth, late_clock_observations(truth, false, 1)));
   EXPECT_NEAR(r.clock_offset_s, kClockOffsetS, 1e-9);
   EXPECT_NEAR(r.camera.intr.f_mm, truth.intr.f_mm, 1e-6);
   EXPECT_LT((r.camera.pose.center() - truth.pose.center()).norm(), 1e-6);
@@ -110,8 +111,8 @@ TEST(ClockOffset, SigmaAgreesWithMonteCarloAndCramerRaoAndTruthIsWithinThreeSigm
   c.reference = calibrate_camera("bundle", c.problem);
   const double sigma = c.reference.sigma("clock_offset");
   const double z = (c.reference.clock_offset_s - kClockOffsetS) / sigma;
-  std::printf("  δ = %.4f ms ± %.4f ms (truth 2 ms, z = %+.2f)\n", c.reference.clock_offset_s * 1e3, sigma * 1e3,
-              z);
+  std::printf("  δ = %.4f ms ± %.4f ms (truth 2 ms, z = %+.2f)\n", c.reference.clock_offset_s * 1e3,
+              sigma * 1e3, z);
   EXPECT_LE(std::abs(z), 3.0);
   EXPECT_LT(sigma, 1e-3) << "this geometry must tell 2 ms from 0 at 2σ at least";
 
@@ -155,8 +156,8 @@ TEST(ClockOffset, OneConstantVelocityWithoutStaticPointsIsReportedAsUndetermined
   EXPECT_TRUE(b.rank_deficient);
   bool named = false;
   for (const std::string& w : b.calibration.warnings)
-    named = named || (w.find("rank-deficient") != std::string::npos && w.find("clock_offset") != std::string::npos &&
-                      w.find("CU") != std::string::npos);
+    named = named || (w.find("rank-deficient") != std::string::npos &&
+                      w.find("clock_offset") != std::string::npos && w.find("CU") != std::string::npos);
   EXPECT_TRUE(named) << "the warning must name clock_offset and the centre";
 }
 
@@ -176,7 +177,8 @@ TEST(ClockOffset, FreeWithoutVelocitiesIsACalibrationError) {
 
 TEST(ClockOffset, OtherMethodsSayTheyTakeTheStampsAsExact) {
   const Camera truth = test::range_camera(-3.4e-4);
-  const CalibrationResult r = calibrate_camera("tsai", problem_of(truth, late_clock_observations(truth, false, 1)));
+  const CalibrationResult r =
+      calibrate_camera("tsai", problem_of(truth, late_clock_observations(truth, false, 1)));
   EXPECT_EQ(r.clock_offset_s, 0.0);
   bool said = false;
   for (const std::string& w : r.warnings) said = said || w.find("bundle method only") != std::string::npos;
@@ -193,7 +195,7 @@ TEST(ClockOffsetMission, TwoMillisecondsRecoveredWithinThreeSigmaAndTheDemoBarHo
   j["mission_calibrate"]["free"] = {"f", "k1", "pose", "clock_offset"};
   j["mission_calibrate"]["compare"] = nlohmann::json::array();
   const Scenario s = parse_scenario(j.dump(), "<demo scenario, cam1 clock 2 ms late>");
-  const DemoRun run = simulate_and_run(s, (test::scratch_dir("clock_offset_mission") / "mission").string());
+  const DemoRun run = test::simulate_and_run_in_scratch(s, "clock_offset_mission").run;
   ASSERT_EQ(run.results.cameras.size(), 2u);
   for (std::size_t c = 0; c < 2; ++c) {
     const CalibrationResult& r = run.results.cameras[c].by_method.at("bundle");

@@ -65,7 +65,8 @@ TEST(CorrespondencesIo, BadLinesNameFileLineAndField) {
       EXPECT_NE(std::string(e.what()).find("c.csv"), std::string::npos);
     }
   }
-  test::write_text(dir / "vel.csv", "utc,E,N,U,u,v,residual_px,used,vE,vN\n2025-06-01T03:00:00Z,1,2,3,4,5,,,0,1\n");
+  test::write_text(dir / "vel.csv",
+                   "utc,E,N,U,u,v,residual_px,used,vE,vN\n2025-06-01T03:00:00Z,1,2,3,4,5,,,0,1\n");
   try {
     read_correspondences_csv((dir / "vel.csv").string());
     ADD_FAILURE() << "no error for an incomplete velocity set";

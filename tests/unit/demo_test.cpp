@@ -20,25 +20,16 @@
 #include "pipeline/mission_runner.hpp"
 #include "pipeline/scenario.hpp"
 #include "support/paths.hpp"
+#include "support/simulated_mission.hpp"
 
 namespace rangecal {
 namespace {
 namespace fs = std::filesystem;
 
-struct DemoFixture {
-  fs::path dir;
-  DemoRun run;
-};
-
 // One simulation shared by the tests of this file (it takes most of the time).
-const DemoFixture& demo() {
-  static const DemoFixture f = [] {
-    DemoFixture d;
-    d.dir = test::scratch_dir("demo");
-    const Scenario s = parse_scenario(demo_scenario_json(), "<built-in demo scenario>");
-    d.run = simulate_and_run(s, (d.dir / "mission").string());
-    return d;
-  }();
+const test::SimulatedRun& demo() {
+  static const test::SimulatedRun f = test::simulate_and_run_in_scratch(
+      parse_scenario(demo_scenario_json(), "<built-in demo scenario>"), "demo");
   return f;
 }
 
@@ -52,13 +43,9 @@ const DemoIntersection* find_method(const DemoResults& r, const std::string& m) 
 // returns the results (or rethrows the stage error).
 DemoResults rerun_variant(const std::string& name, const std::function<void(const fs::path&)>& edit,
                           std::vector<StageLog>* logs = nullptr, fs::path* out_dir = nullptr) {
-  const DemoFixture& d = demo();
+  const test::SimulatedRun& d = demo();
   const fs::path dst = d.dir / name;
-  fs::remove_all(dst);
-  fs::create_directories(dst);
-  for (const auto& e : fs::directory_iterator(d.dir / "mission"))
-    if (e.path().filename() != "out")
-      fs::copy(e.path(), dst / e.path().filename(), fs::copy_options::recursive);
+  test::copy_mission_inputs(d.dir / "mission", dst);
   edit(dst);
   const MissionConfig cfg = load_mission_config((dst / "mission.json").string());
   std::vector<StageLog> l = run_mission(cfg);
@@ -117,7 +104,7 @@ TEST(Demo, TablesNameEveryMethodAndThePapersFigures) {
 }
 
 TEST(Demo, RerunIsByteIdentical) {
-  const DemoFixture& d = demo();
+  const test::SimulatedRun& d = demo();
   const fs::path out = d.run.config.output_dir;
   std::map<std::string, std::string> before;
   for (const auto& e : fs::recursive_directory_iterator(out))
@@ -193,15 +180,11 @@ TEST(Demo, FrameStampsEighteenSecondsLateAreReportedAsALeapSecondError) {
 }
 
 TEST(Demo, KillingARunMidwayLeavesNoPartialOutputFiles) {
-  const DemoFixture& d = demo();
+  const test::SimulatedRun& d = demo();
   int files_seen = 0;
   for (const int delay_ms : {300, 900, 1800}) {
     const fs::path dst = d.dir / ("killed_" + std::to_string(delay_ms));
-    fs::remove_all(dst);
-    fs::create_directories(dst);
-    for (const auto& e : fs::directory_iterator(d.dir / "mission"))
-      if (e.path().filename() != "out")
-        fs::copy(e.path(), dst / e.path().filename(), fs::copy_options::recursive);
+    test::copy_mission_inputs(d.dir / "mission", dst);
     const std::string bin = test::rangecal_binary().string(), cfg = (dst / "mission.json").string();
     const pid_t pid = ::fork();
     ASSERT_GE(pid, 0);

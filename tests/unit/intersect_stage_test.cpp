@@ -25,17 +25,7 @@ namespace {
 const Eigen::Vector3d kAim(0, 0, 4);
 
 Camera range_cam(const std::string& id, const Eigen::Vector3d& center) {
-  Camera c;
-  c.id = id;
-  c.intr.width_px = 1280;
-  c.intr.height_px = 800;
-  c.intr.dx_mm = c.intr.dy_mm = 0.020;
-  c.intr.f_mm = 135.0;
-  c.intr.u0_px = 639.5;
-  c.intr.v0_px = 399.5;
-  c.intr.dist.k1 = -3.4e-4;
-  c.pose = test::look_at_pose(center, kAim);
-  return c;
+  return test::range_camera_at(id, center, kAim);
 }
 
 /// Three cameras ~64 m from the pole field (seed 002 had two; a third checks N > 2 views).

@@ -10,6 +10,7 @@
 #include "config/error.hpp"
 #include "optim/lm_qn.hpp"
 #include "support/bundle_synthetic.hpp"
+#include "support/synthetic_camera.hpp"
 
 namespace rangecal {
 namespace {
@@ -104,7 +105,7 @@ CameraProblem make_camera_problem() {
   t.intr.f_mm = 35, t.intr.u0_px = 652, t.intr.v0_px = 391;
   t.intr.dist.k1 = 3e-4, t.intr.dist.k2 = -4e-7, t.intr.dist.p1 = 5e-5, t.intr.dist.p2 = -3e-5;
   const Vector3d C(0, 0, 1.5);
-  t.pose.R = test::look_at(C, Vector3d(10, 30, 8));
+  t.pose.R = test::look_at_pose(C, Vector3d(10, 30, 8)).R;
   t.pose.T = -t.pose.R * C;
   const auto pts = test::synthetic_points(t, 120, 77, 20, 45);
   std::mt19937_64 rng(3);

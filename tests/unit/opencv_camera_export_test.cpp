@@ -9,24 +9,11 @@
 
 #include "config/error.hpp"
 #include "support/paths.hpp"
+#include "support/synthetic_camera.hpp"
 #include "vision/opencv_camera_export.hpp"
 
 namespace rangecal {
 namespace {
-
-// World → camera rotation for a camera at C looking at `target` with the image's v axis pointing
-// down (towards −U).
-CameraPose look_at(const Eigen::Vector3d& C, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d z = (target - C).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();  // right
-  const Eigen::Vector3d y = z.cross(x);                                      // down
-  CameraPose p;
-  p.R.row(0) = x.transpose();
-  p.R.row(1) = y.transpose();
-  p.R.row(2) = z.transpose();
-  p.T = -p.R * C;
-  return p;
-}
 
 // Seed 002's camera: 1280×800, 20 µm, 135 mm, k1 like Table 1 (−3.4e−4 mm⁻², ≈ 7 % at the corner).
 Camera narrow_camera() {
@@ -34,7 +21,7 @@ Camera narrow_camera() {
   c.id = "narrow";
   c.intr = {1280, 800, 0.020, 0.020, 135.2, 1.0004, 652.3, 391.7, {}};
   c.intr.dist.k1 = -3.443e-4;
-  c.pose = look_at({64.0, -20.0, 1.5}, {0.0, 0.0, 30.0});
+  c.pose = test::look_at_pose({64.0, -20.0, 1.5}, {0.0, 0.0, 30.0});
   return c;
 }
 
@@ -47,7 +34,7 @@ Camera wide_camera() {
   c.intr.dist.k2 = -4e-6;
   c.intr.dist.p1 = 2e-6;
   c.intr.dist.p2 = -3e-6;
-  c.pose = look_at({-5.0, 10.0, 2.0}, {20.0, 30.0, 5.0});
+  c.pose = test::look_at_pose({-5.0, 10.0, 2.0}, {20.0, 30.0, 5.0});
   return c;
 }
 
@@ -59,7 +46,7 @@ Camera mild_camera() {
   c.intr.dist.k1 = 5e-5;
   c.intr.dist.p1 = 1e-5;
   c.intr.dist.p2 = 5e-6;
-  c.pose = look_at({100.0, 0.0, 3.0}, {0.0, 10.0, 10.0});
+  c.pose = test::look_at_pose({100.0, 0.0, 3.0}, {0.0, 10.0, 10.0});
   return c;
 }
 

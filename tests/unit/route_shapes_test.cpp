@@ -15,6 +15,7 @@
 #include "pipeline/mission_runner.hpp"
 #include "pipeline/scenario.hpp"
 #include "support/paths.hpp"
+#include "support/simulated_mission.hpp"
 
 namespace rangecal {
 namespace {
@@ -24,19 +25,10 @@ fs::path example(const char* name) {
   return test::source_dir() / "config/examples" / name;
 }
 
-struct MixedRun {
-  fs::path dir;
-  DemoRun run;
-};
-
 // One simulation of the mixed-route mission shared by this file's tests.
-const MixedRun& mixed() {
-  static const MixedRun m = [] {
-    MixedRun r;
-    r.dir = test::scratch_dir("route_shapes");
-    r.run = simulate_and_run(load_scenario(example("plan_mixed_routes.json").string()), (r.dir / "mission").string());
-    return r;
-  }();
+const test::SimulatedRun& mixed() {
+  static const test::SimulatedRun m = test::simulate_and_run_in_scratch(
+      load_scenario(example("plan_mixed_routes.json").string()), "route_shapes");
   return m;
 }
 
@@ -77,12 +69,9 @@ TEST(RouteShapes, HorizontalLegsAndADiagonalClimbCalibrateWithAttitude) {
 TEST(RouteShapes, IgnoringTheAttitudeOnTiltedLegsShowsInTheResiduals) {
   // The same files with the lever arm taken as straight down (paper eq. 5), as if no attitude had
   // been logged: on the legs the UAV leans up to ~9° into its accelerations, moving the lamp ~4 cm.
-  const MixedRun& m = mixed();
+  const test::SimulatedRun& m = mixed();
   const fs::path dst = m.dir / "no_attitude";
-  fs::remove_all(dst);
-  fs::create_directories(dst);
-  for (const auto& e : fs::directory_iterator(m.dir / "mission"))
-    if (e.path().filename() != "out") fs::copy(e.path(), dst / e.path().filename(), fs::copy_options::recursive);
+  test::copy_mission_inputs(m.dir / "mission", dst);
   nlohmann::json j = nlohmann::json::parse(test::read_text(dst / "mission.json"));
   j["lever_arm"] = {{"vertical_m", 0.25}};
   j.erase("attitude");
@@ -100,7 +89,8 @@ TEST(RouteShapes, IgnoringTheAttitudeOnTiltedLegsShowsInTheResiduals) {
   std::printf("  worst |z| of f, k1, C against truth: %.2f with attitude, %.2f without\n",
               worst_z(m.run.results), worst_z(r));
   std::printf("  check poles: mean dR against truth %.2f cm with attitude, %.2f cm without\n",
-              bundle_intersection(m.run.results).mean_dR_truth_m * 100, bundle_intersection(r).mean_dR_truth_m * 100);
+              bundle_intersection(m.run.results).mean_dR_truth_m * 100,
+              bundle_intersection(r).mean_dR_truth_m * 100);
   EXPECT_GT(without, 1.1 * with) << "the lamp's lean must show in the residuals";
   EXPECT_GT(worst_z(r), 3.0) << "and bias the calibration beyond its own σ";
 }
@@ -108,7 +98,8 @@ TEST(RouteShapes, IgnoringTheAttitudeOnTiltedLegsShowsInTheResiduals) {
 TEST(RouteShapes, PlanShowsWhatTheLegsAdd) {
   PlanOptions o;
   o.free_sets = {{"f", "k1", "pose", "clock_offset", "u0", "v0"}};
-  const FlightPlanAnalysis three = analyse_flight_plan(load_scenario(example("demo_scenario.json").string()), "3", o);
+  const FlightPlanAnalysis three =
+      analyse_flight_plan(load_scenario(example("demo_scenario.json").string()), "3", o);
   const FlightPlanAnalysis mix =
       analyse_flight_plan(load_scenario(example("plan_mixed_routes.json").string()), "mixed", o);
   auto sigma = [](const CameraBound& c, const std::string& n) {
@@ -122,8 +113,8 @@ TEST(RouteShapes, PlanShowsWhatTheLegsAdd) {
     ASSERT_FALSE(a.singular);
     ASSERT_FALSE(b.singular);
     for (const char* n : {"f", "u0", "v0", "clock_offset", "CU"})
-      std::printf("  %s %-12s three ascents %.4g, with legs %.4g (%.2fx)\n", a.camera_id.c_str(), n, sigma(a, n),
-                  sigma(b, n), sigma(a, n) / sigma(b, n));
+      std::printf("  %s %-12s three ascents %.4g, with legs %.4g (%.2fx)\n", a.camera_id.c_str(), n,
+                  sigma(a, n), sigma(b, n), sigma(a, n) / sigma(b, n));
     EXPECT_GT(b.n_points, 2 * a.n_points);
     EXPECT_LT(sigma(b, "f"), 0.5 * sigma(a, "f"));
     EXPECT_LT(sigma(b, "u0"), 0.5 * sigma(a, "u0"));

@@ -7,30 +7,14 @@
 #include <random>
 
 #include "config/error.hpp"
+#include "support/synthetic_camera.hpp"
 
 namespace rangecal {
 namespace {
 
 // Seed 002's cameras: 1280×800, 20 µm pixels, 135 mm lens, k1 ≈ −3.4e−4 mm⁻², ~64 m away.
 Camera look_at_camera(const std::string& id, const Eigen::Vector3d& C, const Eigen::Vector3d& target) {
-  Camera c;
-  c.id = id;
-  c.intr.width_px = 1280;
-  c.intr.height_px = 800;
-  c.intr.dx_mm = c.intr.dy_mm = 0.020;
-  c.intr.f_mm = 135.0;
-  c.intr.sx = 1.0;
-  c.intr.u0_px = 640.3;
-  c.intr.v0_px = 399.6;
-  c.intr.dist.k1 = -3.4e-4;
-  const Eigen::Vector3d z = (target - C).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();  // right
-  const Eigen::Vector3d y = z.cross(x);                                      // down
-  c.pose.R.row(0) = x;
-  c.pose.R.row(1) = y;
-  c.pose.R.row(2) = z;
-  c.pose.T = -c.pose.R * C;
-  return c;
+  return test::range_camera_at(id, C, target, -3.4e-4, {640.3, 399.6});
 }
 
 const Eigen::Vector3d kAim(0, 0, 20);
