@@ -33,7 +33,16 @@ std::uint64_t splitmix64(std::uint64_t x) {
 std::uint64_t trial_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_t trial) {
   return splitmix64(splitmix64(splitmix64(seed) ^ stream) ^ trial);
 }
-constexpr std::uint64_t kPoleStream = 0x706F6C6573ull;  // "poles": pick noise, apart from cameras
+constexpr std::uint64_t kPoleStream = 0x706F6C6573ull;   // "poles": pick noise, apart from cameras
+constexpr std::uint64_t kWorldStream = 0x776F726C64ull;  // "world": keyed world noise, shared by cameras
+
+/// The standard normal 3-vector of world-noise key `key` in trial `trial`: every camera that
+/// observed that epoch (or pole) draws the same vector, whatever the thread or camera order.
+Eigen::Vector3d keyed_normal3(std::uint64_t seed, std::size_t trial, std::int64_t key) {
+  DeterministicRandom r(splitmix64(trial_seed(seed, kWorldStream, trial) ^ static_cast<std::uint64_t>(key)));
+  const double a = r.normal(), b = r.normal(), c = r.normal();
+  return {a, b, c};
+}
 
 bool is_free(const std::vector<std::string>& free, const char* name) {
   return std::find(free.begin(), free.end(), name) != free.end();
@@ -46,11 +55,16 @@ struct CameraTruth {
   std::vector<BundleObservation> observations;  ///< world = truth, pixel = exact projection
   std::vector<Eigen::Matrix3d> world_factor;    ///< L with L·Lᵀ = Σ_X
   std::vector<double> pixel_sigma;
+  std::vector<std::int64_t> key;  ///< world-noise key per kept observation (−1: own draw)
   std::vector<std::string> names;
   std::string method;
 };
 
-CameraTruth make_truth(const MonteCarloCamera& c) {
+CameraTruth make_truth(const MonteCarloCamera& c, bool shared) {
+  if (!c.world_noise_key.empty() && c.world_noise_key.size() != c.problem.observations.size())
+    throw_config_error("", "world_noise_key",
+                       "camera " + c.problem.camera_id + " has " + std::to_string(c.world_noise_key.size()) +
+                           " keys for " + std::to_string(c.problem.observations.size()) + " observations");
   CameraTruth t;
   t.method = c.method.empty() ? c.reference.method : c.method;
   t.names = c.reference.parameter_names.empty() ? expand_free_parameters(c.problem.free)
@@ -72,6 +86,7 @@ CameraTruth make_truth(const MonteCarloCamera& c) {
     const Eigen::Vector3d d = ldlt.vectorD().cwiseMax(0.0).cwiseSqrt();
     t.world_factor.push_back(L * d.asDiagonal());
     t.pixel_sigma.push_back(o.pixel_sigma_px > 0 ? o.pixel_sigma_px : c.problem.pixel_sigma_px);
+    t.key.push_back(shared && !c.world_noise_key.empty() ? c.world_noise_key[i] : -1);
     t.observations.push_back(o);
   }
   if (t.observations.size() < 6)
@@ -84,13 +99,15 @@ CameraTruth make_truth(const MonteCarloCamera& c) {
 /// One trial's problem: truth + noise, priors re-drawn about the reference values (a prior is a
 /// measurement too, so the covariance it enters assumes it scatters by its σ).
 CalibrationProblem trial_problem(const MonteCarloCamera& c, const CameraTruth& t, const MonteCarloOptions& o,
-                                 DeterministicRandom& rng) {
+                                 std::size_t trial, DeterministicRandom& rng) {
   CalibrationProblem p = c.problem;
   p.observations = t.observations;
   for (std::size_t i = 0; i < p.observations.size(); ++i) {
     BundleObservation& ob = p.observations[i];
     if (o.world_noise) {
-      const Eigen::Vector3d z(rng.normal(), rng.normal(), rng.normal());
+      const double a = rng.normal(), b = rng.normal(), d = rng.normal();  // drawn always: streams aligned
+      const Eigen::Vector3d z =
+          t.key[i] >= 0 ? keyed_normal3(o.seed, trial, t.key[i]) : Eigen::Vector3d(a, b, d);
       ob.world += t.world_factor[i] * z;
     }
     if (o.image_noise) {
@@ -189,7 +206,7 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
                            "pole " + pole.id + " names camera index " + std::to_string(c) + " of " +
                                std::to_string(cameras.size()));
   std::vector<CameraTruth> truth;
-  for (const MonteCarloCamera& c : cameras) truth.push_back(make_truth(c));
+  for (const MonteCarloCamera& c : cameras) truth.push_back(make_truth(c, options.shared_world_noise));
 
   const std::size_t nt = static_cast<std::size_t>(options.trials);
   std::vector<TrialOutcome> outcome(nt);
@@ -199,7 +216,7 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
     out.failure.resize(cameras.size());
     for (std::size_t c = 0; c < cameras.size(); ++c) {
       DeterministicRandom rng(trial_seed(options.seed, c, t));
-      const CalibrationProblem p = trial_problem(cameras[c], truth[c], options, rng);
+      const CalibrationProblem p = trial_problem(cameras[c], truth[c], options, t, rng);
       try {
         const CalibrationResult r = calibrate_camera(truth[c].method, p);
         out.cameras[c] = TrialCamera{r.camera, r.clock_offset_s};

@@ -27,6 +27,10 @@ struct MonteCarloCamera {
   CalibrationProblem problem;
   CalibrationResult reference;  ///< its camera is the simulated truth, its covariance the prediction
   std::string method;           ///< method to re-run; empty → reference.method
+  /// Empty, or one key per problem observation: observations with the same key ≥ 0, in this
+  /// camera or another, share one draw of world noise (scaled by each one's own Σ_X) — the same
+  /// GNSS epoch or the same surveyed pole seen by several cameras. A negative key: its own draw.
+  std::vector<std::int64_t> world_noise_key;
 };
 
 /// A check pole for the intersection statistics: its surveyed position (the simulated truth) and
@@ -44,6 +48,9 @@ struct MonteCarloOptions {
   bool image_noise = true;     ///< perturb the pixels by their σ
   double pick_sigma_px = 0.3;  ///< 1σ per axis of a pole pick (intersection statistics)
   int threads = 0;             ///< 0 = all hardware threads
+  /// Use the cameras' world_noise_key (shared epochs and poles); false: every observation of every
+  /// camera draws its own world noise (cameras independent, as the triangulation σ assumes).
+  bool shared_world_noise = true;
 };
 
 struct ParameterStatistics {

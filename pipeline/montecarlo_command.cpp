@@ -3,18 +3,22 @@
 // calibration.json) under simulated noise (pipeline/monte_carlo.hpp), prints a seed 001
 // Table 2-style table per camera and the check poles' intersection statistics, and writes
 // `<out>/montecarlo.csv`. docs/accuracy_analysis.md.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
+#include "gnss/lamp_track_csv.hpp"
 #include "gnss/pole_survey.hpp"
 #include "pipeline/calibrate_stage.hpp"
 #include "pipeline/commands.hpp"
+#include "pipeline/gnss_stage.hpp"
 #include "pipeline/monte_carlo.hpp"
 #include "pipeline/output_paths.hpp"
 #include "vision/calibration_io.hpp"
@@ -43,6 +47,43 @@ std::vector<MonteCarloPole> check_poles(const MissionConfig& cfg) {
   return out;
 }
 
+/// World-noise keys of one camera's problem (pipeline/monte_carlo.hpp): a lamp pair gets the index
+/// of the lamp-track epoch nearest its frame (the GNSS epoch whose error it carries: the align stage
+/// keeps frames within a few ms of an epoch), a control pole kPoleKeyBase + its survey index (one
+/// survey for every camera). Without a track every pair keeps −1 (its own draw).
+constexpr std::int64_t kPoleKeyBase = std::int64_t{1} << 40;
+
+std::vector<std::int64_t> world_noise_keys(const MissionConfig& cfg, const CameraConfig& cam,
+                                           const std::vector<Correspondence>& pairs, const LampTrack* track,
+                                           std::size_t n_observations) {
+  std::vector<std::int64_t> keys(n_observations, -1);
+  if (track && track->epochs.size() >= 2) {
+    const auto& ep = track->epochs;
+    for (std::size_t i = 0; i < pairs.size() && i < n_observations; ++i) {
+      const auto it = std::lower_bound(ep.begin(), ep.end(), pairs[i].utc,
+                                       [](const LampEpoch& e, UtcTime t) { return e.utc < t; });
+      std::size_t best = ep.size();
+      std::int64_t best_dt = 0;
+      for (auto c : {it, it == ep.begin() ? it : it - 1}) {
+        if (c == ep.end()) continue;
+        const std::int64_t dt = std::llabs(c->utc.ns - pairs[i].utc.ns);
+        if (best == ep.size() || dt < best_dt) best = static_cast<std::size_t>(c - ep.begin()), best_dt = dt;
+      }
+      if (best < ep.size()) keys[i] = static_cast<std::int64_t>(best);
+    }
+  }
+  // Control poles follow the pairs in the problem, in pick order (make_calibration_problem).
+  if (cfg.calibrate.use_control_poles && !cfg.poles_file.empty() && !cam.pole_observations.empty()) {
+    const auto poles = read_pole_survey(cfg.poles_file, cfg.origin);
+    std::size_t k = pairs.size();
+    for (const PolePick& pick : read_pole_picks(cam.pole_observations))
+      for (std::size_t j = 0; j < poles.size(); ++j)
+        if (poles[j].id == pick.id && poles[j].role == PoleRole::control && k < n_observations)
+          keys[k++] = kPoleKeyBase + static_cast<std::int64_t>(j);
+  }
+  return keys;
+}
+
 }  // namespace
 
 void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
@@ -52,6 +93,7 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
     long long seed = -1;
     int threads = 0;
     double pick_sigma_px = 0;  ///< 0: the config's intersect.pick_sigma_px
+    bool independent = false;  ///< every camera its own world noise (no shared epochs or poles)
   };
   auto args = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand(
@@ -64,6 +106,9 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
   sub->add_option("--threads", args->threads, "Worker threads (0 = all; results do not depend on it)");
   sub->add_option("--pick-sigma", args->pick_sigma_px,
                   "1σ of a pole pick per axis, px (default: the config's intersect.pick_sigma_px)");
+  sub->add_flag("--independent-cameras", args->independent,
+                "Draw every camera's world noise independently (default: cameras that saw the same GNSS "
+                "epoch or control pole share its error, as in a real mission)");
   sub->callback([args, &ctx]() {
     if (args->trials < 1)
       throw_config_error("", "--trials", "must be at least 1, got " + std::to_string(args->trials));
@@ -72,6 +117,8 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
     if (args->pick_sigma_px < 0 || !std::isfinite(args->pick_sigma_px))
       throw_config_error("", "--pick-sigma", "must be positive");
     const MissionConfig cfg = load_mission_config(args->config);
+    std::optional<LampTrack> track;
+    if (std::filesystem::exists(lamp_track_path(cfg))) track = read_lamp_track_csv(lamp_track_path(cfg));
     std::vector<MonteCarloCamera> cams;
     for (const CameraConfig& cam : cfg.cameras) {
       const std::string corr = camera_output(cfg, cam.id, kCorrespondencesCsv);
@@ -85,8 +132,11 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
                           "missing; montecarlo needs the reference calibration (run "
                           "`rangecal calibrate CONFIG` first)");
       MonteCarloCamera m;
-      m.problem = make_calibration_problem(cfg, cam, read_correspondences_csv(corr));
+      const std::vector<Correspondence> pairs = read_correspondences_csv(corr);
+      m.problem = make_calibration_problem(cfg, cam, pairs);
       m.reference = read_calibration_json(cal);
+      m.world_noise_key =
+          world_noise_keys(cfg, cam, pairs, track ? &*track : nullptr, m.problem.observations.size());
       cams.push_back(std::move(m));
     }
     MonteCarloOptions o;
@@ -94,6 +144,10 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
     o.seed = args->seed >= 0 ? static_cast<std::uint64_t>(args->seed) : cfg.calibrate.seed;
     o.threads = args->threads;
     o.pick_sigma_px = args->pick_sigma_px > 0 ? args->pick_sigma_px : cfg.intersect.pick_sigma_px;
+    o.shared_world_noise = !args->independent;
+    if (!track && !ctx.quiet)
+      std::cerr << "montecarlo: no " << lamp_track_path(cfg)
+                << ": the lamp points' noise is drawn independently per camera\n";
     const MonteCarloResult r = run_monte_carlo(cams, check_poles(cfg), o);
     write_file_atomic(mission_output(cfg, kMonteCarloCsv), format_montecarlo_csv(r));
     if (ctx.quiet) return;

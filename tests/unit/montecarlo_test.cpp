@@ -117,6 +117,42 @@ TEST(MonteCarlo, RejectsZeroTrials) {
   }
 }
 
+// Two cameras that saw the same GNSS epochs share their errors (world_noise_key). In the limit of
+// one common error for every point of both cameras, each camera moves rigidly with the world, so
+// every check pole is found displaced by exactly that error: all poles show the same RMS. Drawn
+// independently per camera, the poles' errors differ.
+TEST(MonteCarlo, SharedEpochNoiseMovesBothCamerasTogether) {
+  const Camera a = test::range_camera_at("cam1", {-30, 0, 1.5}, {0.5, 64, 6}, -3.4e-4);
+  const Camera b = test::range_camera_at("cam2", {30, 0, 1.5}, {0.5, 64, 6}, -3.4e-4);
+  std::vector<MonteCarloCamera> cams;
+  for (const Camera& truth : {a, b}) {
+    MonteCarloCamera c;
+    c.problem = range_problem(truth, 3);
+    for (auto& o : c.problem.observations) o.world_cov = Eigen::Matrix3d::Identity() * 1e-4;
+    c.reference = calibrate_camera("bundle", c.problem);
+    c.world_noise_key.assign(c.problem.observations.size(), 0);  // one error for every point
+    cams.push_back(c);
+  }
+  const std::vector<MonteCarloPole> poles = {{"P1", {-1.0, 63.0, 4.0}, {0, 1}},
+                                             {"P2", {2.0, 65.0, 7.0}, {0, 1}}};
+  MonteCarloOptions o;
+  o.trials = 60;
+  o.image_noise = false;
+  o.pick_sigma_px = 1e-4;
+  const MonteCarloResult shared = run_monte_carlo(cams, poles, o);
+  ASSERT_EQ(shared.poles.size(), 2u);
+  std::printf("  shared: RMS %.5f / %.5f m\n", shared.poles[0].rms_error_m, shared.poles[1].rms_error_m);
+  EXPECT_NEAR(shared.poles[0].rms_error_m, shared.poles[1].rms_error_m, 1e-5);
+  EXPECT_NEAR(shared.poles[0].rms_error_m, 0.01 * std::sqrt(3.0), 0.004);  // |bias| of a 1 cm per axis draw
+  o.shared_world_noise = false;
+  const MonteCarloResult independent = run_monte_carlo(cams, poles, o);
+  std::printf("  independent: RMS %.5f / %.5f m\n", independent.poles[0].rms_error_m,
+              independent.poles[1].rms_error_m);
+  EXPECT_GT(std::abs(independent.poles[0].rms_error_m - independent.poles[1].rms_error_m), 1e-4);
+  cams[0].world_noise_key.pop_back();
+  EXPECT_THROW(run_monte_carlo(cams, poles, o), Error);  // one key per observation
+}
+
 /// A calibrated single-camera mission folder (config + correspondences + calibration.json).
 std::filesystem::path calibrated_mission(const std::string& name) {
   const Camera truth = test::range_camera(-3.4e-4);
