@@ -64,6 +64,11 @@ void add_demo_command(CLI::App& app, const CliContext& ctx) {
       std::cout << b;
     }
     std::cout << "\noutputs: " << run.config.output_dir << " (report.html, summary.json, run.json, ...)\n";
+    if (!ctx.quiet)
+      std::cout << "next:    rangecal montecarlo " << *out_dir
+                << "/mission.json   (how far to trust these σ: bias and sd per parameter)\n"
+                << "         rangecal plan config/examples/demo_scenario.json "
+                   "config/examples/plan_mixed_routes.json   (routes compared before flying)\n";
     if (!ok) throw_calibration_error("demo", "an accuracy bar of SPEC §9 failed (see above)");
   });
 }

@@ -35,8 +35,8 @@ void add_plan_command(CLI::App& app, const CliContext& /*ctx*/) {
       "files are candidate route sets compared side by side");
   sub->add_option("SCENARIO", args->scenarios, "Scenario file(s) (JSON, docs/simulator.md)")->required();
   sub->add_option("--free", args->free,
-                  "Free parameters (comma-separated; default f,k1,pose); the same set with u0,v0 is "
-                  "analysed too");
+                  "Free parameters (comma-separated; default f,k1,pose; also sx, k2, k3, p1, p2, a1, a2, "
+                  "rotation, center, clock_offset); the same set with u0,v0 is analysed too");
   sub->add_option("--pixel-sigma", args->pixel_sigma_px, "Lamp centroid σ, px (default 0.1)");
   sub->add_option("--html", args->html, "Also write the tables as a self-contained HTML page here");
   sub->callback([args]() {
