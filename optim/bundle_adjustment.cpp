@@ -39,6 +39,9 @@ constexpr std::array<const char*, kAll> kNames = {"f",  "sx", "u0", "v0", "k1", 
 /// A clock offset whose 1σ moves the fastest lamp point by more than this (m) is poorly determined:
 /// twice the PPK noise of one epoch (docs/optimisation.md).
 constexpr double kClockWarningM = 0.02;
+/// Above this |δ| (s) the first-order model X − v·δ misses ½·a·δ² (≈ 2 mm at 1.5 m/s² and 50 ms):
+/// the stamps should be corrected and the mission re-aligned instead.
+constexpr double kLargeClockOffsetS = 0.05;
 
 std::string fmt(double v) {
   char b[32];
@@ -616,6 +619,12 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
                                  fmt(rho) + "): the data cannot separate them; fix one or add a prior");
       }
   }
+  if (setup.free[kClockIndex] && std::abs(cal.clock_offset_s) > kLargeClockOffsetS)
+    cal.warnings.push_back("clock offset " + fmt(cal.clock_offset_s * 1e3) +
+                           " ms is large for the first-order model X − v·δ (it misses ½·a·δ², " +
+                           fmt(0.5 * 1.5 * cal.clock_offset_s * cal.clock_offset_s * 1e3) +
+                           " mm at 1.5 m/s²): shift the frame time stamps by it and rerun align, detect and "
+                           "calibrate");
   if (out.dof > 0) {
     // χ² test at the 1 % level (Wilson–Hilferty approximation of the χ² quantile).
     const double k = out.dof, z = 2.326;

@@ -109,7 +109,9 @@ CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObserv
   const auto it = std::find(b.parameter_names.begin(), b.parameter_names.end(), "clock_offset");
   const int clock = it == b.parameter_names.end() ? -1 : static_cast<int>(it - b.parameter_names.begin());
   Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
+  double max_speed = 0;  // m/s, for the clock offset's rule
   for (const BundleObservation& ob : obs) {
+    max_speed = std::max(max_speed, ob.velocity.norm());
     Eigen::Matrix<double, 2, 3> Jx;
     Eigen::MatrixXd J = pixel_jacobian_wrt_parameters(truth, b.parameter_names, ob.world, &Jx);
     // The clock offset δ moves the seen point by −v·δ (optim/bundle_adjustment.hpp).
@@ -148,7 +150,8 @@ CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObserv
       p.sigma_inflation = std::sqrt(F(i, i) * b.covariance(i, i));
       const bool principal_point = p.name == "u0" || p.name == "v0";
       p.poorly_determined = p.max_abs_correlation > o.correlation_limit ||
-                            (principal_point && p.sigma > o.principal_point_limit_px);
+                            (principal_point && p.sigma > o.principal_point_limit_px) ||
+                            (p.name == "clock_offset" && p.sigma * max_speed > o.clock_offset_limit_m);
     }
     b.parameters.push_back(p);
   }
@@ -251,7 +254,9 @@ std::vector<PlanTable> plan_tables(const std::vector<FlightPlanAnalysis>& cands)
     for (std::size_t c = 0; c < base.cameras.size(); ++c) {
       PlanTable t;
       t.title = "Cramér–Rao 1σ, camera " + base.cameras[c].camera_id + ", free " + free +
-                " (! = poorly determined: |ρ| > 0.99, principal point σ > 1 px, or singular)";
+                " (! = poorly determined: |ρ| > 0.99, principal point σ > 1 px, clock offset σ moving the "
+                "lamp > 2 cm, "
+                "or singular)";
       t.header.push_back("parameter");
       std::vector<std::string> points{"points"};
       for (const auto& cand : cands) {
@@ -280,7 +285,8 @@ std::vector<PlanTable> plan_tables(const std::vector<FlightPlanAnalysis>& cands)
           else if (p.poorly_determined)
             t.notes.push_back(
                 cand.name + ": " + p.name + " poorly determined (" +
-                (p.name == "u0" || p.name == "v0" ? "σ " + fmt("%.2f", p.sigma) + " px; " : "") + "|ρ| " +
+                (p.name == "u0" || p.name == "v0" ? "σ " + fmt("%.2f", p.sigma) + " px; " : "") +
+                (p.name == "clock_offset" ? "σ " + fmt("%.2f", p.sigma * 1e3) + " ms; " : "") + "|ρ| " +
                 fmt("%.4f", p.max_abs_correlation) + " with " + p.correlated_with + "; σ inflated " +
                 fmt("%.1f", p.sigma_inflation) + "× by the other free parameters)");
         }

@@ -34,6 +34,9 @@ struct PlanOptions {
   /// σ(u0) or σ(v0) above this (px) → poorly determined: a principal point not known to a pixel
   /// shifts every ray by more than the lamp centroids' own noise could explain (SPEC §4.4).
   double principal_point_limit_px = 1.0;
+  /// A clock offset whose σ moves the fastest lamp point by more than this (m) is poorly
+  /// determined: the bundle's warning (optim/bundle_adjustment.cpp), twice one epoch's PPK noise.
+  double clock_offset_limit_m = 0.02;
   double rank_tolerance = 1e-14;  ///< relative eigenvalue of the scaled F below which it is singular
 };
 
@@ -54,7 +57,8 @@ struct ParameterBound {
   /// the others (√(F_ii·CRB_ii)): how much the other free parameters cost this one (informative;
   /// with a narrow field of view every pose parameter is inflated tens of times).
   double sigma_inflation = 1;
-  /// singular F, |ρ| > correlation_limit, or a principal point σ above principal_point_limit_px
+  /// singular F, |ρ| > correlation_limit, a principal point σ above principal_point_limit_px, or a
+  /// clock offset σ × the fastest lamp speed above clock_offset_limit_m
   bool poorly_determined = false;
 };
 

@@ -122,7 +122,8 @@ CalibrationProblem trial_problem(const MonteCarloCamera& c, const CameraTruth& t
                                   p.priors.principal_point_sigma_px * Eigen::Vector2d(zu, zv);
   }
   if (p.priors.center_enu_m && is_free(p.free, "pose")) {
-    const Eigen::Vector3d z(rng.normal(), rng.normal(), rng.normal());
+    const double a = rng.normal(), b = rng.normal(), d = rng.normal();  // in this order on every compiler
+    const Eigen::Vector3d z(a, b, d);
     p.priors.center_enu_m = ref.pose.center() + p.priors.center_sigma_m * z;
   }
   return p;

@@ -29,14 +29,21 @@ constexpr double kClockOffsetS = 0.002;  // camera stamps 2 ms late
 constexpr double kWorldSigmaM = 0.01;
 constexpr double kPixelSigmaPx = 0.1;
 
-/// Lamp velocity of a point of test::range_world_points: ascent 1 climbs at 5 m/s, ascent 2
-/// descends at 6 m/s, ascent 3 climbs at 4 m/s drifting east at 3 m/s; pole tops are static.
-/// With `one_velocity` every lamp point moves at the first ascent's velocity.
-Eigen::Vector3d velocity_of(const Eigen::Vector3d& X, bool one_velocity) {
+/// How the three ascents of test::range_world_points are flown.
+enum class Flight {
+  up_and_down,   ///< climbs at 5 m/s, descends at 6 m/s, climbs at 4 m/s drifting east at 3 m/s
+  one_velocity,  ///< every ascent climbs at 5 m/s
+  nearly_alike,  ///< climbs at 5, 5 and 5.25 m/s
+};
+
+/// Lamp velocity of a point of test::range_world_points; pole tops are static.
+Eigen::Vector3d velocity_of(const Eigen::Vector3d& X, Flight flight) {
   const Eigen::Vector2d ascents[3] = {{-4.0, 60.0}, {0.8, 67.5}, {4.2, 63.0}};
-  const Eigen::Vector3d v[3] = {{0, 0, 5.0}, {0, 0, -6.0}, {3.0, 0, 4.0}};
+  const Eigen::Vector3d v[3][3] = {{{0, 0, 5.0}, {0, 0, -6.0}, {3.0, 0, 4.0}},
+                                   {{0, 0, 5.0}, {0, 0, 5.0}, {0, 0, 5.0}},
+                                   {{0, 0, 5.0}, {0, 0, 5.0}, {0, 0, 5.25}}};
   for (int a = 0; a < 3; ++a)
-    if ((X.head<2>() - ascents[a]).norm() < 1e-6) return one_velocity ? v[0] : v[a];
+    if ((X.head<2>() - ascents[a]).norm() < 1e-6) return v[static_cast<int>(flight)][a];
   return Eigen::Vector3d::Zero();
 }
 
@@ -44,7 +51,7 @@ Eigen::Vector3d velocity_of(const Eigen::Vector3d& X, bool one_velocity) {
 /// the stamp (true position + v·δ), the pixel the projection of the true position; noise as a
 /// mission (1 cm PPK, 0.1 px centroid) unless noise-free.
 std::vector<BundleObservation> late_clock_observations(const Camera& truth, bool noise, std::uint64_t seed,
-                                                       bool one_velocity = false, int n_poles = 4) {
+                                                       Flight flight = Flight::up_and_down, int n_poles = 4) {
   test::RangeSceneOptions so;
   so.n_poles = n_poles;
   const std::vector<Eigen::Vector3d> world = test::range_world_points(truth, so);
@@ -53,7 +60,7 @@ std::vector<BundleObservation> late_clock_observations(const Camera& truth, bool
   std::vector<BundleObservation> obs;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     BundleObservation o;
-    o.velocity = velocity_of(world[i], one_velocity);
+    o.velocity = velocity_of(world[i], flight);
     o.world = pts[i].world + o.velocity * kClockOffsetS;
     o.pixel = pts[i].pixel;
     o.world_cov = Eigen::Matrix3d::Identity() * kWorldSigmaM * kWorldSigmaM;
@@ -147,7 +154,7 @@ TEST(ClockOffset, SigmaAgreesWithMonteCarloAndCramerRaoAndTruthIsWithinThreeSigm
 TEST(ClockOffset, OneConstantVelocityWithoutStaticPointsIsReportedAsUndetermined) {
   // Every point moving alike: δ shifts every point by the same vector, exactly as the centre does.
   const Camera truth = test::range_camera(-3.4e-4);
-  const auto obs = late_clock_observations(truth, false, 1, /*one_velocity=*/true, /*n_poles=*/0);
+  const auto obs = late_clock_observations(truth, false, 1, Flight::one_velocity, /*n_poles=*/0);
   Camera start = truth;
   start.intr.f_mm += 0.5;
   BundleOptions opt;
@@ -159,6 +166,41 @@ TEST(ClockOffset, OneConstantVelocityWithoutStaticPointsIsReportedAsUndetermined
     named = named || (w.find("rank-deficient") != std::string::npos &&
                       w.find("clock_offset") != std::string::npos && w.find("CU") != std::string::npos);
   EXPECT_TRUE(named) << "the warning must name clock_offset and the centre";
+}
+
+TEST(ClockOffset, ALargeOffsetIsFittedButFlaggedAsBeyondTheFirstOrderModel) {
+  const Camera truth = test::range_camera(-3.4e-4);
+  std::vector<BundleObservation> obs = late_clock_observations(truth, false, 1);
+  for (BundleObservation& o : obs) o.world += o.velocity * 49 * kClockOffsetS;  // 100 ms in all
+  const CalibrationResult r = calibrate_camera("bundle", problem_of(truth, obs));
+  EXPECT_NEAR(r.clock_offset_s, 0.1, 1e-9);
+  bool said = false;
+  for (const std::string& w : r.warnings)
+    said = said || (w.find("is large for the first-order model") != std::string::npos &&
+                    w.find("rerun align") != std::string::npos);
+  EXPECT_TRUE(said);
+  // 2 ms is not large.
+  const CalibrationResult ok =
+      calibrate_camera("bundle", problem_of(truth, late_clock_observations(truth, false, 1)));
+  for (const std::string& w : ok.warnings) EXPECT_EQ(w.find("is large"), std::string::npos) << w;
+}
+
+TEST(ClockOffset, PlanFlagsAnOffsetThatAscentsFlownAlikeCannotSeparateFromTheCentre) {
+  // Three climbs at nearly one speed and no static point: δ is barely told from the centre.
+  const Camera truth = test::range_camera(-3.4e-4);
+  std::vector<BundleObservation> obs = late_clock_observations(truth, false, 1, Flight::nearly_alike, 0);
+  for (BundleObservation& o : obs) o.world -= o.velocity * kClockOffsetS;
+  const CameraBound weak = cramer_rao_bound(truth, obs, {"f", "k1", "pose", "clock_offset"});
+  const CameraBound good =
+      cramer_rao_bound(truth, late_clock_observations(truth, false, 1), {"f", "k1", "pose", "clock_offset"});
+  const ParameterBound& w = weak.parameters.back();
+  const ParameterBound& g = good.parameters.back();
+  ASSERT_EQ(w.name, "clock_offset");
+  std::printf("  σ(δ): climbs alike, no poles %.2f ms (flagged %d), up and down %.2f ms (flagged %d)\n", w.sigma * 1e3,
+              w.poorly_determined, g.sigma * 1e3, g.poorly_determined);
+  EXPECT_TRUE(w.poorly_determined);
+  EXPECT_FALSE(g.poorly_determined);
+  EXPECT_GT(w.sigma, 3 * g.sigma);
 }
 
 TEST(ClockOffset, FreeWithoutVelocitiesIsACalibrationError) {
