@@ -4,6 +4,7 @@
 // epoch 1980-01-06T00:00:00 (GPST), converted to UTC with the full leap-second table
 // (GPS−UTC = 0 s in 1980 … 18 s since 2017-01-01). Leap seconds themselves are not representable
 // in UTC here (as in POSIX time): instants inside an inserted leap second map onto its end.
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -68,5 +69,17 @@ GpsTime utc_to_gps(UtcTime t);
 GpsTime gps_from_week_tow(int week, std::int64_t tow_ns);
 /// The GPS calendar reading (the calendar as if GPST were UTC-without-leaps) → GpsTime.
 GpsTime gps_from_civil(int year, int month, int day, int hour, int minute, int second, std::int64_t nanos);
+
+/// Index of the element of `items` (in increasing order of time_of(item), a UtcTime) nearest to
+/// `t`; a tie goes to the later element; items.size() when `items` is empty. O(log n).
+template <class Items, class TimeOf>
+std::size_t nearest_in_time(const Items& items, UtcTime t, TimeOf time_of) {
+  const auto first = std::begin(items), last = std::end(items);
+  const auto it = std::lower_bound(first, last, t, [&](const auto& x, UtcTime u) { return time_of(x) < u; });
+  const std::size_t hi = static_cast<std::size_t>(it - first), n = static_cast<std::size_t>(last - first);
+  if (hi == n) return n == 0 ? 0 : n - 1;
+  if (hi == 0) return 0;
+  return t.ns - time_of(*(it - 1)).ns < time_of(*it).ns - t.ns ? hi - 1 : hi;
+}
 
 }  // namespace rangecal

@@ -52,6 +52,7 @@ CalibrationProblem make_calibration_problem(const MissionConfig& cfg, const Came
       o.world_cov = Eigen::Matrix3d::Identity() * kControlPoleSigmaM * kControlPoleSigmaM;
       o.pixel_sigma_px = kPolePickSigmaPx;
       p.observations.push_back(o);
+      p.control_pole_ids.push_back(pick.id);
     }
   }
   return p;

@@ -29,6 +29,9 @@ struct CalibrationProblem {
   double nominal_focal_mm = 0;
   /// World points with their covariance and pixels with their σ (lamp track, control poles).
   std::vector<BundleObservation> observations;
+  /// Ids of the control poles among the observations: they are the last control_pole_ids.size()
+  /// observations, in this order (pipeline/calibrate_stage.cpp make_calibration_problem).
+  std::vector<std::string> control_pole_ids;
   CameraPriors priors;
   std::vector<std::string> free{"f", "k1", "pose"};
   double pixel_sigma_px = 0.1;

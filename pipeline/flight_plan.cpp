@@ -36,17 +36,10 @@ std::vector<BundleObservation> observations_of(const SimMission& m, const SimCam
   const std::int64_t max_ns = static_cast<std::int64_t>(std::llround(o.max_frame_offset_s * 1e9));
   for (const SimEpoch& e : m.epochs) {
     if (e.quality != 1) continue;  // the simulated mission config accepts fix epochs only
-    const auto it = std::lower_bound(frames.begin(), frames.end(), e.utc,
-                                     [](const SimFrame& f, UtcTime t) { return f.stamp_utc < t; });
-    std::size_t best = frames.size();
-    std::int64_t best_dt = 0;
-    for (auto c : {it, it == frames.begin() ? it : it - 1}) {
-      if (c == frames.end()) continue;
-      const std::int64_t dt = std::llabs(c->stamp_utc.ns - e.utc.ns);
-      if (best == frames.size() || dt < best_dt)
-        best = static_cast<std::size_t>(c - frames.begin()), best_dt = dt;
-    }
-    if (best == frames.size() || best_dt > max_ns || !frames[best].in_view || used.count(best)) continue;
+    const std::size_t best = nearest_in_time(frames, e.utc, [](const SimFrame& f) { return f.stamp_utc; });
+    if (best == frames.size() || std::llabs(frames[best].stamp_utc.ns - e.utc.ns) > max_ns ||
+        !frames[best].in_view || used.count(best))
+      continue;
     used.insert(best);
     BundleObservation ob;
     ob.world = frames[best].lamp_enu;
@@ -68,9 +61,7 @@ std::vector<BundleObservation> control_pole_observations(const Scenario& s, cons
   for (const ScenarioPole& pole : s.poles) {
     if (pole.role != "control") continue;
     BundleObservation ob;
-    if (!project(cam, pole.enu_m, &ob.pixel) || ob.pixel.x() < 0 || ob.pixel.y() < 0 ||
-        ob.pixel.x() > cam.intr.width_px - 1 || ob.pixel.y() > cam.intr.height_px - 1)
-      continue;
+    if (!project(cam, pole.enu_m, &ob.pixel) || !inside_image(cam.intr, ob.pixel)) continue;
     ob.world = pole.enu_m;
     ob.world_cov = Eigen::Matrix3d::Identity() * s.survey_noise_m * s.survey_noise_m;
     ob.pixel_sigma_px = s.pick_noise_px;
@@ -189,10 +180,7 @@ FlightPlanAnalysis analyse_flight_plan(const Scenario& s, const std::string& nam
         TriangulationView v;
         v.camera = m.cameras[c].spec.camera;
         v.camera.id = m.cameras[c].spec.id;
-        if (!project(v.camera, pole.enu_m, &v.uv_px)) continue;
-        if (v.uv_px.x() < 0 || v.uv_px.y() < 0 || v.uv_px.x() > v.camera.intr.width_px - 1 ||
-            v.uv_px.y() > v.camera.intr.height_px - 1)
-          continue;
+        if (!project(v.camera, pole.enu_m, &v.uv_px) || !inside_image(v.camera.intr, v.uv_px)) continue;
         all_bounded = all_bounded && !fp.cameras[c].singular;
         v.calibration.parameter_names = fp.cameras[c].parameter_names;
         v.calibration.covariance = fp.cameras[c].covariance;
@@ -255,8 +243,7 @@ std::vector<PlanTable> plan_tables(const std::vector<FlightPlanAnalysis>& cands)
       PlanTable t;
       t.title = "Cramér–Rao 1σ, camera " + base.cameras[c].camera_id + ", free " + free +
                 " (! = poorly determined: |ρ| > 0.99, principal point σ > 1 px, clock offset σ moving the "
-                "lamp > 2 cm, "
-                "or singular)";
+                "lamp > 2 cm, or singular)";
       t.header.push_back("parameter");
       std::vector<std::string> points{"points"};
       for (const auto& cand : cands) {

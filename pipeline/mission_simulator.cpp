@@ -172,10 +172,6 @@ SimState state_with(const Scenario& s, const FlightPlan& plan, const Wobble& w, 
   return st;
 }
 
-bool inside_image(const Camera& cam, const Eigen::Vector2d& uv) {
-  return uv.x() >= 0 && uv.y() >= 0 && uv.x() <= cam.intr.width_px - 1 && uv.y() <= cam.intr.height_px - 1;
-}
-
 double dn_scale(int bit_depth) {
   return bit_depth == 8 ? 255.0 / 65535.0 : 1.0;
 }
@@ -309,7 +305,7 @@ SimMission simulate_mission(const Scenario& s) {
       f.lamp_velocity_enu =
           (state_with(s, m.plan, wob, t + h).lamp_enu - state_with(s, m.plan, wob, t - h).lamp_enu) / (2 * h);
       f.projects = project(cam, f.lamp_enu, &f.lamp_px);
-      f.in_view = f.projects && inside_image(cam, f.lamp_px);
+      f.in_view = f.projects && inside_image(cam.intr, f.lamp_px);
       sc.frames.push_back(f);
     }
     sc.hot_pixels = random_hot_pixels(cam.intr.width_px, cam.intr.height_px, s.sky.hot_pixels,
@@ -319,7 +315,7 @@ SimMission simulate_mission(const Scenario& s) {
     for (const auto& p : s.poles) {
       const Eigen::Vector2d z(rng.normal(), rng.normal());
       Eigen::Vector2d uv;
-      if (!project(cam, p.enu_m, &uv) || !inside_image(cam, uv)) continue;
+      if (!project(cam, p.enu_m, &uv) || !inside_image(cam.intr, uv)) continue;
       sc.picks.push_back({p.id, uv, uv + s.pick_noise_px * z});
     }
     m.cameras.push_back(std::move(sc));

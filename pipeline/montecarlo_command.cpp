@@ -3,7 +3,6 @@
 // calibration.json) under simulated noise (pipeline/monte_carlo.hpp), prints a seed 001
 // Table 2-style table per camera and the check poles' intersection statistics, and writes
 // `<out>/montecarlo.csv`. docs/accuracy_analysis.md.
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -49,37 +48,24 @@ std::vector<MonteCarloPole> check_poles(const MissionConfig& cfg) {
 
 /// World-noise keys of one camera's problem (pipeline/monte_carlo.hpp): a lamp pair gets the index
 /// of the lamp-track epoch nearest its frame (the GNSS epoch whose error it carries: the align stage
-/// keeps frames within a few ms of an epoch), a control pole kPoleKeyBase + its survey index (one
-/// survey for every camera). Without a track every pair keeps −1 (its own draw).
+/// keeps frames within a few ms of an epoch), a control pole kPoleKeyBase + a number per pole id,
+/// the same in every camera (`pole_keys`, filled as ids appear). Without a track every lamp pair
+/// keeps −1 (its own draw).
 constexpr std::int64_t kPoleKeyBase = std::int64_t{1} << 40;
 
-std::vector<std::int64_t> world_noise_keys(const MissionConfig& cfg, const CameraConfig& cam,
+std::vector<std::int64_t> world_noise_keys(const CalibrationProblem& problem,
                                            const std::vector<Correspondence>& pairs, const LampTrack* track,
-                                           std::size_t n_observations) {
-  std::vector<std::int64_t> keys(n_observations, -1);
-  if (track && track->epochs.size() >= 2) {
-    const auto& ep = track->epochs;
-    for (std::size_t i = 0; i < pairs.size() && i < n_observations; ++i) {
-      const auto it = std::lower_bound(ep.begin(), ep.end(), pairs[i].utc,
-                                       [](const LampEpoch& e, UtcTime t) { return e.utc < t; });
-      std::size_t best = ep.size();
-      std::int64_t best_dt = 0;
-      for (auto c : {it, it == ep.begin() ? it : it - 1}) {
-        if (c == ep.end()) continue;
-        const std::int64_t dt = std::llabs(c->utc.ns - pairs[i].utc.ns);
-        if (best == ep.size() || dt < best_dt) best = static_cast<std::size_t>(c - ep.begin()), best_dt = dt;
-      }
-      if (best < ep.size()) keys[i] = static_cast<std::int64_t>(best);
-    }
-  }
-  // Control poles follow the pairs in the problem, in pick order (make_calibration_problem).
-  if (cfg.calibrate.use_control_poles && !cfg.poles_file.empty() && !cam.pole_observations.empty()) {
-    const auto poles = read_pole_survey(cfg.poles_file, cfg.origin);
-    std::size_t k = pairs.size();
-    for (const PolePick& pick : read_pole_picks(cam.pole_observations))
-      for (std::size_t j = 0; j < poles.size(); ++j)
-        if (poles[j].id == pick.id && poles[j].role == PoleRole::control && k < n_observations)
-          keys[k++] = kPoleKeyBase + static_cast<std::int64_t>(j);
+                                           std::map<std::string, std::int64_t>* pole_keys) {
+  std::vector<std::int64_t> keys(problem.observations.size(), -1);
+  if (track && !track->epochs.empty())
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      keys[i] = static_cast<std::int64_t>(
+          nearest_in_time(track->epochs, pairs[i].utc, [](const LampEpoch& e) { return e.utc; }));
+  const std::size_t first_pole = problem.observations.size() - problem.control_pole_ids.size();
+  for (std::size_t k = 0; k < problem.control_pole_ids.size(); ++k) {
+    const auto [it, added] = pole_keys->emplace(problem.control_pole_ids[k],
+                                                kPoleKeyBase + static_cast<std::int64_t>(pole_keys->size()));
+    keys[first_pole + k] = it->second;
   }
   return keys;
 }
@@ -120,6 +106,7 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
     std::optional<LampTrack> track;
     if (std::filesystem::exists(lamp_track_path(cfg))) track = read_lamp_track_csv(lamp_track_path(cfg));
     std::vector<MonteCarloCamera> cams;
+    std::map<std::string, std::int64_t> pole_keys;
     for (const CameraConfig& cam : cfg.cameras) {
       const std::string corr = camera_output(cfg, cam.id, kCorrespondencesCsv);
       const std::string cal = camera_output(cfg, cam.id, kCalibrationJson);
@@ -135,8 +122,7 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
       const std::vector<Correspondence> pairs = read_correspondences_csv(corr);
       m.problem = make_calibration_problem(cfg, cam, pairs);
       m.reference = read_calibration_json(cal);
-      m.world_noise_key =
-          world_noise_keys(cfg, cam, pairs, track ? &*track : nullptr, m.problem.observations.size());
+      m.world_noise_key = world_noise_keys(m.problem, pairs, track ? &*track : nullptr, &pole_keys);
       cams.push_back(std::move(m));
     }
     MonteCarloOptions o;

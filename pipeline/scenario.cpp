@@ -312,9 +312,7 @@ void check_cameras_see_routes(const Scenario& s, const JsonView& root) {
       for (int k = 0; k <= n && !seen; ++k) {
         const Eigen::Vector3d p = r.start_enu_m + (r.end_enu_m - r.start_enu_m) * (double(k) / n) + off;
         Eigen::Vector2d uv;
-        if (project(cam, p, &uv) && uv.x() >= 0 && uv.y() >= 0 && uv.x() <= cam.intr.width_px - 1 &&
-            uv.y() <= cam.intr.height_px - 1)
-          seen = true;
+        if (project(cam, p, &uv) && inside_image(cam.intr, uv)) seen = true;
       }
     }
     if (!seen)

@@ -204,6 +204,11 @@ inline Eigen::Vector3d world_to_camera(const CameraPose& pose, const Eigen::Vect
 /// inverse fails; `uv` is then unspecified.
 bool project(const Camera& cam, const Eigen::Vector3d& Xw, Eigen::Vector2d* uv);
 
+/// Whether pixel (u, v) lies on the image: 0 ≤ u ≤ W − 1 and 0 ≤ v ≤ H − 1 (pixel centres, SPEC §2).
+inline bool inside_image(const CameraIntrinsics& in, const Eigen::Vector2d& uv) {
+  return uv.x() >= 0 && uv.y() >= 0 && uv.x() <= in.width_px - 1 && uv.y() <= in.height_px - 1;
+}
+
 /// Pixel → unit ray direction in world ENU (undistorts exactly, closed form).
 Eigen::Vector3d pixel_ray_world(const Camera& cam, const Eigen::Vector2d& uv);
 
