@@ -4,9 +4,9 @@
 // camera for two free sets, poles).
 #include <benchmark/benchmark.h>
 
-#include "pipeline/flight_plan.hpp"
-#include "pipeline/monte_carlo.hpp"
-#include "pipeline/scenario.hpp"
+#include "pipeline/analysis/route_plan.hpp"
+#include "pipeline/analysis/monte_carlo.hpp"
+#include "pipeline/simulate/scenario.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "gnss/hermite_interpolation.hpp"
-#include "pipeline/align_stage.hpp"
+#include "gnss/track/hermite_interpolation.hpp"
+#include "pipeline/steps/align_frames.hpp"
 
 namespace rangecal {
 namespace {

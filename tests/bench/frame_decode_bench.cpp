@@ -5,10 +5,10 @@
 #include <opencv2/core/utility.hpp>
 
 #include "support/paths.hpp"
-#include "vision/cine_reader.hpp"
-#include "vision/cine_writer.hpp"
-#include "vision/frame_renderer.hpp"
-#include "vision/frame_source.hpp"
+#include "vision/frames/cine_reader.hpp"
+#include "vision/frames/cine_writer.hpp"
+#include "vision/frames/frame_renderer.hpp"
+#include "vision/frames/frame_source.hpp"
 
 using namespace rangecal;
 

@@ -3,11 +3,11 @@
 // 0.1 px pixel noise; for RANSAC, 10 % gross outliers.
 #include <benchmark/benchmark.h>
 
-#include "optim/deterministic_random.hpp"
+#include "config/deterministic_random.hpp"
 #include "support/synthetic_camera.hpp"
-#include "vision/dlt.hpp"
-#include "vision/planar_calibration.hpp"
-#include "vision/tsai.hpp"
+#include "vision/calibration/dlt.hpp"
+#include "vision/calibration/planar_calibration.hpp"
+#include "vision/calibration/tsai.hpp"
 
 namespace rangecal {
 namespace {

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <random>
 
-#include "optim/bundle_adjustment.hpp"
-#include "optim/lm_qn.hpp"
-#include "optim/sparrow_search.hpp"
-#include "optim/tsai_sassa.hpp"
+#include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/search/lm_qn.hpp"
+#include "optim/search/sparrow_search.hpp"
+#include "optim/search/tsai_sassa.hpp"
 #include "support/bundle_synthetic.hpp"
 #include "support/synthetic_camera.hpp"
 

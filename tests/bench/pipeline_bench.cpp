@@ -7,11 +7,11 @@
 #include <filesystem>
 
 #include "config/mission_config.hpp"
-#include "pipeline/camera_stages.hpp"
-#include "pipeline/demo.hpp"
-#include "pipeline/demo_scenario_text.hpp"
-#include "pipeline/gnss_stage.hpp"
-#include "pipeline/scenario.hpp"
+#include "pipeline/stages/camera_stages.hpp"
+#include "pipeline/demo/demo.hpp"
+#include "pipeline/demo/demo_scenario_text.hpp"
+#include "pipeline/stages/gnss_stage.hpp"
+#include "pipeline/simulate/scenario.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {

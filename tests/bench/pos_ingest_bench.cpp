@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <string>
 
-#include "pipeline/gnss_stage.hpp"
+#include "pipeline/stages/gnss_stage.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {

@@ -5,8 +5,8 @@
 
 #include <filesystem>
 
-#include "pipeline/mission_simulator.hpp"
-#include "pipeline/scenario.hpp"
+#include "pipeline/simulate/mission_simulator.hpp"
+#include "pipeline/simulate/scenario.hpp"
 #include "support/paths.hpp"
 
 namespace {

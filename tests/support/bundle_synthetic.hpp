@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "vision/camera_model.hpp"
+#include "vision/camera/camera_model.hpp"
 
 namespace rangecal::test {
 

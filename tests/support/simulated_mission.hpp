@@ -1,12 +1,12 @@
 #pragma once
 // Whole simulated missions for the end-to-end tests: a scenario simulated into a scratch folder and
-// run through every stage (pipeline/demo.hpp simulate_and_run), and copies of a mission's input
+// run through every stage (pipeline/demo/demo.hpp simulate_and_run), and copies of a mission's input
 // files for variants (a lever arm ignored, time stamps shifted, frames blanked, …).
 #include <filesystem>
 #include <string>
 
-#include "pipeline/demo.hpp"
-#include "pipeline/scenario.hpp"
+#include "pipeline/demo/demo.hpp"
+#include "pipeline/simulate/scenario.hpp"
 
 namespace rangecal::test {
 

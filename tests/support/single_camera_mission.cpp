@@ -1,7 +1,7 @@
 #include "support/single_camera_mission.hpp"
 
-#include "gnss/utc_time.hpp"
-#include "pipeline/correspondences_io.hpp"
+#include "gnss/time/utc_time.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal::test {

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "vision/point_correspondence.hpp"
+#include "vision/calibration/point_correspondence.hpp"
 
 namespace rangecal::test {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "optim/deterministic_random.hpp"
+#include "config/deterministic_random.hpp"
 
 namespace rangecal::test {
 

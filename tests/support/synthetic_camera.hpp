@@ -1,6 +1,6 @@
 #pragma once
 // Synthetic cameras and point sets for calibration tests and benchmarks (shared by every
-// calibration helper). Everything is deterministic by seed (optim/deterministic_random.hpp).
+// calibration helper). Everything is deterministic by seed (config/deterministic_random.hpp).
 //
 // The range scene mirrors seed 002's experiment (SPEC §8): a 1280×800 camera with 20 µm pixels and
 // a 135 mm lens (≈ 10.8° × 6.8° field of view) on a tripod at (0, 0, 1.5) ENU, looking roughly
@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "vision/camera_model.hpp"
-#include "vision/point_correspondence.hpp"
+#include "vision/camera/camera_model.hpp"
+#include "vision/calibration/point_correspondence.hpp"
 
 namespace rangecal::test {
 

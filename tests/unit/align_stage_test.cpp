@@ -1,4 +1,4 @@
-#include "pipeline/align_stage.hpp"
+#include "pipeline/steps/align_frames.hpp"
 
 #include <gtest/gtest.h>
 

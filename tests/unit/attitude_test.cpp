@@ -1,5 +1,5 @@
 // Attitude CSV, interpolation (yaw across ±180°) and R_nb against seed 002 eq. 4 written out.
-#include "gnss/attitude.hpp"
+#include "gnss/track/attitude.hpp"
 
 #include <gtest/gtest.h>
 

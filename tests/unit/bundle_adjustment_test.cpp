@@ -11,7 +11,7 @@
 #include <string>
 
 #include "config/error.hpp"
-#include "optim/bundle_adjustment.hpp"
+#include "optim/bundle/bundle_adjustment.hpp"
 #include "support/bundle_synthetic.hpp"
 
 namespace rangecal {

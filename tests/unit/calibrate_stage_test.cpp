@@ -1,6 +1,6 @@
 // The calibrate stage end to end: methods on the same problem (noise-free recovery of the truth,
 // where each method's model can), the files it writes, and its failures.
-#include "pipeline/calibrate_stage.hpp"
+#include "pipeline/stages/calibrate_stage.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include "support/paths.hpp"
 #include "support/single_camera_mission.hpp"
 #include "support/synthetic_camera.hpp"
-#include "vision/calibration_io.hpp"
+#include "pipeline/io/calibration_json.hpp"
 
 namespace rangecal {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "config/error.hpp"
 #include "support/paths.hpp"
-#include "vision/calibration_io.hpp"
+#include "pipeline/io/calibration_json.hpp"
 
 namespace rangecal {
 namespace {

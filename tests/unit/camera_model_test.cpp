@@ -1,4 +1,4 @@
-#include "vision/camera_model.hpp"
+#include "vision/camera/camera_model.hpp"
 
 #include <ceres/jet.h>
 #include <gtest/gtest.h>

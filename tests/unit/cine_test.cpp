@@ -6,10 +6,10 @@
 
 #include "config/error.hpp"
 #include "support/paths.hpp"
-#include "vision/cine_format.hpp"
-#include "vision/cine_reader.hpp"
-#include "vision/cine_writer.hpp"
-#include "vision/frame_renderer.hpp"
+#include "vision/frames/cine_format.hpp"
+#include "vision/frames/cine_reader.hpp"
+#include "vision/frames/cine_writer.hpp"
+#include "vision/frames/frame_renderer.hpp"
 
 using namespace rangecal;
 namespace fs = std::filesystem;

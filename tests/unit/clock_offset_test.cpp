@@ -1,4 +1,4 @@
-// The camera clock offset as a bundle parameter (issue 6 item 3; optim/bundle_adjustment.hpp): a
+// The camera clock offset as a bundle parameter (issue 6 item 3; optim/bundle/bundle_adjustment.hpp): a
 // frame stamped δ late shows the lamp where it stood δ before the stamp, Xw − v·δ. On the seed
 // 002-like scene with ascents flown up and down, δ is recovered exactly without noise, its σ agrees
 // with a Monte Carlo and with the Cramér–Rao bound, and a geometry that cannot separate δ from the
@@ -12,13 +12,13 @@
 #include <nlohmann/json.hpp>
 
 #include "config/error.hpp"
-#include "optim/bundle_adjustment.hpp"
-#include "pipeline/calibration_methods.hpp"
-#include "pipeline/demo.hpp"
-#include "pipeline/demo_scenario_text.hpp"
-#include "pipeline/flight_plan.hpp"
-#include "pipeline/monte_carlo.hpp"
-#include "pipeline/scenario.hpp"
+#include "optim/bundle/bundle_adjustment.hpp"
+#include "pipeline/steps/calibration_methods.hpp"
+#include "pipeline/demo/demo.hpp"
+#include "pipeline/demo/demo_scenario_text.hpp"
+#include "pipeline/analysis/route_plan.hpp"
+#include "pipeline/analysis/monte_carlo.hpp"
+#include "pipeline/simulate/scenario.hpp"
 #include "support/simulated_mission.hpp"
 #include "support/synthetic_camera.hpp"
 

@@ -1,4 +1,4 @@
-#include "pipeline/correspondences_io.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
 
 #include <gtest/gtest.h>
 

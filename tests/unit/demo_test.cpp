@@ -14,11 +14,11 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
-#include "gnss/utc_time.hpp"
-#include "pipeline/demo.hpp"
-#include "pipeline/demo_scenario_text.hpp"
-#include "pipeline/mission_runner.hpp"
-#include "pipeline/scenario.hpp"
+#include "gnss/time/utc_time.hpp"
+#include "pipeline/demo/demo.hpp"
+#include "pipeline/demo/demo_scenario_text.hpp"
+#include "pipeline/stages/mission_runner.hpp"
+#include "pipeline/simulate/scenario.hpp"
 #include "support/paths.hpp"
 #include "support/simulated_mission.hpp"
 

@@ -3,7 +3,7 @@
 
 #include "config/error.hpp"
 #include "support/paths.hpp"
-#include "vision/detections_io.hpp"
+#include "vision/detection/detections_csv.hpp"
 
 using namespace rangecal;
 

@@ -1,16 +1,16 @@
-// Normalised DLT with RANSAC, RQ split and linear distortion initial values (vision/dlt.hpp,
-// vision/rq_decomposition.hpp, vision/linear_distortion.hpp).
+// Normalised DLT with RANSAC, RQ split and linear distortion initial values (vision/calibration/dlt.hpp,
+// vision/calibration/rq_decomposition.hpp, vision/calibration/linear_distortion.hpp).
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "config/error.hpp"
-#include "optim/deterministic_random.hpp"
+#include "config/deterministic_random.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
-#include "vision/dlt.hpp"
-#include "vision/linear_distortion.hpp"
-#include "vision/rq_decomposition.hpp"
+#include "vision/calibration/dlt.hpp"
+#include "vision/calibration/linear_distortion.hpp"
+#include "vision/calibration/rq_decomposition.hpp"
 
 namespace rangecal {
 namespace {

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "support/paths.hpp"
-#include "vision/frame_renderer.hpp"
-#include "vision/frame_source.hpp"
+#include "vision/frames/frame_renderer.hpp"
+#include "vision/frames/frame_source.hpp"
 
 using namespace rangecal;
 

@@ -10,10 +10,10 @@
 
 #include "config/error.hpp"
 #include "support/paths.hpp"
-#include "vision/cine_writer.hpp"
-#include "vision/frame_renderer.hpp"
-#include "vision/frame_source.hpp"
-#include "vision/lamp_detector.hpp"
+#include "vision/frames/cine_writer.hpp"
+#include "vision/frames/frame_renderer.hpp"
+#include "vision/frames/frame_source.hpp"
+#include "vision/detection/lamp_detector.hpp"
 
 using namespace rangecal;
 namespace fs = std::filesystem;

@@ -1,14 +1,14 @@
 // The gnss stage on the real PPK data: filtering counts (SOURCE.md), gaps, merging, lever arm
 // forms and warnings, the lamp_track.csv round trip and run_gnss_stage end to end.
-#include "pipeline/gnss_stage.hpp"
+#include "pipeline/stages/gnss_stage.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "config/error.hpp"
-#include "gnss/lamp_track_csv.hpp"
-#include "gnss/local_enu.hpp"
+#include "gnss/formats/lamp_track_csv.hpp"
+#include "gnss/geodesy/local_enu.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {

@@ -1,4 +1,4 @@
-#include "gnss/hermite_interpolation.hpp"
+#include "gnss/track/hermite_interpolation.hpp"
 
 #include <gtest/gtest.h>
 

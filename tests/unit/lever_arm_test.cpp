@@ -1,5 +1,5 @@
 // Lever arm: hand-checked cases, the vertical form, a randomized round trip, total station.
-#include "gnss/lever_arm.hpp"
+#include "gnss/track/lever_arm.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <random>
 
 #include "config/error.hpp"
-#include "gnss/attitude.hpp"
+#include "gnss/track/attitude.hpp"
 
 namespace rangecal {
 namespace {

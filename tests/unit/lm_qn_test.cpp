@@ -8,7 +8,7 @@
 #include <random>
 
 #include "config/error.hpp"
-#include "optim/lm_qn.hpp"
+#include "optim/search/lm_qn.hpp"
 #include "support/bundle_synthetic.hpp"
 #include "support/synthetic_camera.hpp"
 

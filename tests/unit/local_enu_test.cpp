@@ -1,6 +1,6 @@
 // Site ENU against the GeographicLib CartConvert oracle (external/gnss/oracle) and across the
 // .pos variants of the same solutions.
-#include "gnss/local_enu.hpp"
+#include "gnss/geodesy/local_enu.hpp"
 
 #include <gtest/gtest.h>
 

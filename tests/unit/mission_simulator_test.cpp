@@ -2,7 +2,7 @@
 // (run as a separate program) for the .pos geodesy, the C library's calendar for GPST = UTC + 18 s,
 // hand-written lever-arm rotations and pinhole projections, the rendered pixels themselves; plus
 // export decimation, gaps and float epochs, determinism, and the written mission config.
-#include "pipeline/mission_simulator.hpp"
+#include "pipeline/simulate/mission_simulator.hpp"
 
 #include <gtest/gtest.h>
 

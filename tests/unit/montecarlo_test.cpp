@@ -1,7 +1,7 @@
-// Monte Carlo accuracy analysis (pipeline/monte_carlo.hpp, `rangecal montecarlo`): on a seed
+// Monte Carlo accuracy analysis (pipeline/analysis/monte_carlo.hpp, `rangecal montecarlo`): on a seed
 // 002-like scene (135 mm, ~64 m, three vertical ascents) the trials' sd agrees with the bundle's
 // covariance σ, the result does not depend on the thread count, and bad input fails clearly.
-#include "pipeline/monte_carlo.hpp"
+#include "pipeline/analysis/monte_carlo.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "config/error.hpp"
-#include "pipeline/correspondences_io.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
 #include "support/paths.hpp"
 #include "support/single_camera_mission.hpp"
 #include "support/synthetic_camera.hpp"

@@ -10,7 +10,7 @@
 #include "config/error.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
-#include "vision/opencv_camera_export.hpp"
+#include "vision/camera/opencv_camera_export.hpp"
 
 namespace rangecal {
 namespace {

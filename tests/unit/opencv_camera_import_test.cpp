@@ -9,8 +9,8 @@
 #include <random>
 
 #include "config/error.hpp"
-#include "vision/opencv_camera_export.hpp"
-#include "vision/opencv_camera_import.hpp"
+#include "vision/camera/opencv_camera_export.hpp"
+#include "vision/camera/opencv_camera_import.hpp"
 
 namespace rangecal {
 namespace {

@@ -1,8 +1,8 @@
-// Flight planning (pipeline/flight_plan.hpp, `rangecal plan`): the Cramér–Rao σ of the seed
+// Flight planning (pipeline/analysis/route_plan.hpp, `rangecal plan`): the Cramér–Rao σ of the seed
 // 002-like layout agrees with the Monte Carlo sd of the bundle on the same geometry, the principal
 // point is flagged as poorly determined with the narrow lens, five ascents at mixed depths fix it
 // better than three, and the CLI compares candidates side by side.
-#include "pipeline/flight_plan.hpp"
+#include "pipeline/analysis/route_plan.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "config/error.hpp"
-#include "pipeline/monte_carlo.hpp"
+#include "pipeline/analysis/monte_carlo.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {

@@ -1,4 +1,4 @@
-// Planar-target method (vision/planar_calibration.hpp, vision/homography.hpp): exact recovery on
+// Planar-target method (vision/calibration/planar_calibration.hpp, vision/calibration/homography.hpp): exact recovery on
 // synthetic views, Zhang's published data, degenerate inputs.
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include "config/error.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
-#include "vision/homography.hpp"
-#include "vision/planar_calibration.hpp"
+#include "vision/calibration/homography.hpp"
+#include "vision/calibration/planar_calibration.hpp"
 
 namespace rangecal {
 namespace {

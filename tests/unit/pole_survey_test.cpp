@@ -1,4 +1,4 @@
-#include "gnss/pole_survey.hpp"
+#include "gnss/formats/pole_survey_csv.hpp"
 
 #include <gtest/gtest.h>
 

@@ -9,8 +9,8 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "support/paths.hpp"
-#include "vision/calibration_io.hpp"
-#include "vision/point_projection.hpp"
+#include "pipeline/io/calibration_json.hpp"
+#include "vision/camera/point_projection.hpp"
 
 namespace rangecal {
 namespace {
@@ -89,7 +89,7 @@ TEST(ProjectPoints, MissingColumnAndBadNumber) {
   }
 }
 
-// Through the CLI (pipeline/project_command.cpp wired in cli.cpp).
+// Through the CLI (pipeline/cli/project_command.cpp wired in cli.cpp).
 TEST(ProjectCommand, CliWritesIdUvToStdout) {
   const auto dir = test::scratch_dir("project_command_cli");
   const CalibrationResult cal = test_calibration();

@@ -2,7 +2,7 @@
 // own writers → summary.json numbers equal the inputs', report.html has the tables and one <svg>
 // per plot, reruns are byte-identical, a camera without calibration is reported (not an error), a
 // malformed input names file and line, and a headless browser renders the page (issue acceptance).
-#include "pipeline/report_stage.hpp"
+#include "pipeline/stages/report_stage.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,14 +13,14 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "config/error.hpp"
-#include "gnss/lamp_track_csv.hpp"
-#include "pipeline/calibrate_stage.hpp"
-#include "pipeline/correspondences_io.hpp"
-#include "pipeline/report_html.hpp"
-#include "pipeline/svg_plot.hpp"
+#include "gnss/formats/lamp_track_csv.hpp"
+#include "pipeline/stages/calibrate_stage.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/report/report_html.hpp"
+#include "pipeline/report/svg_plot.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
-#include "vision/calibration_io.hpp"
+#include "pipeline/io/calibration_json.hpp"
 
 namespace rangecal {
 namespace {

@@ -10,10 +10,10 @@
 #include <nlohmann/json.hpp>
 
 #include "config/mission_config.hpp"
-#include "pipeline/demo.hpp"
-#include "pipeline/flight_plan.hpp"
-#include "pipeline/mission_runner.hpp"
-#include "pipeline/scenario.hpp"
+#include "pipeline/demo/demo.hpp"
+#include "pipeline/analysis/route_plan.hpp"
+#include "pipeline/stages/mission_runner.hpp"
+#include "pipeline/simulate/scenario.hpp"
 #include "support/paths.hpp"
 #include "support/simulated_mission.hpp"
 

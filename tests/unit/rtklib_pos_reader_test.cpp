@@ -1,6 +1,6 @@
 // RTKLIB .pos reader against the real solutions in external/gnss/pos (SOURCE.md documents what
 // each file holds) and against hand-made bad inputs.
-#include "gnss/rtklib_pos_reader.hpp"
+#include "gnss/formats/rtklib_pos_reader.hpp"
 
 #include <gtest/gtest.h>
 

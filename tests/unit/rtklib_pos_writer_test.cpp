@@ -1,7 +1,7 @@
 // The .pos writer against real RTKLIB 2.4.3 output: every epoch of a real solution, parsed here
 // independently and written back, must reproduce the real file byte for byte (header lines,
 // column widths, mixed LF/CRLF line endings).
-#include "gnss/rtklib_pos_writer.hpp"
+#include "gnss/formats/rtklib_pos_writer.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Scenario JSON → Scenario: defaults, the look-at pose against a hand computation, and every kind
 // of bad scenario naming its JSON path.
-#include "pipeline/scenario.hpp"
+#include "pipeline/simulate/scenario.hpp"
 
 #include <gtest/gtest.h>
 

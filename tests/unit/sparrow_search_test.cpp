@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "config/error.hpp"
-#include "optim/deterministic_random.hpp"
-#include "optim/sparrow_search.hpp"
+#include "config/deterministic_random.hpp"
+#include "optim/search/sparrow_search.hpp"
 
 namespace rangecal {
 namespace {

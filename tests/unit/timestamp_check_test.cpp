@@ -1,15 +1,15 @@
 // Whole-second / leap-second errors in frame time stamps (issue 6: "a 1 s or 18 s offset is
 // reported as a timestamp error"). Truth from the simulator: the demo scenario's true lamp track
 // and the true lamp pixels of camera 1 at the frames' true instants; the stamps are then shifted.
-#include "pipeline/timestamp_check.hpp"
+#include "pipeline/steps/timestamp_check.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
-#include "pipeline/demo_scenario_text.hpp"
-#include "pipeline/mission_simulator.hpp"
-#include "pipeline/scenario.hpp"
+#include "pipeline/demo/demo_scenario_text.hpp"
+#include "pipeline/simulate/mission_simulator.hpp"
+#include "pipeline/simulate/scenario.hpp"
 
 namespace rangecal {
 namespace {

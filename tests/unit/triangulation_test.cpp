@@ -1,4 +1,4 @@
-#include "vision/triangulation.hpp"
+#include "vision/triangulation/triangulation.hpp"
 
 #include <gtest/gtest.h>
 

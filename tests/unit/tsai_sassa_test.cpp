@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "config/error.hpp"
-#include "optim/tsai_sassa.hpp"
+#include "optim/search/tsai_sassa.hpp"
 #include "support/synthetic_camera.hpp"
 
 namespace rangecal {

@@ -1,4 +1,4 @@
-// Tsai's two-step method (vision/tsai.hpp): exact recovery on the paper-like synthetic scene, the
+// Tsai's two-step method (vision/calibration/tsai.hpp): exact recovery on the paper-like synthetic scene, the
 // published reference run on Willson's sample data, and every degenerate input.
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include "config/error.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
-#include "vision/tsai.hpp"
+#include "vision/calibration/tsai.hpp"
 
 namespace rangecal {
 namespace {

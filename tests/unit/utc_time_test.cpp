@@ -1,4 +1,4 @@
-#include "gnss/utc_time.hpp"
+#include "gnss/time/utc_time.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,391 @@
+#include "pipeline/analysis/monte_carlo.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+
+#include "config/error.hpp"
+#include "config/deterministic_random.hpp"
+#include "vision/triangulation/triangulation.hpp"
+
+namespace rangecal {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// splitmix64 (Steele, Lea & Flood 2014): a fully specified mixer, so the per-trial seeds — and
+/// with them every trial — are the same on every platform and for any thread count.
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+std::uint64_t trial_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_t trial) {
+  return splitmix64(splitmix64(splitmix64(seed) ^ stream) ^ trial);
+}
+constexpr std::uint64_t kPoleStream = 0x706F6C6573ull;   // "poles": pick noise, apart from cameras
+constexpr std::uint64_t kWorldStream = 0x776F726C64ull;  // "world": keyed world noise, shared by cameras
+
+/// The standard normal 3-vector of world-noise key `key` in trial `trial`: every camera that
+/// observed that epoch (or pole) draws the same vector, whatever the thread or camera order.
+Eigen::Vector3d keyed_normal3(std::uint64_t seed, std::size_t trial, std::int64_t key) {
+  DeterministicRandom r(splitmix64(trial_seed(seed, kWorldStream, trial) ^ static_cast<std::uint64_t>(key)));
+  const double a = r.normal(), b = r.normal(), c = r.normal();
+  return {a, b, c};
+}
+
+bool is_free(const std::vector<std::string>& free, const char* name) {
+  return std::find(free.begin(), free.end(), name) != free.end();
+}
+
+/// The simulated truth of one camera: the reference camera, the observations it keeps (not
+/// rejected as outliers, projecting) with their exact pixels, and the Cholesky factors of their
+/// world covariances.
+struct CameraTruth {
+  std::vector<BundleObservation> observations;  ///< world = truth, pixel = exact projection
+  std::vector<Eigen::Matrix3d> world_factor;    ///< L with L·Lᵀ = Σ_X
+  std::vector<double> pixel_sigma;
+  std::vector<std::int64_t> key;  ///< world-noise key per kept observation (−1: own draw)
+  std::vector<std::string> names;
+  std::string method;
+};
+
+CameraTruth make_truth(const MonteCarloCamera& c, bool shared) {
+  if (!c.world_noise_key.empty() && c.world_noise_key.size() != c.problem.observations.size())
+    throw_config_error("", "world_noise_key",
+                       "camera " + c.problem.camera_id + " has " + std::to_string(c.world_noise_key.size()) +
+                           " keys for " + std::to_string(c.problem.observations.size()) + " observations");
+  CameraTruth t;
+  t.method = c.method.empty() ? c.reference.method : c.method;
+  t.names = c.reference.parameter_names.empty() ? expand_free_parameters(c.problem.free)
+                                                : c.reference.parameter_names;
+  std::vector<bool> rejected(c.problem.observations.size(), false);
+  for (std::size_t i : c.reference.rejected)
+    if (i < rejected.size()) rejected[i] = true;
+  for (std::size_t i = 0; i < c.problem.observations.size(); ++i) {
+    if (rejected[i]) continue;
+    BundleObservation o = c.problem.observations[i];
+    Eigen::Vector2d uv;
+    // The reference clock offset is part of the truth: the camera saw the lamp at stamp − δ.
+    if (!project(c.reference.camera, observed_world_point(o, c.reference.clock_offset_s), &uv)) continue;
+    o.pixel = uv;
+    // A zero covariance (exact point) has no Cholesky factor; LDLᵀ handles semi-definite ones.
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(o.world_cov);
+    Eigen::Matrix3d L = ldlt.matrixL();
+    L = ldlt.transpositionsP().transpose() * L;
+    const Eigen::Vector3d d = ldlt.vectorD().cwiseMax(0.0).cwiseSqrt();
+    t.world_factor.push_back(L * d.asDiagonal());
+    t.pixel_sigma.push_back(o.pixel_sigma_px > 0 ? o.pixel_sigma_px : c.problem.pixel_sigma_px);
+    t.key.push_back(shared && !c.world_noise_key.empty() ? c.world_noise_key[i] : -1);
+    t.observations.push_back(o);
+  }
+  if (t.observations.size() < 6)
+    throw_calibration_error("montecarlo " + c.problem.camera_id,
+                            "only " + std::to_string(t.observations.size()) +
+                                " points project through the reference camera; nothing to simulate");
+  return t;
+}
+
+/// One trial's problem: truth + noise, priors re-drawn about the reference values (a prior is a
+/// measurement too, so the covariance it enters assumes it scatters by its σ).
+CalibrationProblem trial_problem(const MonteCarloCamera& c, const CameraTruth& t, const MonteCarloOptions& o,
+                                 std::size_t trial, DeterministicRandom& rng) {
+  CalibrationProblem p = c.problem;
+  p.observations = t.observations;
+  for (std::size_t i = 0; i < p.observations.size(); ++i) {
+    BundleObservation& ob = p.observations[i];
+    if (o.world_noise) {
+      const double a = rng.normal(), b = rng.normal(), d = rng.normal();  // drawn always: streams aligned
+      const Eigen::Vector3d z =
+          t.key[i] >= 0 ? keyed_normal3(o.seed, trial, t.key[i]) : Eigen::Vector3d(a, b, d);
+      ob.world += t.world_factor[i] * z;
+    }
+    if (o.image_noise) {
+      const double zu = rng.normal(), zv = rng.normal();
+      ob.pixel += t.pixel_sigma[i] * Eigen::Vector2d(zu, zv);
+    }
+  }
+  const Camera& ref = c.reference.camera;
+  if (p.priors.principal_point_px && (is_free(p.free, "u0") || is_free(p.free, "v0"))) {
+    const double zu = rng.normal(), zv = rng.normal();
+    p.priors.principal_point_px = Eigen::Vector2d(ref.intr.u0_px, ref.intr.v0_px) +
+                                  p.priors.principal_point_sigma_px * Eigen::Vector2d(zu, zv);
+  }
+  if (p.priors.center_enu_m && is_free(p.free, "pose")) {
+    const double a = rng.normal(), b = rng.normal(), d = rng.normal();  // in this order on every compiler
+    const Eigen::Vector3d z(a, b, d);
+    p.priors.center_enu_m = ref.pose.center() + p.priors.center_sigma_m * z;
+  }
+  return p;
+}
+
+/// What a trial keeps of a calibration: the camera and its clock offset.
+struct TrialCamera {
+  Camera camera;
+  double clock_offset_s = 0;
+  double value(const Camera& reference, const std::string& name) const {
+    return camera_parameter_value(camera, reference, name, clock_offset_s);
+  }
+};
+
+struct TrialOutcome {
+  std::vector<std::optional<TrialCamera>> cameras;  ///< per camera; empty when the calibration failed
+  std::vector<std::string> failure;
+  std::vector<std::optional<Eigen::Vector3d>> pole_error;  ///< triangulated − truth, per pole
+};
+
+std::string fmt(const char* f, double v) {
+  if (!std::isfinite(v)) return "";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<std::string> expand_free_parameters(const std::vector<std::string>& free) {
+  static const char* kOrder[] = {"f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2",
+                                 "a1", "a2", "wx", "wy", "wz", "CE", "CN", "CU", "clock_offset"};
+  std::vector<std::string> out;
+  for (const char* n : kOrder) {
+    const std::string s = n;
+    const bool rot = s == "wx" || s == "wy" || s == "wz";
+    const bool cen = s == "CE" || s == "CN" || s == "CU";
+    if (is_free(free, n) || ((rot || cen) && is_free(free, "pose")) || (rot && is_free(free, "rotation")) ||
+        (cen && is_free(free, "center")))
+      out.push_back(s);
+  }
+  return out;
+}
+
+double camera_parameter_value(const Camera& cam, const Camera& reference, const std::string& n,
+                              double clock_offset_s) {
+  if (n == "clock_offset") return clock_offset_s;
+  const CameraIntrinsics& in = cam.intr;
+  if (n == "f") return in.f_mm;
+  if (n == "sx") return in.sx;
+  if (n == "u0") return in.u0_px;
+  if (n == "v0") return in.v0_px;
+  const double d[7] = {in.dist.k1, in.dist.k2, in.dist.k3, in.dist.p1, in.dist.p2, in.dist.a1, in.dist.a2};
+  for (int k = 0; k < 7; ++k)
+    if (n == kDistortionNames[k]) return d[k];
+  if (n == "wx" || n == "wy" || n == "wz") {
+    // The bundle's rotation parameters perturb R on the left in camera axes (calibration_result.hpp).
+    const Eigen::AngleAxisd aa(Eigen::Matrix3d(cam.pose.R * reference.pose.R.transpose()));
+    if (aa.angle() < 1e-14) return 0.0;  // R·Rᵀ of the same camera: exactly 0, not rounding noise
+    const Eigen::Vector3d w = aa.angle() * aa.axis();
+    return w[n == "wx" ? 0 : n == "wy" ? 1 : 2];
+  }
+  const Eigen::Vector3d C = cam.pose.center();
+  if (n == "CE") return C.x();
+  if (n == "CN") return C.y();
+  if (n == "CU") return C.z();
+  if (n == "Tx") return cam.pose.T.x();
+  if (n == "Ty") return cam.pose.T.y();
+  if (n == "Tz") return cam.pose.T.z();
+  return kNaN;
+}
+
+MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
+                                 const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options) {
+  if (options.trials < 1)
+    throw_config_error("", "trials", "must be at least 1, got " + std::to_string(options.trials));
+  for (const MonteCarloPole& pole : poles)
+    for (std::size_t c : pole.cameras)
+      if (c >= cameras.size())
+        throw_config_error("", "poles",
+                           "pole " + pole.id + " names camera index " + std::to_string(c) + " of " +
+                               std::to_string(cameras.size()));
+  std::vector<CameraTruth> truth;
+  for (const MonteCarloCamera& c : cameras) truth.push_back(make_truth(c, options.shared_world_noise));
+
+  const std::size_t nt = static_cast<std::size_t>(options.trials);
+  std::vector<TrialOutcome> outcome(nt);
+  auto run_trial = [&](std::size_t t) {
+    TrialOutcome& out = outcome[t];
+    out.cameras.resize(cameras.size());
+    out.failure.resize(cameras.size());
+    for (std::size_t c = 0; c < cameras.size(); ++c) {
+      DeterministicRandom rng(trial_seed(options.seed, c, t));
+      const CalibrationProblem p = trial_problem(cameras[c], truth[c], options, t, rng);
+      try {
+        const CalibrationResult r = calibrate_camera(truth[c].method, p);
+        out.cameras[c] = TrialCamera{r.camera, r.clock_offset_s};
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::calibration) throw;
+        out.failure[c] = e.what();
+      }
+    }
+    DeterministicRandom rng(trial_seed(options.seed, kPoleStream, t));
+    for (const MonteCarloPole& pole : poles) {
+      std::vector<TriangulationView> views;
+      for (std::size_t c : pole.cameras) {
+        Eigen::Vector2d uv;
+        const bool ok = project(cameras[c].reference.camera, pole.enu, &uv);
+        const double zu = rng.normal(), zv = rng.normal();  // drawn always: streams stay aligned
+        if (!ok || !out.cameras[c]) continue;
+        TriangulationView v;
+        v.camera = out.cameras[c]->camera;
+        v.uv_px = uv + options.pick_sigma_px * Eigen::Vector2d(zu, zv);
+        v.pick_sigma_px = options.pick_sigma_px;
+        views.push_back(v);
+      }
+      std::optional<Eigen::Vector3d> err;
+      if (views.size() >= 2) {
+        try {
+          err = triangulate_point(views, "pole " + pole.id).point - pole.enu;
+        } catch (const Error&) {
+        }
+      }
+      out.pole_error.push_back(err);
+    }
+  };
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t t = r.begin(); t != r.end(); ++t) run_trial(t);
+                      });
+  });
+
+  // Statistics in trial order: the same sums in the same order for any thread count.
+  MonteCarloResult result;
+  result.trials = options.trials;
+  for (std::size_t c = 0; c < cameras.size(); ++c) {
+    const CalibrationResult& ref = cameras[c].reference;
+    CameraMonteCarlo cm;
+    cm.camera_id = cameras[c].problem.camera_id;
+    cm.method = truth[c].method;
+    for (const TrialOutcome& o : outcome) {
+      if (o.cameras[c]) {
+        ++cm.trials_ok;
+      } else {
+        ++cm.trials_failed;
+        if (cm.first_failure.empty()) cm.first_failure = o.failure[c];
+      }
+    }
+    if (cm.trials_ok == 0)
+      throw_calibration_error("montecarlo " + cm.camera_id,
+                              "every trial failed; the first: " + cm.first_failure);
+    for (const std::string& name : truth[c].names) {
+      ParameterStatistics s;
+      s.name = name;
+      s.estimate = camera_parameter_value(ref.camera, ref.camera, name, ref.clock_offset_s);
+      double sum = 0;
+      for (const TrialOutcome& o : outcome)
+        if (o.cameras[c]) sum += o.cameras[c]->value(ref.camera, name);
+      s.mean = sum / cm.trials_ok;
+      double ss = 0;
+      for (const TrialOutcome& o : outcome)
+        if (o.cameras[c]) {
+          const double d = o.cameras[c]->value(ref.camera, name) - s.mean;
+          ss += d * d;
+        }
+      s.bias_mc = s.mean - s.estimate;
+      s.sd_mc = cm.trials_ok > 1 ? std::sqrt(ss / (cm.trials_ok - 1)) : kNaN;
+      s.sd_predicted = ref.sigma(name);
+      cm.parameters.push_back(s);
+    }
+    result.cameras.push_back(cm);
+  }
+
+  for (std::size_t k = 0; k < poles.size(); ++k) {
+    const MonteCarloPole& pole = poles[k];
+    PoleMonteCarlo pm;
+    pm.id = pole.id;
+    double ss = 0, sn = 0;
+    for (const TrialOutcome& o : outcome) {
+      if (!o.pole_error[k]) continue;
+      const Eigen::Vector3d& e = *o.pole_error[k];
+      ++pm.n;
+      pm.mean_error_m += e;
+      ss += e.squaredNorm();
+      sn += e.norm();
+      pm.max_error_m = std::max(pm.max_error_m, e.norm());
+    }
+    if (pm.n > 0) {
+      pm.mean_error_m /= pm.n;
+      pm.rms_error_m = std::sqrt(ss / pm.n);
+      pm.mean_error_norm_m = sn / pm.n;
+    } else {
+      pm.mean_error_m.setConstant(kNaN);
+      pm.rms_error_m = pm.mean_error_norm_m = pm.max_error_m = kNaN;
+    }
+    // Predicted 1σ: exact picks through the reference cameras with their covariances.
+    std::vector<TriangulationView> views;
+    for (std::size_t c : pole.cameras) {
+      TriangulationView v;
+      v.camera = cameras[c].reference.camera;
+      if (!project(v.camera, pole.enu, &v.uv_px)) continue;
+      v.calibration.parameter_names = cameras[c].reference.parameter_names;
+      v.calibration.covariance = cameras[c].reference.covariance;
+      v.pick_sigma_px = options.pick_sigma_px;
+      views.push_back(v);
+    }
+    pm.sigma_predicted_m = kNaN;
+    if (views.size() >= 2) {
+      try {
+        pm.sigma_predicted_m = triangulate_point(views, "pole " + pole.id).sigma_m;
+      } catch (const Error&) {
+      }
+    }
+    result.poles.push_back(pm);
+  }
+  return result;
+}
+
+std::string format_montecarlo_csv(const MonteCarloResult& r) {
+  std::string s = "camera,parameter,estimate,bias_mc,sd_mc,sd_predicted\n";
+  for (const CameraMonteCarlo& c : r.cameras)
+    for (const ParameterStatistics& p : c.parameters)
+      s += c.camera_id + "," + p.name + "," + fmt("%.10g", p.estimate) + "," + fmt("%.10g", p.bias_mc) + "," +
+           fmt("%.10g", p.sd_mc) + "," + fmt("%.10g", p.sd_predicted) + "\n";
+  return s;
+}
+
+std::string format_montecarlo_table(const CameraMonteCarlo& c) {
+  char line[256];
+  std::string s;
+  std::snprintf(line, sizeof line, "camera %s (%s): %d trials, %d failed\n", c.camera_id.c_str(),
+                c.method.c_str(), c.trials_ok + c.trials_failed, c.trials_failed);
+  s += line;
+  std::snprintf(line, sizeof line, "  %-9s %16s %13s %13s %13s %7s\n", "parameter", "estimate", "bias MC",
+                "sd MC", "sd predicted", "ratio");
+  s += line;
+  for (const ParameterStatistics& p : c.parameters) {
+    const double ratio = p.sd_mc / p.sd_predicted;
+    std::snprintf(line, sizeof line, "  %-9s %16.9g %13.4g %13.4g %13s %7s\n", p.name.c_str(), p.estimate,
+                  p.bias_mc, p.sd_mc,
+                  std::isfinite(p.sd_predicted) ? fmt("%.4g", p.sd_predicted).c_str() : "-",
+                  std::isfinite(ratio) ? fmt("%.3f", ratio).c_str() : "-");
+    s += line;
+  }
+  return s;
+}
+
+std::string format_montecarlo_pole_table(const std::vector<PoleMonteCarlo>& poles) {
+  char line[256];
+  std::string s = "intersection at the check poles (m):\n";
+  std::snprintf(line, sizeof line, "  %-8s %5s %9s %9s %9s %10s %10s %10s\n", "pole", "n", "mean dE",
+                "mean dN", "mean dU", "mean |dR|", "RMS |dR|", "pred. 1σ");
+  s += line;
+  for (const PoleMonteCarlo& p : poles) {
+    std::snprintf(line, sizeof line, "  %-8s %5d %9.4f %9.4f %9.4f %10.4f %10.4f %10.4f\n", p.id.c_str(), p.n,
+                  p.mean_error_m.x(), p.mean_error_m.y(), p.mean_error_m.z(), p.mean_error_norm_m,
+                  p.rms_error_m, p.sigma_predicted_m);
+    s += line;
+  }
+  return s;
+}
+
+}  // namespace rangecal

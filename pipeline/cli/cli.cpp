@@ -1,0 +1,53 @@
+#include "pipeline/cli/cli.hpp"
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+#include <new>
+
+#include "config/error.hpp"
+#include "pipeline/cli/commands.hpp"
+
+namespace rangecal {
+
+int run_cli(int argc, char** argv) {
+  CLI::App app{"rangecal — high-speed camera calibration from a PPK-positioned UAV lamp"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(RANGECAL_VERSION));
+  CliContext ctx;
+  app.add_flag("--quiet,-q", ctx.quiet, "Print only errors");
+  app.add_flag("--verbose,-v", ctx.verbose, "Print more detail");
+
+  add_run_command(app, ctx);
+  add_gnss_command(app, ctx);
+  add_align_command(app, ctx);
+  add_detect_command(app, ctx);
+  add_calibrate_command(app, ctx);
+  add_simulate_command(app, ctx);
+  add_project_command(app, ctx);
+  add_intersect_command(app, ctx);
+  add_report_command(app, ctx);
+  add_montecarlo_command(app, ctx);
+  add_plan_command(app, ctx);
+  add_demo_command(app, ctx);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  } catch (const Error& e) {
+    std::cerr << "rangecal: error: " << e.what() << "\n";
+    return e.exit_code();
+  } catch (const std::bad_alloc&) {
+    std::cerr << "rangecal: error: out of memory\n";
+    return 3;
+  } catch (const std::exception& e) {
+    // Not a user-caused failure we anticipated: still a clean message and a non-zero exit.
+    std::cerr << "rangecal: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,149 @@
+// `rangecal montecarlo CONFIG [--trials N] [--seed S] [--threads T] [--pick-sigma PX]` (SPEC §6,
+// §7): re-runs the calibration of a finished mission (each camera's correspondences.csv and
+// calibration.json) under simulated noise (pipeline/analysis/monte_carlo.hpp), prints a seed 001
+// Table 2-style table per camera and the check poles' intersection statistics, and writes
+// `<out>/montecarlo.csv`. docs/accuracy_analysis.md.
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "config/atomic_file.hpp"
+#include "config/error.hpp"
+#include "gnss/formats/lamp_track_csv.hpp"
+#include "gnss/formats/pole_survey_csv.hpp"
+#include "pipeline/stages/calibrate_stage.hpp"
+#include "pipeline/cli/commands.hpp"
+#include "pipeline/stages/gnss_stage.hpp"
+#include "pipeline/analysis/monte_carlo.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/calibration_json.hpp"
+
+namespace rangecal {
+namespace {
+
+constexpr const char* kMonteCarloCsv = "montecarlo.csv";
+
+/// Check poles picked in ≥ 2 of the cameras, for the intersection statistics.
+std::vector<MonteCarloPole> check_poles(const MissionConfig& cfg) {
+  std::vector<MonteCarloPole> out;
+  if (cfg.poles_file.empty() || cfg.cameras.size() < 2) return out;
+  std::map<std::string, std::vector<std::size_t>> seen_by;
+  for (std::size_t c = 0; c < cfg.cameras.size(); ++c) {
+    if (cfg.cameras[c].pole_observations.empty()) continue;
+    for (const PolePick& pick : read_pole_picks(cfg.cameras[c].pole_observations))
+      seen_by[pick.id].push_back(c);
+  }
+  for (const SurveyedPole& p : read_pole_survey(cfg.poles_file, cfg.origin)) {
+    if (p.role != PoleRole::check) continue;
+    const auto it = seen_by.find(p.id);
+    if (it == seen_by.end() || it->second.size() < 2) continue;
+    out.push_back({p.id, p.enu, it->second});
+  }
+  return out;
+}
+
+/// World-noise keys of one camera's problem (pipeline/analysis/monte_carlo.hpp): a lamp pair gets the index
+/// of the lamp-track epoch nearest its frame (the GNSS epoch whose error it carries: the align stage
+/// keeps frames within a few ms of an epoch), a control pole kPoleKeyBase + a number per pole id,
+/// the same in every camera (`pole_keys`, filled as ids appear). Without a track every lamp pair
+/// keeps −1 (its own draw).
+constexpr std::int64_t kPoleKeyBase = std::int64_t{1} << 40;
+
+std::vector<std::int64_t> world_noise_keys(const CalibrationProblem& problem,
+                                           const std::vector<Correspondence>& pairs, const LampTrack* track,
+                                           std::map<std::string, std::int64_t>* pole_keys) {
+  std::vector<std::int64_t> keys(problem.observations.size(), -1);
+  if (track && !track->epochs.empty())
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      keys[i] = static_cast<std::int64_t>(
+          nearest_in_time(track->epochs, pairs[i].utc, [](const LampEpoch& e) { return e.utc; }));
+  const std::size_t first_pole = problem.observations.size() - problem.control_pole_ids.size();
+  for (std::size_t k = 0; k < problem.control_pole_ids.size(); ++k) {
+    const auto [it, added] = pole_keys->emplace(problem.control_pole_ids[k],
+                                                kPoleKeyBase + static_cast<std::int64_t>(pole_keys->size()));
+    keys[first_pole + k] = it->second;
+  }
+  return keys;
+}
+
+}  // namespace
+
+void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
+  struct Args {
+    std::string config;
+    int trials = 200;
+    long long seed = -1;
+    int threads = 0;
+    double pick_sigma_px = 0;  ///< 0: the config's intersect.pick_sigma_px
+    bool independent = false;  ///< every camera its own world noise (no shared epochs or poles)
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* sub = app.add_subcommand(
+      "montecarlo",
+      "Monte Carlo accuracy of a finished calibration: bias and sd per parameter next to the "
+      "covariance σ (writes montecarlo.csv)");
+  sub->add_option("CONFIG", args->config, "Mission config (JSON) of a calibrated mission")->required();
+  sub->add_option("--trials", args->trials, "Number of trials (≥ 1; default 200)");
+  sub->add_option("--seed", args->seed, "Seed of the noise (default calibrate.seed)");
+  sub->add_option("--threads", args->threads, "Worker threads (0 = all; results do not depend on it)");
+  sub->add_option("--pick-sigma", args->pick_sigma_px,
+                  "1σ of a pole pick per axis, px (default: the config's intersect.pick_sigma_px)");
+  sub->add_flag("--independent-cameras", args->independent,
+                "Draw every camera's world noise independently (default: cameras that saw the same GNSS "
+                "epoch or control pole share its error, as in a real mission)");
+  sub->callback([args, &ctx]() {
+    if (args->trials < 1)
+      throw_config_error("", "--trials", "must be at least 1, got " + std::to_string(args->trials));
+    if (args->threads < 0)
+      throw_config_error("", "--threads", "must be ≥ 0, got " + std::to_string(args->threads));
+    if (args->pick_sigma_px < 0 || !std::isfinite(args->pick_sigma_px))
+      throw_config_error("", "--pick-sigma", "must be positive");
+    const MissionConfig cfg = load_mission_config(args->config);
+    std::optional<LampTrack> track;
+    if (std::filesystem::exists(lamp_track_path(cfg))) track = read_lamp_track_csv(lamp_track_path(cfg));
+    std::vector<MonteCarloCamera> cams;
+    std::map<std::string, std::int64_t> pole_keys;
+    for (const CameraConfig& cam : cfg.cameras) {
+      const std::string corr = camera_output(cfg, cam.id, kCorrespondencesCsv);
+      const std::string cal = camera_output(cfg, cam.id, kCalibrationJson);
+      if (!std::filesystem::exists(corr))
+        throw_input_error(corr, 0, "",
+                          "missing; montecarlo re-runs a finished calibration (run the "
+                          "detect and calibrate stages first)");
+      if (!std::filesystem::exists(cal))
+        throw_input_error(cal, 0, "",
+                          "missing; montecarlo needs the reference calibration (run "
+                          "`rangecal calibrate CONFIG` first)");
+      MonteCarloCamera m;
+      const std::vector<Correspondence> pairs = read_correspondences_csv(corr);
+      m.problem = make_calibration_problem(cfg, cam, pairs);
+      m.reference = read_calibration_json(cal);
+      m.world_noise_key = world_noise_keys(m.problem, pairs, track ? &*track : nullptr, &pole_keys);
+      cams.push_back(std::move(m));
+    }
+    MonteCarloOptions o;
+    o.trials = args->trials;
+    o.seed = args->seed >= 0 ? static_cast<std::uint64_t>(args->seed) : cfg.calibrate.seed;
+    o.threads = args->threads;
+    o.pick_sigma_px = args->pick_sigma_px > 0 ? args->pick_sigma_px : cfg.intersect.pick_sigma_px;
+    o.shared_world_noise = !args->independent;
+    if (!track && !ctx.quiet)
+      std::cerr << "montecarlo: no " << lamp_track_path(cfg)
+                << ": the lamp points' noise is drawn independently per camera\n";
+    const MonteCarloResult r = run_monte_carlo(cams, check_poles(cfg), o);
+    write_file_atomic(mission_output(cfg, kMonteCarloCsv), format_montecarlo_csv(r));
+    if (ctx.quiet) return;
+    for (const CameraMonteCarlo& c : r.cameras) {
+      std::cout << format_montecarlo_table(c);
+      if (!c.first_failure.empty()) std::cout << "  first failed trial: " << c.first_failure << "\n";
+    }
+    if (!r.poles.empty()) std::cout << format_montecarlo_pole_table(r.poles);
+    std::cout << "wrote " << mission_output(cfg, kMonteCarloCsv) << "\n";
+  });
+}
+
+}  // namespace rangecal

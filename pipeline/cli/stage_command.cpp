@@ -1,0 +1,88 @@
+#include "pipeline/cli/stage_command.hpp"
+
+#include <iostream>
+#include <memory>
+
+#include "pipeline/stages/calibrate_stage.hpp"
+#include "pipeline/stages/camera_stages.hpp"
+#include "pipeline/stages/mission_runner.hpp"
+#include "pipeline/io/progress_bar.hpp"
+
+#include <unistd.h>
+
+namespace rangecal {
+
+void print_stage_summary(const StageLog& log, bool verbose) {
+  std::cout << log.stage << " stage (" << log.wall_time_s << " s)\n";
+  for (const auto& [key, value] : log.counts.items()) {
+    std::string text = value.dump();
+    if (!verbose && text.size() > 300) text = text.substr(0, 297) + "...";
+    std::cout << "  " << key << ": " << text << "\n";
+  }
+  for (const auto& w : log.warnings) std::cout << "  warning: " << w << "\n";
+}
+
+void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& name,
+                       const std::string& description, StageFunction run) {
+  CLI::App* sub = app.add_subcommand(name, description);
+  auto config = std::make_shared<std::string>();
+  sub->add_option("CONFIG", *config, "Mission config (JSON)")->required();
+  sub->callback([&ctx, config, run] {
+    const MissionConfig cfg = load_mission_config(*config);
+    set_progress_bars(!ctx.quiet && ::isatty(2));
+    const StageLog log = run(cfg);
+    update_run_log(cfg, log);
+    if (!ctx.quiet) print_stage_summary(log, ctx.verbose);
+  });
+}
+
+void add_align_command(CLI::App& app, const CliContext& ctx) {
+  add_stage_command(app, ctx, "align",
+                    "Pick each camera's frames nearest the lamp-track epochs and interpolate the lamp "
+                    "position to their UTC (writes <cam>/aligned.csv)",
+                    run_align_stage);
+}
+
+void add_detect_command(CLI::App& app, const CliContext& ctx) {
+  add_stage_command(app, ctx, "detect",
+                    "Find the lamp in the aligned frames (writes <cam>/detections.csv and "
+                    "<cam>/correspondences.csv)",
+                    run_detect_stage);
+}
+
+}  // namespace rangecal
+
+namespace rangecal {
+
+void add_calibrate_command(CLI::App& app, const CliContext& ctx) {
+  add_stage_command(app, ctx, "calibrate",
+                    "Calibrate each camera from <cam>/correspondences.csv (writes calibration.json, "
+                    "camera_opencv.yml, methods.csv)",
+                    run_calibrate_stage);
+}
+
+}  // namespace rangecal
+
+namespace rangecal {
+
+void add_run_command(CLI::App& app, const CliContext& ctx) {
+  CLI::App* sub =
+      app.add_subcommand("run", "Run every stage: gnss, align, detect, calibrate, intersect, report");
+  auto config = std::make_shared<std::string>();
+  sub->add_option("CONFIG", *config, "Mission config (JSON)")->required();
+  sub->callback([&ctx, config] {
+    const MissionConfig cfg = load_mission_config(*config);
+    // Progress on stderr only when a person is watching it.
+    const bool progress = !ctx.quiet && ::isatty(2);
+    set_progress_bars(progress);
+    const std::size_t n = mission_stages().size();
+    std::size_t done = 0;
+    run_mission(cfg, [&](const StageLog& log) {
+      ++done;
+      if (progress) std::cerr << "[" << done << "/" << n << "] " << log.stage << " done\n";
+      if (!ctx.quiet) print_stage_summary(log, ctx.verbose);
+    });
+  });
+}
+
+}  // namespace rangecal

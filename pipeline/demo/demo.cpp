@@ -1,0 +1,133 @@
+#include "pipeline/demo/demo.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "config/error.hpp"
+#include "gnss/formats/pole_survey_csv.hpp"
+#include "pipeline/stages/calibrate_stage.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/stages/mission_runner.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/calibration_json.hpp"
+
+namespace rangecal {
+namespace {
+
+// Expected RMS reprojection error of a perfect calibration: each used lamp point's world σ pushed
+// through the true camera's Jacobian (central differences), plus the centroid σ on both axes.
+double expected_rms_px(const Camera& truth, const std::vector<Correspondence>& pairs,
+                       double centroid_sigma_px) {
+  double sum = 0;
+  int n = 0;
+  for (const Correspondence& c : pairs) {
+    if (c.used && !*c.used) continue;
+    const Eigen::Vector3d sd = c.sd_enu ? *c.sd_enu : Eigen::Vector3d::Constant(kDefaultWorldSigmaM);
+    Eigen::Matrix<double, 2, 3> J;
+    bool ok = true;
+    for (int k = 0; k < 3 && ok; ++k) {
+      const double h = 1e-3;
+      Eigen::Vector3d a = c.enu, b = c.enu;
+      a[k] += h;
+      b[k] -= h;
+      Eigen::Vector2d ua, ub;
+      ok = project(truth, a, &ua) && project(truth, b, &ub);
+      if (ok) J.col(k) = (ua - ub) / (2 * h);
+    }
+    if (!ok) continue;
+    const Eigen::Matrix2d cov = J * sd.cwiseAbs2().asDiagonal() * J.transpose();
+    sum += cov.trace() + 2 * centroid_sigma_px * centroid_sigma_px;
+    ++n;
+  }
+  return n > 0 ? std::sqrt(sum / n) : 0;
+}
+
+std::string calibration_file(const MissionConfig& cfg, const std::string& cam, const std::string& method) {
+  return camera_output(
+      cfg, cam,
+      method == cfg.calibrate.method ? std::string(kCalibrationJson) : compare_calibration_json(method));
+}
+
+}  // namespace
+
+DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg) {
+  DemoResults out;
+  std::vector<std::string> methods{cfg.calibrate.method};
+  for (const auto& c : cfg.calibrate.compare)
+    if (c != cfg.calibrate.method) methods.push_back(c);
+
+  for (const CameraConfig& cc : cfg.cameras) {
+    DemoCamera d;
+    d.id = cc.id;
+    for (const SimCamera& sc : m.cameras)
+      if (sc.spec.id == cc.id) d.truth = sc.spec.camera;
+    for (const std::string& meth : methods) {
+      const std::string path = calibration_file(cfg, cc.id, meth);
+      if (std::filesystem::exists(path)) d.by_method[meth] = read_calibration_json(path);
+    }
+    const std::string corr = camera_output(cfg, cc.id, kCorrespondencesCsv);
+    if (std::filesystem::exists(corr))
+      d.expected_rms_px = expected_rms_px(d.truth, read_correspondences_csv(corr), 0.05);
+    out.cameras.push_back(std::move(d));
+  }
+
+  if (cfg.poles_file.empty()) return out;
+  const std::vector<SurveyedPole> survey = read_pole_survey(cfg.poles_file, cfg.origin);
+  for (const std::string& meth : methods) {
+    std::vector<IntersectCamera> cams;
+    for (std::size_t i = 0; i < cfg.cameras.size(); ++i) {
+      const CameraConfig& cc = cfg.cameras[i];
+      const auto it = out.cameras[i].by_method.find(meth);
+      if (cc.pole_observations.empty() || it == out.cameras[i].by_method.end()) continue;
+      IntersectCamera ic;
+      ic.id = cc.id;
+      ic.camera = it->second.camera;
+      ic.calibration = camera_covariance(it->second);
+      ic.picks = read_pole_picks(cc.pole_observations);
+      cams.push_back(std::move(ic));
+    }
+    if (cams.size() < 2) continue;
+    DemoIntersection di;
+    di.method = meth;
+    di.result = intersect_poles(cams, survey, cfg.intersect.pick_sigma_px);
+    double sum = 0;
+    for (const PoleIntersection& p : di.result.poles) {
+      if (!p.surveyed || p.role != PoleRole::check) continue;
+      for (const SimPole& sp : m.poles)
+        if (sp.truth.id == p.id) {
+          const double e = (p.enu - sp.truth.enu_m).norm();
+          sum += e;
+          di.max_dR_truth_m = std::max(di.max_dR_truth_m, e);
+          ++di.n_check;
+        }
+    }
+    di.mean_dR_truth_m = di.n_check > 0 ? sum / di.n_check : std::nan("");
+    out.intersections.push_back(std::move(di));
+  }
+  return out;
+}
+
+DemoRun simulate_and_run(const Scenario& scenario, const std::string& out_dir,
+                         const std::function<void(const std::string&)>& progress) {
+  DemoRun run;
+  auto say = [&](const std::string& s) {
+    if (progress) progress(s);
+  };
+  say("simulating the scenario ...");
+  run.mission = simulate_mission(scenario);
+  const WrittenMission w = write_mission(run.mission, out_dir);
+  say("wrote " + std::to_string(w.n_files) + " files (" + std::to_string(w.n_frames) + " frames) to " +
+      out_dir);
+  run.config = load_mission_config(w.config_path);
+  run.logs = run_mission(run.config, [&](const StageLog& log) {
+    char b[160];
+    std::snprintf(b, sizeof b, "stage %-10s %8.3f s, %zu warning(s)", log.stage.c_str(), log.wall_time_s,
+                  log.warnings.size());
+    say(b);
+  });
+  run.results = collect_demo_results(run.mission, run.config);
+  return run;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,40 @@
+#pragma once
+// `rangecal demo` (SPEC §6; issue 5): simulate a scenario (by default the built-in one mirroring
+// seed 002's experiment), run every stage on the written files as `rangecal run` would, and
+// gather the results beside the simulated truth for the printed tables (pipeline/demo/demo_tables.hpp).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "config/mission_config.hpp"
+#include "pipeline/demo/demo_tables.hpp"
+#include "pipeline/simulate/mission_simulator.hpp"
+#include "pipeline/io/run_log.hpp"
+
+namespace rangecal {
+
+struct DemoResults {
+  std::vector<DemoCamera> cameras;
+  /// Check-pole intersection with the cameras of each method that calibrated every camera with
+  /// picks: the main method first, then the `compare` methods in config order.
+  std::vector<DemoIntersection> intersections;
+};
+
+/// Reads a finished run's outputs (calibration.json and calibration_<method>.json of every
+/// camera, pole picks, survey) and compares them with the simulated truth `m`. Throws
+/// rangecal::Error when an output is missing or malformed.
+DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg);
+
+struct DemoRun {
+  SimMission mission;
+  MissionConfig config;
+  std::vector<StageLog> logs;
+  DemoResults results;
+};
+
+/// Simulates `scenario` into `out_dir` (mission files, truth.json, outputs under out_dir/out),
+/// runs every stage and collects the results. `progress` (may be empty) gets one line per step.
+DemoRun simulate_and_run(const Scenario& scenario, const std::string& out_dir,
+                         const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace rangecal

@@ -1,0 +1,88 @@
+#include "pipeline/io/correspondences_csv.hpp"
+
+#include <cstdio>
+
+#include "config/atomic_file.hpp"
+#include "config/csv_table.hpp"
+#include "config/error.hpp"
+
+namespace rangecal {
+
+std::string format_correspondences_csv(const std::vector<Correspondence>& pairs) {
+  bool with_sd = !pairs.empty(), with_vel = !pairs.empty();
+  for (const auto& p : pairs) with_sd = with_sd && p.sd_enu.has_value(), with_vel = with_vel && p.vel_enu;
+  std::string out = "utc,E,N,U,u,v,residual_px,used";
+  out += with_sd ? ",sdE,sdN,sdU" : "";
+  out += with_vel ? ",vE,vN,vU\n" : "\n";
+  char buf[256];
+  for (const auto& p : pairs) {
+    out += format_iso8601_utc(p.utc, 9);
+    std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f,%.4f,%.4f,", p.enu.x(), p.enu.y(), p.enu.z(), p.uv.x(),
+                  p.uv.y());
+    out += buf;
+    if (p.residual_px) {
+      std::snprintf(buf, sizeof buf, "%.4f", *p.residual_px);
+      out += buf;
+    }
+    out += ",";
+    if (p.used) out += *p.used ? "1" : "0";
+    if (with_sd) {
+      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f", p.sd_enu->x(), p.sd_enu->y(), p.sd_enu->z());
+      out += buf;
+    }
+    if (with_vel) {
+      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f", p.vel_enu->x(), p.vel_enu->y(), p.vel_enu->z());
+      out += buf;
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+void write_correspondences_csv(const std::string& path, const std::vector<Correspondence>& pairs) {
+  write_file_atomic(path, format_correspondences_csv(pairs));
+}
+
+std::vector<Correspondence> read_correspondences_csv(const std::string& path) {
+  const CsvTable t = read_csv(path);
+  const std::size_t c_utc = t.column("utc"), c_e = t.column("E"), c_n = t.column("N"), c_u = t.column("U"),
+                    c_pu = t.column("u"), c_pv = t.column("v");
+  const auto c_res = t.find_column("residual_px");
+  const auto c_used = t.find_column("used");
+  const auto c_se = t.find_column("sdE"), c_sn = t.find_column("sdN"), c_su = t.find_column("sdU");
+  if ((c_se || c_sn || c_su) && !(c_se && c_sn && c_su))
+    throw_input_error(path, 1, "sdE", "the world-sd columns come as a set: sdE,sdN,sdU");
+  const auto c_ve = t.find_column("vE"), c_vn = t.find_column("vN"), c_vu = t.find_column("vU");
+  if ((c_ve || c_vn || c_vu) && !(c_ve && c_vn && c_vu))
+    throw_input_error(path, 1, "vE", "the velocity columns come as a set: vE,vN,vU");
+  std::vector<Correspondence> out;
+  out.reserve(t.records.size());
+  for (const auto& r : t.records) {
+    Correspondence p;
+    std::string why;
+    const auto utc = parse_iso8601_utc(t.text(r, c_utc), &why);
+    if (!utc) throw_input_error(path, r.line, "utc", "'" + t.text(r, c_utc) + "': " + why);
+    if (!out.empty() && !(out.back().utc < *utc))
+      throw_input_error(path, r.line, "utc",
+                        "time does not increase (previous line has the same or a later time)");
+    p.utc = *utc;
+    p.enu = {t.number(r, c_e), t.number(r, c_n), t.number(r, c_u)};
+    p.uv = {t.number(r, c_pu), t.number(r, c_pv)};
+    if (c_res && !t.text(r, *c_res).empty()) p.residual_px = t.number(r, *c_res);
+    if (c_used && !t.text(r, *c_used).empty()) {
+      const std::string& s = t.text(r, *c_used);
+      if (s != "0" && s != "1") throw_input_error(path, r.line, "used", "'" + s + "' is not 0, 1 or blank");
+      p.used = s == "1";
+    }
+    if (c_se) {
+      p.sd_enu = Eigen::Vector3d(t.number(r, *c_se), t.number(r, *c_sn), t.number(r, *c_su));
+      if ((p.sd_enu->array() < 0).any())
+        throw_input_error(path, r.line, "sdE", "a standard deviation is negative");
+    }
+    if (c_ve) p.vel_enu = Eigen::Vector3d(t.number(r, *c_ve), t.number(r, *c_vn), t.number(r, *c_vu));
+    out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace rangecal

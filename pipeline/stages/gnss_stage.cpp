@@ -1,0 +1,214 @@
+#include "pipeline/stages/gnss_stage.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "config/error.hpp"
+#include "gnss/track/antenna_epochs.hpp"
+#include "gnss/formats/lamp_track_csv.hpp"
+#include "gnss/track/lever_arm.hpp"
+#include "gnss/geodesy/local_enu.hpp"
+
+namespace rangecal {
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+std::string mm(double m) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f mm", m * 1e3);
+  return b;
+}
+
+}  // namespace
+
+GnssStageResult compute_lamp_track(const GnssStageInputs& in) {
+  const bool full = in.lever.form == ResolvedLeverArm::Form::body_frd;
+  if (full && !in.attitude)
+    throw Error(ErrorKind::usage, "", 0, "lever_arm.body_frd_m",
+                "a body-frame lever arm needs the attitude (set attitude.file, or use lever_arm.vertical_m)");
+  GnssStageResult res;
+  GnssStageReport& rep = res.report;
+  const LocalEnu site(in.origin);
+  const std::vector<AntennaEpoch> kept =
+      filter_epochs(merge_antenna_epochs(in.pos_files, site), in.filter, &rep.filter);
+
+  res.track.epochs.reserve(kept.size());
+  double max_tilt_deg = 0;
+  for (const AntennaEpoch& a : kept) {
+    std::optional<Attitude> att;
+    if (in.attitude) att = interpolate_attitude(*in.attitude, a.utc, in.max_attitude_gap_s);
+    LampEpoch e;
+    e.utc = a.utc;
+    e.quality = a.quality;
+    // The lamp moves with the antenna; the lever's rotation rate (ω × lever, a few mm/s) is ignored.
+    e.vel_enu = a.vel_enu;
+    Eigen::Vector3d var = a.cov_enu.diagonal();
+    if (full) {
+      if (!att) {
+        ++rep.dropped_no_attitude;
+        continue;
+      }
+      e.enu = lamp_enu_full(a.enu, rotation_nb(*att), in.lever.body_frd_m);
+    } else {
+      e.enu = lamp_enu_vertical(a.enu, in.lever.vertical_m);
+      var[2] += in.lever.vertical_sd_m * in.lever.vertical_sd_m;
+      if (att) {
+        const double err = vertical_form_error_m(rotation_nb(*att), in.lever.vertical_m);
+        if (err > rep.vertical_form_max_error_m) {
+          rep.vertical_form_max_error_m = err;
+          // The body z axis tilts from the vertical by acos(cos roll · cos pitch).
+          max_tilt_deg =
+              std::acos(std::min(1.0, std::cos(att->roll_deg * kDeg) * std::cos(att->pitch_deg * kDeg))) /
+              kDeg;
+        }
+        if (err > kVerticalFormWarnM) ++rep.vertical_form_epochs_over_5mm;
+      }
+    }
+    e.sd_enu = var.cwiseMax(0.0).cwiseSqrt();
+    res.track.epochs.push_back(e);
+  }
+  rep.track_epochs = res.track.epochs.size();
+  if (res.track.epochs.empty()) {
+    const EpochFilterCounts& c = rep.filter;
+    throw_input_error(in.pos_files.empty() ? "" : in.pos_files.front().path, 0, "",
+                      "no epoch is left for the lamp track: " + std::to_string(c.read) + " read, " +
+                          std::to_string(c.dropped_quality) + " dropped for Q, " +
+                          std::to_string(c.dropped_sd) + " for sd, " +
+                          std::to_string(rep.dropped_no_attitude) +
+                          " outside the attitude coverage (check gnss.accept_quality and gnss.max_sd_m)");
+  }
+  rep.track_start = res.track.epochs.front().utc;
+  rep.track_end = res.track.epochs.back().utc;
+  std::vector<UtcTime> times;
+  times.reserve(res.track.epochs.size());
+  for (const LampEpoch& e : res.track.epochs) times.push_back(e.utc);
+  rep.gaps = find_gaps(times, in.filter.max_gap_s);
+
+  if (in.lever.source == "total_station" && in.lever.sessions == 1)
+    rep.warnings.push_back(
+        "the total-station lever arm has a single session: its sd is unknown (taken as 0)");
+  if (rep.dropped_no_attitude > 0)
+    rep.warnings.push_back(std::to_string(rep.dropped_no_attitude) +
+                           " GNSS epochs lie outside the attitude coverage and were dropped");
+  if (rep.vertical_form_max_error_m > kVerticalFormWarnM) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.1f", max_tilt_deg);
+    rep.warnings.push_back("vertical lever-arm form is wrong by up to " + mm(rep.vertical_form_max_error_m) +
+                           " (tilt up to " + b + " deg; " +
+                           std::to_string(rep.vertical_form_epochs_over_5mm) +
+                           " epochs over 5 mm): configure lever_arm.body_frd_m to use the attitude");
+  }
+  return res;
+}
+
+ResolvedLeverArm resolve_lever_arm(const LeverArmConfig& cfg) {
+  ResolvedLeverArm r;
+  switch (cfg.kind) {
+    case LeverArmConfig::Kind::body_frd:
+      r.form = ResolvedLeverArm::Form::body_frd;
+      r.source = "body_frd";
+      r.body_frd_m = cfg.body_frd_m;
+      break;
+    case LeverArmConfig::Kind::vertical:
+      r.form = ResolvedLeverArm::Form::vertical;
+      r.source = "vertical";
+      r.vertical_m = cfg.vertical_m;
+      break;
+    case LeverArmConfig::Kind::total_station: {
+      const TotalStationOffset ts = read_total_station_csv(cfg.total_station_file);
+      r.form = ResolvedLeverArm::Form::vertical;
+      r.source = "total_station";
+      r.vertical_m = ts.vertical_m;
+      r.vertical_sd_m = ts.sd_m;
+      r.sessions = static_cast<int>(ts.sessions.size());
+      break;
+    }
+  }
+  return r;
+}
+
+nlohmann::json gnss_stage_counts(const GnssStageReport& rep, const std::vector<PosFile>& files,
+                                 const ResolvedLeverArm& lever) {
+  using nlohmann::json;
+  json j = json::object();
+  json pf = json::array();
+  for (const PosFile& f : files)
+    pf.push_back({{"path", f.path},
+                  {"epochs", f.epochs.size()},
+                  {"time_system", to_string(f.header.time_system)},
+                  {"time_format", to_string(f.header.time_format)},
+                  {"position_format", to_string(f.header.position_format)},
+                  {"velocity", f.header.has_velocity}});
+  j["pos_files"] = pf;
+  j["epochs_read"] = rep.filter.read;
+  j["epochs_kept"] = rep.track_epochs;
+  j["dropped_quality"] = rep.filter.dropped_quality;
+  json byq = json::object();
+  for (const auto& [q, n] : rep.filter.dropped_by_quality) byq[std::to_string(q)] = n;
+  j["dropped_quality_by_q"] = byq;
+  json readq = json::object();
+  for (const auto& [q, n] : rep.filter.read_by_quality) readq[std::to_string(q)] = n;
+  j["read_by_q"] = readq;
+  j["dropped_sd"] = rep.filter.dropped_sd;
+  j["dropped_no_attitude"] = rep.dropped_no_attitude;
+  j["gaps"] = rep.gaps.size();
+  json gl = json::array();
+  for (const TimeGap& g : rep.gaps)
+    gl.push_back({{"from", format_iso8601_utc(g.from, 9)},
+                  {"to", format_iso8601_utc(g.to, 9)},
+                  {"duration_s", std::round(g.duration_s() * 1e9) / 1e9}});
+  j["gap_list"] = gl;
+  j["track_start"] = format_iso8601_utc(rep.track_start, 9);
+  j["track_end"] = format_iso8601_utc(rep.track_end, 9);
+  j["track_span_s"] = std::round(seconds_between(rep.track_start, rep.track_end) * 1e9) / 1e9;
+  json la = {{"source", lever.source}};
+  if (lever.form == ResolvedLeverArm::Form::body_frd) {
+    la["body_frd_m"] = {lever.body_frd_m[0], lever.body_frd_m[1], lever.body_frd_m[2]};
+  } else {
+    la["vertical_m"] = lever.vertical_m;
+    if (lever.source == "total_station") {
+      la["vertical_sd_m"] = lever.vertical_sd_m;
+      la["sessions"] = lever.sessions;
+    }
+    la["vertical_form_max_error_m"] = rep.vertical_form_max_error_m;
+    la["vertical_form_epochs_over_5mm"] = rep.vertical_form_epochs_over_5mm;
+  }
+  j["lever_arm"] = la;
+  return j;
+}
+
+std::string lamp_track_path(const MissionConfig& cfg) {
+  return (std::filesystem::path(cfg.output_dir) / "gnss" / "lamp_track.csv").string();
+}
+
+StageLog run_gnss_stage(const MissionConfig& cfg) {
+  const auto t0 = std::chrono::steady_clock::now();
+  GnssStageInputs in;
+  if (cfg.gnss.pos_files.empty())
+    throw_config_error(cfg.config_path, "gnss.pos_files", "at least one .pos file is needed");
+  for (const std::string& p : cfg.gnss.pos_files) in.pos_files.push_back(read_rtklib_pos(p));
+  if (!cfg.attitude_file.empty()) in.attitude = read_attitude_csv(cfg.attitude_file);
+  if (cfg.lever_arm.kind == LeverArmConfig::Kind::body_frd && !in.attitude)
+    throw_config_error(cfg.config_path, "lever_arm.body_frd_m",
+                       "a body-frame lever arm needs attitude.file (or use lever_arm.vertical_m)");
+  in.lever = resolve_lever_arm(cfg.lever_arm);
+  in.origin = cfg.origin;
+  in.filter.accept_quality = cfg.gnss.accept_quality;
+  in.filter.max_sd_m = cfg.gnss.max_sd_m;
+  in.filter.max_gap_s = cfg.gnss.max_gap_s;
+  const GnssStageResult res = compute_lamp_track(in);
+  write_lamp_track_csv(lamp_track_path(cfg), res.track);
+
+  StageLog log;
+  log.stage = "gnss";
+  log.counts = gnss_stage_counts(res.report, in.pos_files, in.lever);
+  log.warnings = res.report.warnings;
+  log.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return log;
+}
+
+}  // namespace rangecal

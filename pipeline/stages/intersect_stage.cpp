@@ -1,0 +1,132 @@
+#include "pipeline/stages/intersect_stage.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "config/error.hpp"
+#include "gnss/formats/pole_survey_csv.hpp"
+#include "pipeline/steps/intersection.hpp"
+#include "pipeline/io/intersection_csv.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/calibration_json.hpp"
+
+namespace rangecal {
+
+namespace {
+
+bool any_camera_has_picks(const MissionConfig& cfg) {
+  for (const CameraConfig& cam : cfg.cameras)
+    if (!cam.pole_observations.empty()) return true;
+  return false;
+}
+
+/// Metres rounded to 1 µm for run.json (readable, and NaN stays NaN → null).
+double um(double v) {
+  return std::round(v * 1e6) / 1e6;
+}
+
+nlohmann::json means_json(const IntersectionMeans& m) {
+  nlohmann::json j;
+  j["n"] = m.n;
+  j["mean_abs_dE_m"] = um(m.mean_abs_d.x());
+  j["mean_abs_dN_m"] = um(m.mean_abs_d.y());
+  j["mean_abs_dU_m"] = um(m.mean_abs_d.z());
+  j["mean_dR_m"] = um(m.mean_dR);
+  j["max_dR_m"] = um(m.max_dR);
+  j["rms_dR_m"] = um(m.rms_dR);
+  j["mean_sigma_m"] = um(m.mean_sigma_m);
+  return j;
+}
+
+}  // namespace
+
+void require_intersect_inputs(const MissionConfig& cfg) {
+  if (cfg.poles_file.empty())
+    throw_input_error(cfg.config_path, 0, "poles",
+                      "no pole survey in the config; the intersect stage needs \"poles\" (SPEC §3.5) and "
+                      "cameras' \"pole_observations\"");
+  if (!any_camera_has_picks(cfg))
+    throw_input_error(cfg.config_path, 0, "cameras[].pole_observations",
+                      "no camera has pole picks; the intersect stage needs \"pole_observations\" "
+                      "(id,u,v) for at least two cameras");
+}
+
+StageLog run_intersect_stage(const MissionConfig& cfg) {
+  const auto t0 = std::chrono::steady_clock::now();
+  StageLog log;
+  log.stage = "intersect";
+  if (cfg.poles_file.empty() || !any_camera_has_picks(cfg)) {
+    // A mission without poles is a valid mission: the full run goes on (see the header).
+    log.warnings.push_back("no poles: intersection skipped");
+    log.counts["skipped"] =
+        cfg.poles_file.empty() ? "no \"poles\" in the config" : "no camera has \"pole_observations\"";
+    log.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return log;
+  }
+
+  const std::vector<SurveyedPole> survey = read_pole_survey(cfg.poles_file, cfg.origin);
+  std::vector<IntersectCamera> cameras;
+  std::vector<std::string> missing;
+  nlohmann::json used = nlohmann::json::array();
+  std::set<std::string> picked_ids;
+  for (const CameraConfig& cc : cfg.cameras) {
+    if (cc.pole_observations.empty()) continue;
+    const std::string cal_path = camera_output(cfg, cc.id, kCalibrationJson);
+    if (!std::filesystem::exists(cal_path)) {
+      // One uncalibrated camera (e.g. its calibration failed) must not stop the others.
+      log.warnings.push_back(cc.id + ": no " + cal_path +
+                             " (run rangecal calibrate CONFIG first): camera skipped");
+      missing.push_back(cal_path);
+      continue;
+    }
+    const CalibrationResult cal = read_calibration_json(cal_path);
+    IntersectCamera ic;
+    ic.id = cc.id;
+    ic.camera = cal.camera;
+    bool usable = false;
+    ic.calibration = camera_covariance(cal, &usable);
+    if (!usable)
+      log.warnings.push_back(cc.id +
+                             ": calibration.json has no usable covariance: sigma_m counts pick "
+                             "noise only for this camera");
+    ic.picks = read_pole_picks(cc.pole_observations);
+    for (const PolePick& p : ic.picks) picked_ids.insert(p.id);
+    used.push_back(cc.id);
+    cameras.push_back(std::move(ic));
+  }
+  if (cameras.empty()) {
+    std::string list;
+    for (const auto& m : missing) list += (list.empty() ? "" : ", ") + m;
+    throw_input_error(missing.front(), 0, "",
+                      "no camera with pole picks is calibrated (missing: " + list +
+                          "); run rangecal calibrate CONFIG first");
+  }
+
+  const IntersectionResult result = intersect_poles(cameras, survey, cfg.intersect.pick_sigma_px);
+  for (const std::string& w : result.warnings) log.warnings.push_back(w);
+  const std::vector<IntersectionRow> rows = intersection_rows(result);
+  write_intersection_csv(mission_output(cfg, kIntersectionCsv), rows);
+
+  int unsurveyed = 0;
+  for (const PoleIntersection& p : result.poles) unsurveyed += p.surveyed ? 0 : 1;
+  log.counts["cameras_used"] = used;
+  log.counts["pick_sigma_px"] = cfg.intersect.pick_sigma_px;
+  log.counts["poles_picked"] = picked_ids.size();
+  log.counts["poles_triangulated"] = result.poles.size();
+  log.counts["check_poles"] = result.check.n;
+  log.counts["control_poles"] = result.control.n;
+  log.counts["unsurveyed_poles"] = unsurveyed;
+  // The headline figures (SPEC §5 summary: intersection mean and max dR) over check poles.
+  log.counts["mean_dR_m"] = um(result.check.mean_dR);
+  log.counts["max_dR_m"] = um(result.check.max_dR);
+  log.counts["mean_sigma_m"] = um(result.check.mean_sigma_m);
+  log.counts["check"] = means_json(result.check);
+  log.counts["control"] = means_json(result.control);
+  log.counts["warnings"] = log.warnings.size();
+  log.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return log;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,20 @@
+#pragma once
+// The report stage (SPEC §4.6, §5): reads what the earlier stages wrote in the output folder
+// (pipeline/report/report_data.hpp) and writes `<output_dir>/report.html` (pipeline/report/report_html.hpp) and
+// `<output_dir>/summary.json`. Runs alone; a camera without calibration is reported, not an error.
+#include <string>
+
+#include "config/mission_config.hpp"
+#include "pipeline/report/report_data.hpp"
+#include "pipeline/io/run_log.hpp"
+
+namespace rangecal {
+
+/// summary.json text (SPEC §5): per camera method, rms_px, n_used (null when not calibrated);
+/// intersection mean and max dR in metres (null when intersection.csv is missing or has no dR).
+/// Deterministic (fixed key order, numbers as read).
+std::string format_summary_json(const ReportData& data);
+
+StageLog run_report_stage(const MissionConfig& cfg);
+
+}  // namespace rangecal

@@ -1,0 +1,245 @@
+#include "pipeline/steps/align_frames.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "config/atomic_file.hpp"
+#include "config/csv_table.hpp"
+#include "config/error.hpp"
+#include "gnss/track/hermite_interpolation.hpp"
+
+namespace rangecal {
+
+const char* to_string(FrameRejection r) {
+  switch (r) {
+    case FrameRejection::offset_exceeded:
+      return "offset_exceeded";
+    case FrameRejection::in_gap:
+      return "in_gap";
+    case FrameRejection::outside_track:
+      return "outside_track";
+  }
+  return "unknown";
+}
+
+nlohmann::json to_json(const AlignReport& r) {
+  nlohmann::json j;
+  j["epochs"] = r.epochs;
+  j["frames"] = r.frames;
+  j["epochs_outside_frames"] = r.epochs_outside_frames;
+  j["frames_picked"] = r.frames_picked;
+  j["frames_aligned"] = r.frames_aligned;
+  j["rejected_offset"] = r.rejected_offset;
+  j["rejected_gap"] = r.rejected_gap;
+  j["rejected_outside_track"] = r.rejected_outside_track;
+  j["mean_dt_s"] = r.mean_dt_s;
+  j["mean_abs_dt_s"] = r.mean_abs_dt_s;
+  j["max_abs_dt_s"] = r.max_abs_dt_s;
+  j["max_speed_mps"] = r.max_speed_mps;
+  j["worst_position_error_m"] = r.worst_position_error_m;
+  j["worst_position_error_frame"] = r.worst_position_error_frame;
+  return j;
+}
+
+namespace {
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string frame_label(std::size_t i, const FrameStamp& f) {
+  return "frame " + std::to_string(f.frame) + " (item " + std::to_string(i + 1) + ", " +
+         format_iso8601_utc(f.utc) + ")";
+}
+
+void validate_frames(const std::vector<FrameStamp>& frames, const std::string& source) {
+  if (frames.empty()) throw_input_error(source, 0, "frame", "the camera has no frames to align");
+  for (std::size_t i = 1; i < frames.size(); ++i) {
+    if (!(frames[i].utc > frames[i - 1].utc)) {
+      throw_input_error(source, 0, "utc",
+                        frame_label(i, frames[i]) + " is not after " + frame_label(i - 1, frames[i - 1]) +
+                            ": frame times must be strictly increasing");
+    }
+    if (!(frames[i].frame > frames[i - 1].frame)) {
+      throw_input_error(source, 0, "frame",
+                        frame_label(i, frames[i]) + " does not follow " + frame_label(i - 1, frames[i - 1]) +
+                            ": frame indices must be strictly increasing");
+    }
+  }
+}
+
+}  // namespace
+
+AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& frames,
+                         const AlignOptions& opt) {
+  if (!(std::isfinite(opt.max_frame_offset_s) && opt.max_frame_offset_s > 0)) {
+    throw_config_error("", "align.max_frame_offset_s",
+                       "must be a positive number of seconds, got " + std::to_string(opt.max_frame_offset_s));
+  }
+  const HermiteTrack ht(track, opt.max_gap_s, opt.track_source);
+  validate_frames(frames, opt.frames_source);
+
+  AlignResult res;
+  AlignReport& rep = res.report;
+  rep.epochs = ht.size();
+  rep.frames = frames.size();
+  const auto max_off_ns = static_cast<std::int64_t>(std::llround(opt.max_frame_offset_s * 1e9));
+  const std::int64_t window_lo = frames.front().utc.ns - max_off_ns;
+  const std::int64_t window_hi = frames.back().utc.ns + max_off_ns;
+
+  // A frame is usable for an epoch when it is close enough and the track is defined at its time.
+  auto usable = [&](std::size_t j, std::int64_t epoch_ns) {
+    return std::llabs(frames[j].utc.ns - epoch_ns) <= max_off_ns &&
+           ht.sample(frames[j].utc).status == TrackSampleStatus::ok;
+  };
+
+  // Step 1–2: each epoch in the window picks a frame; each frame keeps its nearest picking epoch.
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> picked_by(frames.size(), kNone);
+  std::vector<std::int64_t> picked_dt(frames.size(), 0);
+  std::size_t j = 0;  // first frame with utc ≥ epoch (monotonic over epochs)
+  for (std::size_t i = 0; i < ht.size(); ++i) {
+    const std::int64_t te = ht.epoch_time(i).ns;
+    if (te < window_lo || te > window_hi) {
+      ++rep.epochs_outside_frames;
+      continue;
+    }
+    while (j < frames.size() && frames[j].utc.ns < te) ++j;
+    std::size_t nearest, other = kNone;
+    if (j == 0) {
+      nearest = 0;
+    } else if (j == frames.size()) {
+      nearest = j - 1;
+    } else {
+      const std::int64_t d_before = te - frames[j - 1].utc.ns, d_after = frames[j].utc.ns - te;
+      nearest = d_after < d_before ? j : j - 1;
+      other = d_after < d_before ? j - 1 : j;
+    }
+    std::size_t pick = nearest;
+    if (other != kNone && !usable(nearest, te) && usable(other, te)) pick = other;
+    const std::int64_t dt = frames[pick].utc.ns - te;
+    if (picked_by[pick] == kNone || std::llabs(dt) < std::llabs(picked_dt[pick])) {
+      picked_by[pick] = i;
+      picked_dt[pick] = dt;
+    }
+  }
+
+  // Step 3–4: keep or reject every picked frame, in frame order.
+  double sum_dt = 0, sum_abs_dt = 0;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    if (picked_by[k] == kNone) continue;
+    ++rep.frames_picked;
+    const FrameStamp& f = frames[k];
+    const double dt_s = static_cast<double>(picked_dt[k]) * 1e-9;
+    RejectedFrame rej{f.frame, f.utc, dt_s, FrameRejection::offset_exceeded, ""};
+    if (std::llabs(picked_dt[k]) > max_off_ns) {
+      rej.detail = "nearest lamp-track epoch is " + fmt("%.6f", std::fabs(dt_s)) +
+                   " s away (max_frame_offset_s " + fmt("%g", opt.max_frame_offset_s) + ")";
+      ++rep.rejected_offset;
+      res.rejected.push_back(std::move(rej));
+      continue;
+    }
+    const TrackSample s = ht.sample(f.utc);
+    if (s.status == TrackSampleStatus::in_gap) {
+      rej.reason = FrameRejection::in_gap;
+      rej.detail = "frame lies in a " + fmt("%.3f", s.interval_s) + " s gap of the lamp track between " +
+                   format_iso8601_utc(ht.epoch_time(s.segment)) + " and " +
+                   format_iso8601_utc(ht.epoch_time(s.segment + 1)) + " (max_gap_s " +
+                   fmt("%g", opt.max_gap_s) + "): not interpolated across a gap";
+      ++rep.rejected_gap;
+      res.rejected.push_back(std::move(rej));
+      continue;
+    }
+    if (s.status != TrackSampleStatus::ok) {
+      rej.reason = FrameRejection::outside_track;
+      rej.detail = std::string("frame lies ") +
+                   (s.status == TrackSampleStatus::before_track ? "before the first" : "after the last") +
+                   " lamp-track epoch: not extrapolated";
+      ++rep.rejected_outside_track;
+      res.rejected.push_back(std::move(rej));
+      continue;
+    }
+    res.aligned.push_back(AlignedFrame{f.frame, f.utc, s.enu, s.sd_enu, dt_s, s.vel_enu});
+    const double speed = s.vel_enu.norm(), err = speed * std::fabs(dt_s);
+    sum_dt += dt_s;
+    sum_abs_dt += std::fabs(dt_s);
+    rep.max_abs_dt_s = std::max(rep.max_abs_dt_s, std::fabs(dt_s));
+    rep.max_speed_mps = std::max(rep.max_speed_mps, speed);
+    if (rep.worst_position_error_frame < 0 || err > rep.worst_position_error_m) {
+      rep.worst_position_error_m = err;
+      rep.worst_position_error_frame = f.frame;
+    }
+  }
+  rep.frames_aligned = res.aligned.size();
+  if (rep.frames_aligned > 0) {
+    rep.mean_dt_s = sum_dt / static_cast<double>(rep.frames_aligned);
+    rep.mean_abs_dt_s = sum_abs_dt / static_cast<double>(rep.frames_aligned);
+  }
+  return res;
+}
+
+std::string format_aligned_csv(const std::vector<AlignedFrame>& rows) {
+  std::string out = "frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU\n";
+  out.reserve(out.size() + rows.size() * 160);
+  char buf[400];
+  for (const AlignedFrame& r : rows) {
+    std::snprintf(buf, sizeof buf, "%lld,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.9f,%.4f,%.4f,%.4f\n",
+                  static_cast<long long>(r.frame), format_iso8601_utc(r.utc, 9).c_str(), r.enu.x(), r.enu.y(),
+                  r.enu.z(), r.sd_enu.x(), r.sd_enu.y(), r.sd_enu.z(), r.dt_s, r.vel_enu.x(), r.vel_enu.y(),
+                  r.vel_enu.z());
+    out += buf;
+  }
+  return out;
+}
+
+void write_aligned_csv(const std::string& path, const std::vector<AlignedFrame>& rows) {
+  write_file_atomic(path, format_aligned_csv(rows));
+}
+
+std::vector<AlignedFrame> parse_aligned_csv(const std::string& text, const std::string& path) {
+  const CsvTable t = parse_csv(text, path);
+  const std::size_t c_frame = t.column("frame"), c_utc = t.column("utc");
+  const std::size_t c_pos[3] = {t.column("E"), t.column("N"), t.column("U")};
+  const std::size_t c_sd[3] = {t.column("sdE"), t.column("sdN"), t.column("sdU")};
+  const std::size_t c_dt = t.column("dt_s");
+  const std::size_t c_vel[3] = {t.column("vE"), t.column("vN"), t.column("vU")};
+  std::vector<AlignedFrame> rows;
+  rows.reserve(t.records.size());
+  for (const CsvRecord& rec : t.records) {
+    AlignedFrame a;
+    a.frame = t.integer(rec, c_frame);
+    std::string why;
+    const auto utc = parse_iso8601_utc(t.text(rec, c_utc), &why);
+    if (!utc) throw_input_error(path, rec.line, "utc", "not an ISO 8601 UTC time: " + why);
+    a.utc = *utc;
+    for (int k = 0; k < 3; ++k) {
+      a.enu[k] = t.number(rec, c_pos[k]);
+      a.sd_enu[k] = t.number(rec, c_sd[k]);
+      if (a.sd_enu[k] < 0)
+        throw_input_error(path, rec.line, t.header[c_sd[k]], "a standard deviation cannot be negative");
+    }
+    a.dt_s = t.number(rec, c_dt);
+    for (int k = 0; k < 3; ++k) a.vel_enu[k] = t.number(rec, c_vel[k]);
+    if (!rows.empty() && !(a.frame > rows.back().frame)) {
+      throw_input_error(path, rec.line, "frame",
+                        "frame " + std::to_string(a.frame) + " does not follow frame " +
+                            std::to_string(rows.back().frame) + ": rows must be in frame order");
+    }
+    if (!rows.empty() && !(a.utc > rows.back().utc)) {
+      throw_input_error(path, rec.line, "utc",
+                        "time is not after the previous row's: rows must be in time order");
+    }
+    rows.push_back(a);
+  }
+  return rows;
+}
+
+std::vector<AlignedFrame> read_aligned_csv(const std::string& path) {
+  return parse_aligned_csv(read_file_text(path), path);
+}
+
+}  // namespace rangecal

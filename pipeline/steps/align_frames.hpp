@@ -1,0 +1,117 @@
+#pragma once
+// The align stage (SPEC §4.2; seed 002 §2.4 "boundary alignment and frame decimation"): for one
+// camera, which frames to use and where the lamp was at each frame's exact UTC.
+//
+// Method (documented in docs/alignment.md):
+//  1. Boundary alignment: only lamp-track epochs within [first frame − max_frame_offset_s,
+//     last frame + max_frame_offset_s] take part; the others are counted (epochs_outside_frames).
+//  2. Frame decimation: each taking-part epoch picks its nearest frame (the two frames bracketing
+//     it in time; exact ties go to the earlier frame). When that frame cannot be interpolated (it
+//     lies in a track gap or beyond the track's end) and the frame on the other side of the epoch
+//     can and lies within max_frame_offset_s, the other one is taken. A frame picked by several
+//     epochs is kept once, with its nearest picking epoch.
+//  3. Every picked frame is kept when |frame − epoch| ≤ max_frame_offset_s and the track can be
+//     interpolated at the frame's UTC (HermiteTrack: cubic Hermite, never across a gap);
+//     otherwise it is rejected with its reason.
+//  4. Report: count, mean and max |Δt| over kept frames (Δt = frame − epoch), and the worst
+//     position error that using the epoch's position instead of interpolating would have caused:
+//     max over kept frames of |velocity at the frame| × |Δt|.
+#include <Eigen/Core>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "gnss/track/lamp_track.hpp"
+#include "gnss/time/utc_time.hpp"
+
+namespace rangecal {
+
+/// One frame of one camera: its index in the source (image list, video, .cine) and its UTC.
+struct FrameStamp {
+  std::int64_t frame = 0;
+  UtcTime utc;
+};
+
+struct AlignOptions {
+  double max_frame_offset_s = 0.005;         ///< config align.max_frame_offset_s (s, > 0)
+  double max_gap_s = 0.5;                    ///< config gnss.max_gap_s (s, > 0)
+  std::string track_source = "lamp track";   ///< names the track in error messages (a path)
+  std::string frames_source = "frame list";  ///< names the frame list in error messages (a path)
+};
+
+/// A kept frame: the lamp at the frame's exact UTC. One row of `<cam>/aligned.csv`.
+struct AlignedFrame {
+  std::int64_t frame = 0;
+  UtcTime utc;
+  Eigen::Vector3d enu = Eigen::Vector3d::Zero();     ///< interpolated lamp ENU (m)
+  Eigen::Vector3d sd_enu = Eigen::Vector3d::Zero();  ///< interpolated 1σ (m)
+  double dt_s = 0;                                   ///< frame UTC − nearest epoch UTC (s)
+  /// Lamp velocity at the frame's UTC (m/s): the Hermite interpolant's derivative. The bundle's
+  /// clock-offset parameter moves the point by −velocity·δ (optim/bundle/bundle_adjustment.hpp).
+  Eigen::Vector3d vel_enu = Eigen::Vector3d::Zero();
+};
+
+enum class FrameRejection {
+  offset_exceeded,  ///< no lamp-track epoch within max_frame_offset_s
+  in_gap,           ///< the frame's UTC lies inside a track gap longer than max_gap_s
+  outside_track,    ///< the frame's UTC lies before the first or after the last epoch
+};
+const char* to_string(FrameRejection r);
+
+struct RejectedFrame {
+  std::int64_t frame = 0;
+  UtcTime utc;
+  double dt_s = 0;  ///< frame UTC − the epoch that picked it (s)
+  FrameRejection reason = FrameRejection::offset_exceeded;
+  std::string detail;  ///< human-readable, with the numbers
+};
+
+/// Counts and time-mismatch statistics for run.json (see to_json).
+struct AlignReport {
+  std::size_t epochs = 0;                 ///< lamp-track epochs in
+  std::size_t frames = 0;                 ///< frame stamps in
+  std::size_t epochs_outside_frames = 0;  ///< epochs outside the frames' time span (step 1)
+  std::size_t frames_picked = 0;          ///< distinct frames picked by some epoch
+  std::size_t frames_aligned = 0;         ///< kept
+  std::size_t rejected_offset = 0;
+  std::size_t rejected_gap = 0;
+  std::size_t rejected_outside_track = 0;
+  double mean_dt_s = 0;      ///< mean Δt over kept frames (s, signed)
+  double mean_abs_dt_s = 0;  ///< mean |Δt| (s)
+  double max_abs_dt_s = 0;   ///< max |Δt| (s)
+  double max_speed_mps = 0;  ///< max lamp speed at a kept frame (m/s)
+  /// max over kept frames of speed × |Δt| (m): the error interpolation avoids.
+  double worst_position_error_m = 0;
+  std::int64_t worst_position_error_frame = -1;  ///< the frame where it occurs (−1: none)
+};
+
+/// The report as a JSON object (keys as the field names) for StageLog::counts in run.json.
+nlohmann::json to_json(const AlignReport& r);
+
+struct AlignResult {
+  std::vector<AlignedFrame> aligned;    ///< in frame order
+  std::vector<RejectedFrame> rejected;  ///< in frame order
+  AlignReport report;
+};
+
+/// Aligns one camera's frames to the lamp track (method in the header comment). `frames` must be
+/// strictly increasing in both frame index and UTC; the track's epochs strictly increasing.
+/// Throws rangecal::Error: (input) empty track, empty frame list, frames or epochs out of order;
+/// (usage) non-positive max_frame_offset_s or max_gap_s.
+AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& frames,
+                         const AlignOptions& options);
+
+/// `<cam>/aligned.csv`: header `frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU`; utc ISO 8601 with 9
+/// fraction digits; E, N, U and sd in metres with 6 decimals (µm); dt_s with 9 decimals (ns);
+/// velocity in m/s with 4 decimals. Deterministic (locale-independent) text.
+std::string format_aligned_csv(const std::vector<AlignedFrame>& rows);
+/// Writes format_aligned_csv atomically.
+void write_aligned_csv(const std::string& path, const std::vector<AlignedFrame>& rows);
+/// Reads `<cam>/aligned.csv`. Throws rangecal::Error (input) naming file, line and field for a
+/// missing column, an unparsable value, or rows not strictly increasing in frame and utc.
+std::vector<AlignedFrame> read_aligned_csv(const std::string& path);
+/// As read_aligned_csv, from text in memory; `path` is used for messages only.
+std::vector<AlignedFrame> parse_aligned_csv(const std::string& text, const std::string& path);
+
+}  // namespace rangecal

@@ -1,0 +1,140 @@
+#include "pipeline/steps/intersection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "config/error.hpp"
+
+namespace rangecal {
+
+CameraCovariance camera_covariance(const CalibrationResult& r, bool* usable) {
+  const auto n = static_cast<Eigen::Index>(r.parameter_names.size());
+  bool ok = n > 0 && r.covariance.rows() == n && r.covariance.cols() == n && r.covariance.allFinite();
+  for (const std::string& name : r.parameter_names)
+    ok = ok && std::find(kTriangulationParameterNames.begin(), kTriangulationParameterNames.end(), name) !=
+                   kTriangulationParameterNames.end();
+  if (usable) *usable = ok;
+  if (!ok) return {};
+  return {r.parameter_names, r.covariance};
+}
+
+namespace {
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+}  // namespace
+
+IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
+                                   const std::vector<SurveyedPole>& survey, double pick_sigma_px) {
+  if (!(pick_sigma_px > 0)) throw_input_error("", 0, "pick_sigma_px", "must be a positive number of pixels");
+  IntersectionResult out;
+
+  // Pole order: survey order, then ids the survey does not know in order of first appearance, so
+  // the output does not depend on how picks files are sorted.
+  std::map<std::string, const SurveyedPole*> surveyed;
+  std::vector<std::string> order;
+  for (const SurveyedPole& p : survey) {
+    surveyed[p.id] = &p;
+    order.push_back(p.id);
+  }
+  struct Seen {
+    std::vector<TriangulationView> views;
+    std::vector<std::string> cameras;
+  };
+  std::map<std::string, Seen> seen;
+  for (const IntersectCamera& cam : cameras) {
+    for (const PolePick& pick : cam.picks) {
+      if (!seen.count(pick.id) && !surveyed.count(pick.id)) {
+        order.push_back(pick.id);
+        if (!survey.empty())
+          out.warnings.push_back("pole '" + pick.id + "' (picked in " + cam.id +
+                                 ") is not in the pole survey: triangulated, not compared");
+      }
+      Seen& s = seen[pick.id];
+      TriangulationView v;
+      v.camera = cam.camera;
+      v.calibration = cam.calibration;
+      v.uv_px = pick.uv;
+      v.pick_sigma_px = pick_sigma_px;
+      s.views.push_back(std::move(v));
+      s.cameras.push_back(cam.id);
+    }
+  }
+
+  for (const std::string& id : order) {
+    const auto sv = surveyed.find(id);
+    const auto it = seen.find(id);
+    if (it == seen.end()) {
+      // A check pole nobody picked is a hole in the accuracy table worth telling; control poles
+      // are often placed for calibration only.
+      if (sv != surveyed.end() && sv->second->role == PoleRole::check)
+        out.warnings.push_back("check pole '" + id + "' is picked in no camera");
+      continue;
+    }
+    const Seen& s = it->second;
+    if (s.views.size() < 2) {
+      out.warnings.push_back("pole '" + id + "' is picked only in camera " + s.cameras.front() +
+                             ": two cameras are needed to triangulate it");
+      continue;
+    }
+    PoleIntersection p;
+    p.id = id;
+    p.cameras = s.cameras;
+    try {
+      const TriangulationResult t = triangulate_point(s.views, "pole " + id);
+      p.enu = t.point;
+      p.rms_px = t.rms_px;
+      p.max_ray_angle_deg = t.max_ray_angle_deg;
+      p.cov_m2 = t.cov_m2;
+      p.sigma_m = t.sigma_m;
+    } catch (const Error& e) {
+      // One pole that cannot be triangulated (parallel rays, behind a camera) must not stop the
+      // others (SPEC §4.5 "every pole seen by ≥ 2 calibrated cameras").
+      if (e.kind() != ErrorKind::calibration) throw;
+      out.warnings.push_back("pole '" + id + "' (cameras " + join(s.cameras) +
+                             "): triangulation failed: " + e.what());
+      continue;
+    }
+    if (sv != surveyed.end()) {
+      p.surveyed = true;
+      p.role = sv->second->role;
+      p.survey_enu = sv->second->enu;
+      p.d_enu = p.enu - p.survey_enu;  // measured − surveyed, as Table 4's Δ
+      p.dR = p.d_enu.norm();
+    }
+    out.poles.push_back(std::move(p));
+  }
+  out.check = intersection_means(out.poles, PoleRole::check);
+  out.control = intersection_means(out.poles, PoleRole::control);
+  return out;
+}
+
+IntersectionMeans intersection_means(const std::vector<PoleIntersection>& poles, PoleRole role) {
+  IntersectionMeans m;
+  Eigen::Vector3d sum_abs = Eigen::Vector3d::Zero();
+  double sum_dR = 0, sum_dR2 = 0, sum_sigma = 0, max_dR = 0;
+  for (const PoleIntersection& p : poles) {
+    if (!p.surveyed || p.role != role) continue;
+    ++m.n;
+    sum_abs += p.d_enu.cwiseAbs();
+    sum_dR += p.dR;
+    sum_dR2 += p.dR * p.dR;
+    sum_sigma += p.sigma_m;
+    max_dR = std::max(max_dR, p.dR);
+  }
+  if (m.n == 0) return m;
+  m.mean_abs_d = sum_abs / m.n;
+  m.mean_dR = sum_dR / m.n;
+  m.max_dR = max_dR;
+  m.rms_dR = std::sqrt(sum_dR2 / m.n);
+  m.mean_sigma_m = sum_sigma / m.n;
+  return m;
+}
+
+}  // namespace rangecal

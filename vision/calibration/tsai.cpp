@@ -1,0 +1,403 @@
+#include "vision/calibration/tsai.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include "config/error.hpp"
+#include "vision/calibration/calibration_input_checks.hpp"
+
+namespace rangecal {
+namespace {
+
+const char* const kMethod = "tsai";
+
+struct SensorPoint {
+  double xdp;  // Xd' = (u − u0)·dx = sx·xd (mm)
+  double yd;   // (v − v0)·dy (mm)
+};
+
+void resolve_principal_point(const TsaiSensor& s, double* u0, double* v0) {
+  if (!(s.dx_mm > 0) || !(s.dy_mm > 0) || !std::isfinite(s.dx_mm) || !std::isfinite(s.dy_mm))
+    throw_calibration_error(kMethod, "pixel pitch dx, dy must be finite and > 0 mm");
+  *u0 = std::isnan(s.u0_px) ? 0.5 * (s.width_px - 1) : s.u0_px;
+  *v0 = std::isnan(s.v0_px) ? 0.5 * (s.height_px - 1) : s.v0_px;
+  if (!std::isfinite(*u0) || !std::isfinite(*v0) || (std::isnan(s.u0_px) && s.width_px <= 0) ||
+      (std::isnan(s.v0_px) && s.height_px <= 0))
+    throw_calibration_error(kMethod, "principal point unknown: give (u0, v0) or the image size");
+}
+
+std::vector<SensorPoint> to_sensor(const std::vector<PointCorrespondence>& pts, const TsaiSensor& s,
+                                   double u0, double v0) {
+  std::vector<SensorPoint> out(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    out[i] = {(pts[i].pixel.x() - u0) * s.dx_mm, (pts[i].pixel.y() - v0) * s.dy_mm};
+  return out;
+}
+
+Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& M) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d U = svd.matrixU();
+  if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(2) *= -1;
+  return U * svd.matrixV().transpose();
+}
+
+// Least squares with column equilibration and a rank test; throws on a singular system.
+Eigen::VectorXd solve_least_squares(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                                    const std::string& what) {
+  Eigen::VectorXd scale(A.cols());
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    const double n = A.col(j).norm();
+    scale(j) = n > 0 ? 1.0 / n : 1.0;
+  }
+  const Eigen::MatrixXd As = A * scale.asDiagonal();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(As, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const auto& sv = svd.singularValues();
+  if (!(sv(0) > 0) || sv(sv.size() - 1) < 1e-11 * sv(0) || !sv.allFinite())
+    throw_calibration_error(kMethod, "singular system in " + what + " (condition number " +
+                                         std::to_string(sv(0) / std::max(sv(sv.size() - 1), 1e-300)) +
+                                         "): the points do not determine the unknowns");
+  return scale.asDiagonal() * svd.solve(b);
+}
+
+// Willson's orthonormalisation through roll-pitch-yaw angles (R = Rz·Ry·Rx; SOURCE.md of the
+// Tsai sample data gives the element formulas).
+Eigen::Matrix3d rpy_rotation(const Eigen::Vector3d& row1, const Eigen::Vector3d& row2) {
+  const double r1 = row1(0), r2 = row1(1), r3 = row1(2), r4 = row2(0), r5 = row2(1), r6 = row2(2);
+  const double r7 = r2 * r6 - r3 * r5;  // (row1 × row2)_x
+  const double rz = std::atan2(r4, r1);
+  const double sg = std::sin(rz), cg = std::cos(rz);
+  const double ry = std::atan2(-r7, r1 * cg + r4 * sg);
+  const double rx = std::atan2(r3 * sg - r6 * cg, r5 * cg - r2 * sg);
+  return (Eigen::AngleAxisd(rz, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rx, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+}  // namespace
+
+TsaiStep1 tsai_step1(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
+                     TsaiOrthonormalisation orthonormalisation) {
+  require_finite(pts, kMethod);
+  require_min_points(pts, 7, kMethod, "7 unknowns in the linear system of seed 002 eq. 12");
+  require_world_geometry(pts, /*need_non_coplanar=*/true, kMethod);
+  TsaiStep1 s1;
+  resolve_principal_point(sensor, &s1.u0_px, &s1.v0_px);
+  const auto sp = to_sensor(pts, sensor, s1.u0_px, s1.v0_px);
+  const std::size_t n = pts.size();
+
+  // Seed 002 eq. 12 (Tsai 1987 eq. 16 with sx): one row per point.
+  Eigen::MatrixXd A(n, 7);
+  Eigen::VectorXd b(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& X = pts[i].world;
+    const double xd = sp[i].xdp, yd = sp[i].yd;
+    A.row(i) << X.x() * yd, X.y() * yd, X.z() * yd, yd, -X.x() * xd, -X.y() * xd, -X.z() * xd;
+    b(i) = xd;
+  }
+  const Eigen::VectorXd L = solve_least_squares(A, b, "Tsai step 1 (seed 002 eq. 12)");
+  s1.linear_rms_mm = std::sqrt((A * L - b).squaredNorm() / n);
+
+  // |Ty| from the unit norm of row 2 of R (Tsai 1987 eq. 17, with sx unknown).
+  const double n2 = L.segment<3>(4).norm();
+  if (!(n2 > 0) || !std::isfinite(n2))
+    throw_calibration_error(kMethod, "singular system: r4..r6/Ty vanished (Ty cannot be determined)");
+  double Ty = 1.0 / n2;
+
+  // Sign of Ty: with Ty > 0, the predicted (sx·xc, yc) of the point farthest from the image centre
+  // must point the same way as its observed (Xd', Yd) (Tsai 1987 §III.B step ii).
+  std::size_t far = 0;
+  double far_r2 = -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r2 = sp[i].xdp * sp[i].xdp + sp[i].yd * sp[i].yd;
+    if (r2 > far_r2) far_r2 = r2, far = i;
+  }
+  {
+    const Eigen::Vector3d& X = pts[far].world;
+    const double sxc = (L(0) * X.x() + L(1) * X.y() + L(2) * X.z() + L(3)) * Ty;
+    const double yc = (L(4) * X.x() + L(5) * X.y() + L(6) * X.z() + 1.0) * Ty;
+    if (sxc * sp[far].xdp + yc * sp[far].yd < 0) Ty = -Ty;
+  }
+
+  // sx from the unit norm of row 1 (Tsai 1987 eq. 18); then rows 1–2 of R and Tx.
+  s1.sx = L.head<3>().norm() * std::abs(Ty);
+  if (!(s1.sx > 0) || !std::isfinite(s1.sx))
+    throw_calibration_error(kMethod, "singular system: sx·r1..r3/Ty vanished (sx cannot be determined)");
+  const Eigen::Vector3d row1 = L.head<3>() * Ty / s1.sx;
+  const Eigen::Vector3d row2 = L.segment<3>(4) * Ty;
+  // Tsai: L4 = sx·Tx/Ty. Willson's program keeps Tx = L4·Ty (no 1/sx), reproduced in its mode.
+  s1.Tx = orthonormalisation == TsaiOrthonormalisation::willson_rpy ? L(3) * Ty : L(3) * Ty / s1.sx;
+  s1.Ty = Ty;
+  s1.orthogonality_error = std::abs(row1.dot(row2));
+  Eigen::Matrix3d Rraw;
+  Rraw.row(0) = row1.transpose();
+  Rraw.row(1) = row2.transpose();
+  Rraw.row(2) = row1.cross(row2).transpose();
+  s1.R = orthonormalisation == TsaiOrthonormalisation::svd ? nearest_rotation(Rraw)  // Frobenius-nearest
+                                                           : rpy_rotation(row1, row2);
+  return s1;
+}
+
+std::pair<double, double> tsai_linear_f_tz(const std::vector<PointCorrespondence>& pts,
+                                           const TsaiSensor& sensor, TsaiStep1* s1) {
+  const auto sp = to_sensor(pts, sensor, s1->u0_px, s1->v0_px);
+  const std::size_t n = pts.size();
+  // Tsai 1987 eq. 15: yd·(wz + Tz) = f·yc, and likewise with xd = Xd'/sx; 2 rows per point.
+  Eigen::MatrixXd A(2 * n, 2);
+  Eigen::VectorXd b(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& X = pts[i].world;
+    const double xc = s1->R.row(0).dot(X) + s1->Tx;
+    const double yc = s1->R.row(1).dot(X) + s1->Ty;
+    const double wz = s1->R.row(2).dot(X);
+    const double xd = sp[i].xdp / s1->sx, yd = sp[i].yd;
+    A.row(2 * i) << xc, -xd;
+    b(2 * i) = wz * xd;
+    A.row(2 * i + 1) << yc, -yd;
+    b(2 * i + 1) = wz * yd;
+  }
+  const Eigen::VectorXd ft = solve_least_squares(A, b, "the linear f, Tz solve (Tsai 1987 eq. 15)");
+  double f = ft(0);
+  const double Tz = ft(1);
+  if (f < 0) {
+    // The sign test picked the wrong Ty: turning the camera 180° about its axis negates rows 1–2 of R,
+    // Tx, Ty and f together and keeps R proper.
+    s1->R.row(0) *= -1;
+    s1->R.row(1) *= -1;
+    s1->Tx = -s1->Tx;
+    s1->Ty = -s1->Ty;
+    f = -f;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(s1->R.row(2).dot(pts[i].world) + Tz > 0))
+      throw_calibration_error(kMethod, "point " + std::to_string(i) +
+                                           " lies behind the camera in the linear solution (inconsistent or "
+                                           "mirrored correspondences)");
+  }
+  return {f, Tz};
+}
+
+double tsai_eq13_cost(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
+                      const TsaiStep1& s1, double f_mm, double Tz, double k1, Eigen::VectorXd* residuals) {
+  double ss = 0;
+  if (residuals) residuals->resize(2 * pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d& X = pts[i].world;
+    const double xd = (pts[i].pixel.x() - s1.u0_px) * sensor.dx_mm / s1.sx;
+    const double yd = (pts[i].pixel.y() - s1.v0_px) * sensor.dy_mm;
+    const double r2 = xd * xd + yd * yd;
+    const double zc = s1.R.row(2).dot(X) + Tz;
+    // Seed 002 eq. 13.
+    const double gx = xd * (1 + k1 * r2) - f_mm * (s1.R.row(0).dot(X) + s1.Tx) / zc;
+    const double gy = yd * (1 + k1 * r2) - f_mm * (s1.R.row(1).dot(X) + s1.Ty) / zc;
+    if (residuals) (*residuals)(2 * i) = gx, (*residuals)(2 * i + 1) = gy;
+    ss += gx * gx + gy * gy;
+  }
+  return ss;
+}
+
+Camera tsai_camera(const TsaiSensor& sensor, const TsaiStep1& s1, double f_mm, double Tz, double k1) {
+  Camera cam;
+  cam.intr.width_px = sensor.width_px;
+  cam.intr.height_px = sensor.height_px;
+  cam.intr.dx_mm = sensor.dx_mm;
+  cam.intr.dy_mm = sensor.dy_mm;
+  cam.intr.f_mm = f_mm;
+  cam.intr.sx = s1.sx;
+  cam.intr.u0_px = s1.u0_px;
+  cam.intr.v0_px = s1.v0_px;
+  cam.intr.dist.k1 = k1;
+  cam.pose.R = s1.R;
+  cam.pose.T = {s1.Tx, s1.Ty, Tz};
+  return cam;
+}
+
+TsaiResult tsai_calibrate(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
+                          const TsaiOptions& options) {
+  return tsai_step2(pts, sensor, tsai_step1(pts, sensor, options.orthonormalisation), options);
+}
+
+TsaiResult tsai_step2(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor, TsaiStep1 step1,
+                      const TsaiOptions& options) {
+  TsaiResult res;
+  res.step1 = step1;
+  require_finite(pts, kMethod);
+  if (options.estimate_k1)
+    require_min_points(pts, 8, kMethod, "step 1 uses 7 unknowns; f, Tz, k1 need an 8th independent point");
+  const auto ft = tsai_linear_f_tz(pts, sensor, &res.step1);
+  res.f_linear_mm = ft.first;
+  res.Tz_linear = ft.second;
+  const TsaiStep1& s1 = res.step1;
+  const std::size_t n = pts.size();
+  const int np = options.estimate_k1 ? 3 : 2;
+
+  // Natural scales for the convergence test: f and Tz relative; k1 relative to 1/r_max².
+  double rmax2 = 0;
+  for (const auto& p : pts) {
+    const double xd = (p.pixel.x() - s1.u0_px) * sensor.dx_mm / s1.sx,
+                 yd = (p.pixel.y() - s1.v0_px) * sensor.dy_mm;
+    rmax2 = std::max(rmax2, xd * xd + yd * yd);
+  }
+  Eigen::Vector3d p(ft.first, ft.second, 0.0);
+  const Eigen::Vector3d scale(std::abs(p(0)), std::abs(p(1)), 1.0 / std::max(rmax2, 1e-12));
+
+  // Levenberg–Marquardt (Marquardt's diagonal scaling) on the eq. 13 residuals; analytic Jacobian.
+  auto evaluate = [&](const Eigen::Vector3d& q, Eigen::VectorXd* r, Eigen::MatrixXd* J) {
+    r->resize(2 * n);
+    if (J) J->resize(2 * n, np);
+    double ss = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d& X = pts[i].world;
+      const double xd = (pts[i].pixel.x() - s1.u0_px) * sensor.dx_mm / s1.sx;
+      const double yd = (pts[i].pixel.y() - s1.v0_px) * sensor.dy_mm;
+      const double r2 = xd * xd + yd * yd;
+      const double xc = s1.R.row(0).dot(X) + s1.Tx, yc = s1.R.row(1).dot(X) + s1.Ty;
+      const double zc = s1.R.row(2).dot(X) + q(1);
+      (*r)(2 * i) = xd * (1 + q(2) * r2) - q(0) * xc / zc;
+      (*r)(2 * i + 1) = yd * (1 + q(2) * r2) - q(0) * yc / zc;
+      if (J) {
+        (*J)(2 * i, 0) = -xc / zc;
+        (*J)(2 * i, 1) = q(0) * xc / (zc * zc);
+        (*J)(2 * i + 1, 0) = -yc / zc;
+        (*J)(2 * i + 1, 1) = q(0) * yc / (zc * zc);
+        if (np == 3) (*J)(2 * i, 2) = xd * r2, (*J)(2 * i + 1, 2) = yd * r2;
+      }
+      ss += (*r)(2 * i) * (*r)(2 * i) + (*r)(2 * i + 1) * (*r)(2 * i + 1);
+    }
+    return ss;
+  };
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  double cost = evaluate(p, &r, &J);
+  double lambda = 1e-3;
+  for (res.iterations = 0; res.iterations < options.max_iterations && !res.converged;) {
+    ++res.iterations;
+    const Eigen::MatrixXd H = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * r;
+    bool accepted = false;
+    while (!accepted) {
+      Eigen::MatrixXd A = H;
+      for (int k = 0; k < np; ++k) A(k, k) += lambda * std::max(H(k, k), 1e-300);
+      const Eigen::VectorXd dp = A.ldlt().solve(-g);
+      Eigen::Vector3d q = p;
+      q.head(np) += dp;
+      Eigen::VectorXd rq;
+      const double cq = dp.allFinite() ? evaluate(q, &rq, nullptr) : std::numeric_limits<double>::infinity();
+      double rel_step = 0;
+      for (int k = 0; k < np; ++k) rel_step = std::max(rel_step, std::abs(dp(k)) / scale(k));
+      if (cq <= cost) {
+        accepted = true;
+        p = q;
+        cost = evaluate(p, &r, &J);
+        lambda = std::max(lambda * 0.1, 1e-12);
+        if (rel_step < 1e-14 || cost == 0) res.converged = true;
+      } else {
+        lambda *= 10;
+        if (lambda > 1e12 || rel_step < 1e-15) {
+          res.converged = true;  // no descent left at machine precision: a minimum
+          break;
+        }
+      }
+    }
+  }
+  if (!(p(0) > 0) || !p.allFinite())
+    throw_calibration_error(kMethod, "nonlinear step diverged (f = " + std::to_string(p(0)) + " mm)");
+  res.camera = tsai_camera(sensor, s1, p(0), p(1), p(2));
+  res.rms_sensor_mm = std::sqrt(cost / (2.0 * n));
+  double ss = 0;
+  for (const auto& pt : pts) {
+    Eigen::Vector2d uv;
+    if (!project(res.camera, pt.world, &uv))
+      throw_calibration_error(kMethod, "a point does not project with the solved camera (behind it)");
+    ss += (uv - pt.pixel).squaredNorm();
+  }
+  res.rms_px = std::sqrt(ss / n);
+  return res;
+}
+
+namespace {
+
+// Seed 002 eq. 13 with every parameter free: intr = {f, sx, u0, v0, k1}; w = angle-axis of R; t = T.
+struct TsaiFullResidual {
+  double X, Y, Z, u, v, dx, dy;
+  template <typename T>
+  bool operator()(const T* intr, const T* w, const T* t, T* res) const {
+    const T p[3] = {T(X), T(Y), T(Z)};
+    T xc[3];
+    ceres::AngleAxisRotatePoint(w, p, xc);
+    for (int k = 0; k < 3; ++k) xc[k] += t[k];
+    const T xd = (T(u) - intr[2]) * T(dx) / intr[1];
+    const T yd = (T(v) - intr[3]) * T(dy);
+    const T c = T(1) + intr[4] * (xd * xd + yd * yd);
+    res[0] = xd * c - intr[0] * xc[0] / xc[2];
+    res[1] = yd * c - intr[0] * xc[1] / xc[2];
+    return true;
+  }
+};
+
+}  // namespace
+
+TsaiResult tsai_full_refinement(const std::vector<PointCorrespondence>& pts, const Camera& start,
+                                int max_iterations) {
+  require_finite(pts, kMethod);
+  require_min_points(pts, 11, kMethod, "11 unknowns in the full refinement");
+  require_world_geometry(pts, /*need_non_coplanar=*/true, kMethod);
+  const auto& in = start.intr;
+  double intr[5] = {in.f_mm, in.sx, in.u0_px, in.v0_px, in.dist.k1};
+  const Eigen::AngleAxisd aa(start.pose.R);
+  Eigen::Vector3d w = aa.angle() * aa.axis();
+  Eigen::Vector3d t = start.pose.T;
+  ceres::Problem problem;
+  for (const auto& p : pts)
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<TsaiFullResidual, 2, 5, 3, 3>(new TsaiFullResidual{
+            p.world.x(), p.world.y(), p.world.z(), p.pixel.x(), p.pixel.y(), in.dx_mm, in.dy_mm}),
+        nullptr, intr, w.data(), t.data());
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = max_iterations;
+  so.num_threads = 1;
+  so.function_tolerance = 1e-16;
+  so.gradient_tolerance = 1e-16;
+  so.parameter_tolerance = 1e-14;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  if (!summary.IsSolutionUsable() || !(intr[0] > 0) || !(intr[1] > 0))
+    throw_calibration_error(kMethod, "full refinement failed: " + summary.message);
+  TsaiResult res;
+  res.camera = start;
+  res.camera.intr.f_mm = intr[0];
+  res.camera.intr.sx = intr[1];
+  res.camera.intr.u0_px = intr[2];
+  res.camera.intr.v0_px = intr[3];
+  res.camera.intr.dist = Distortion{};
+  res.camera.intr.dist.k1 = intr[4];
+  const double a = w.norm();
+  res.camera.pose.R = a > 0 ? Eigen::AngleAxisd(a, w / a).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  res.camera.pose.T = t;
+  res.step1.R = res.camera.pose.R;
+  res.step1.Tx = t.x();
+  res.step1.Ty = t.y();
+  res.step1.sx = intr[1];
+  res.step1.u0_px = intr[2];
+  res.step1.v0_px = intr[3];
+  res.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  res.converged = summary.termination_type == ceres::CONVERGENCE;
+  res.rms_sensor_mm = std::sqrt(2.0 * summary.final_cost / (2.0 * pts.size()));
+  double ss = 0;
+  for (const auto& pt : pts) {
+    Eigen::Vector2d uv;
+    if (!project(res.camera, pt.world, &uv))
+      throw_calibration_error(kMethod, "a point does not project with the refined camera (behind it)");
+    ss += (uv - pt.pixel).squaredNorm();
+  }
+  res.rms_px = std::sqrt(ss / pts.size());
+  return res;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,123 @@
+#pragma once
+// Tsai's two-step calibration for non-coplanar points with unknown scale factor sx
+// (Tsai 1987, §III.B; seed 002 eqs. 11–13 as corrected in seeds/NOTES.md).
+//
+// Model: SPEC §2 / vision/camera/camera_model.hpp with radial k1 only (distorted → undistorted):
+//   Xc = R·Xw + T;  xu = f·Xc/Zc, yu = f·Yc/Zc;  xu = xd(1 + k1 rd²), yu = yd(1 + k1 rd²);
+//   u = u0 + sx·xd/dx,  v = v0 + yd/dy.
+// The principal point (u0, v0) is not estimated: it is given (default: the image centre,
+// ((width−1)/2, (height−1)/2) in SPEC §2 pixels).
+//
+// Step 1 (linear, immune to radial distortion — the radial alignment constraint, eq. 11):
+//   with Xd' = (u−u0)·dx = sx·xd and Yd = (v−v0)·dy, one row per point (eq. 12):
+//   [Xw·Yd, Yw·Yd, Zw·Yd, Yd, −Xw·Xd', −Yw·Xd', −Zw·Xd'] · L = Xd',
+//   L = [sx·r1/Ty, sx·r2/Ty, sx·r3/Ty, sx·Tx/Ty, r4/Ty, r5/Ty, r6/Ty];
+//   |Ty| = 1/‖L5..7‖, sign of Ty from the point farthest from the image centre, sx = ‖L1..3‖·|Ty|,
+//   rows 1–2 of R from L, row 3 = row1 × row2, then the nearest rotation (SVD).
+// Step 2: f and Tz linearly ignoring distortion, then (f, Tz, k1) by Levenberg–Marquardt on the
+//   eq. 13 residuals (undistorted sensor mm):
+//   g = [xd(1+k1 r²) − f·Xc/Zc,  yd(1+k1 r²) − f·Yc/Zc],  r² = xd² + yd²,  xd = Xd'/sx.
+//   If the linear f comes out negative the Ty sign was wrong: rows 1–2 of R, Tx, Ty and f are negated
+//   (a 180° turn about the optical axis, R stays a proper rotation).
+//
+// Units: world points in any length unit (T comes back in the same unit); f in mm; k1 in mm⁻².
+// Errors: rangecal::Error kind calibration (exit 4) naming the cause — fewer than 7 points (or
+// 8 for step 2 with k1), non-finite input, all points on one line, coplanar points, a singular
+// system, points behind the camera.
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "vision/camera/camera_model.hpp"
+#include "vision/calibration/point_correspondence.hpp"
+
+namespace rangecal {
+
+/// Sensor and principal point that Tsai's method takes as known.
+struct TsaiSensor {
+  int width_px = 0;
+  int height_px = 0;
+  double dx_mm = 0;  ///< horizontal pixel pitch (mm) — Tsai's dpx = dx·Ncx/Nfx
+  double dy_mm = 0;  ///< vertical pixel pitch (mm)
+  /// Principal point (px). NaN → image centre ((width−1)/2, (height−1)/2).
+  double u0_px = std::numeric_limits<double>::quiet_NaN();
+  double v0_px = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// Result of step 1 (reused by tsai_sassa, which searches f, Tz, k1 from here).
+struct TsaiStep1 {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< world → camera, proper rotation (SVD-orthonormalised)
+  double Tx = 0;                                    ///< world units
+  double Ty = 0;                                    ///< world units, sign fixed
+  double sx = 1;                                    ///< scale factor
+  double u0_px = 0, v0_px = 0;                      ///< the principal point used
+  /// RMS of the eq. 12 linear system residual (mm, in Xd' units).
+  double linear_rms_mm = 0;
+  /// Largest deviation of the raw rows 1–2 from orthonormality before the SVD projection
+  /// (max |RᵣRᵣᵀ − I| over the 2×2 block) — a diagnostic of noise/model mismatch.
+  double orthogonality_error = 0;
+};
+
+/// Step 2 result plus diagnostics.
+struct TsaiResult {
+  Camera camera;             ///< f, sx, u0, v0, k1, R, T (T in world units)
+  TsaiStep1 step1;           ///< the linear step
+  double f_linear_mm = 0;    ///< f from the linear f/Tz solve (distortion ignored)
+  double Tz_linear = 0;      ///< Tz from that solve (world units)
+  double rms_sensor_mm = 0;  ///< RMS of the eq. 13 residual components at the solution (mm)
+  double rms_px = 0;         ///< RMS reprojection error (pixel distance per point) at the solution
+  int iterations = 0;        ///< Levenberg–Marquardt iterations of step 2
+  bool converged = false;    ///< LM met its step/gradient tolerance
+};
+
+/// How step 1's rows r1..r3, r4..r6 (orthonormal only up to noise) become a rotation.
+enum class TsaiOrthonormalisation {
+  svd,          ///< Frobenius-nearest proper rotation of [row1; row2; row1 × row2] (default)
+  willson_rpy,  ///< as Willson's reference program (ncc_compute_better_R): roll-pitch-yaw angles
+                ///< Rz = atan2(r4, r1), Ry = atan2(−r7, r1·cos Rz + r4·sin Rz),
+                ///< Rx = atan2(r3·sin Rz − r6·cos Rz, r5·cos Rz − r2·sin Rz), R = Rz·Ry·Rx rebuilt;
+                ///< also Tx = L4·Ty without Tsai's 1/sx, as that program does — only for
+                ///< reproducing its published results
+};
+
+struct TsaiOptions {
+  bool estimate_k1 = true;  ///< false: k1 = 0, only f and Tz are refined
+  int max_iterations = 100;
+  TsaiOrthonormalisation orthonormalisation = TsaiOrthonormalisation::svd;
+};
+
+/// Step 1 only. Throws rangecal::Error(calibration) on degenerate input.
+TsaiStep1 tsai_step1(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
+                     TsaiOrthonormalisation orthonormalisation = TsaiOrthonormalisation::svd);
+
+/// Linear f and Tz given step 1 (distortion ignored; Tsai 1987 eq. 15, both image axes used).
+/// Handles the f < 0 case by flipping the Ty sign in `step1` (see above). Returns {f_mm, Tz}.
+std::pair<double, double> tsai_linear_f_tz(const std::vector<PointCorrespondence>& pts,
+                                           const TsaiSensor& sensor, TsaiStep1* step1);
+
+/// Eq. 13 residuals (sensor mm, 2 per point: x then y) for given step 1 and (f, Tz, k1). For searches
+/// (tsai_sassa) that need the same objective; returns the sum of squares.
+double tsai_eq13_cost(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
+                      const TsaiStep1& step1, double f_mm, double Tz, double k1,
+                      Eigen::VectorXd* residuals = nullptr);
+
+/// Builds the rangecal Camera from step 1 and (f, Tz, k1).
+Camera tsai_camera(const TsaiSensor& sensor, const TsaiStep1& step1, double f_mm, double Tz, double k1);
+
+/// Step 2 from a given step 1: linear f, Tz (tsai_linear_f_tz), then LM over f, Tz, k1 on eq. 13.
+TsaiResult tsai_step2(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor, TsaiStep1 step1,
+                      const TsaiOptions& options = {});
+
+/// Full refinement (Willson's "nccal_fo" stage, beyond Tsai's two steps): all of f, sx, u0, v0, k1,
+/// R, T by Ceres Levenberg–Marquardt on the same eq. 13 residuals (undistorted sensor mm), with the
+/// principal point free. Starts from `start` (e.g. tsai_calibrate's camera). With a narrow field of
+/// view u0, v0 trade against R and are poorly determined (SPEC §4.4); use on wide views / rigs.
+TsaiResult tsai_full_refinement(const std::vector<PointCorrespondence>& pts, const Camera& start,
+                                int max_iterations = 200);
+
+/// The whole two-step method.
+TsaiResult tsai_calibrate(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
+                          const TsaiOptions& options = {});
+
+}  // namespace rangecal

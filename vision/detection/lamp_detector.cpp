@@ -1,0 +1,781 @@
+#include "vision/detection/lamp_detector.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <unordered_map>
+
+#include "config/error.hpp"
+#include "vision/frames/frame_source.hpp"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace rangecal {
+
+LampDetectorOptions lamp_detector_options(const DetectConfig& config) {
+  LampDetectorOptions o;
+  o.min_snr = config.min_snr;
+  return o;
+}
+
+namespace {
+
+constexpr int kBlock = 16;         // coarse block size (px)
+constexpr int kNoiseRowStep = 32;  // 25 rows of 1280 px: σ to ≈ 0.5 %
+constexpr int kGrowRadius = 40;    // region growing stays within ±40 px of its seed
+constexpr int kGrowSide = 2 * kGrowRadius + 1;
+
+// Per-thread scratch, reused across frames so the search allocates nothing in steady state.
+struct Workspace {
+  std::vector<std::uint32_t> hist;
+  std::vector<std::uint16_t> bmax;
+  std::vector<std::uint64_t> bsum;
+  std::vector<std::uint32_t> bcount;
+  std::vector<float> bmean;
+  std::vector<std::uint8_t> mask = std::vector<std::uint8_t>(kGrowSide * kGrowSide, 0);
+  std::vector<int> stack;
+  std::vector<int> visited;
+};
+
+Workspace& workspace() {
+  thread_local Workspace ws;
+  return ws;
+}
+
+// ---- 1. noise: σ = 1.4826·median|I(x+1) − I(x)| / √2 on every 32nd row ------------------------
+template <typename T>
+double estimate_noise(const cv::Mat& img, Workspace& ws) {
+  constexpr int kBins = 1024;
+  ws.hist.assign(kBins, 0);
+  std::uint64_t n = 0;
+  for (int y = kNoiseRowStep / 2; y < img.rows; y += kNoiseRowStep) {
+    const T* p = img.ptr<T>(y);
+    for (int x = 0; x + 1 < img.cols; ++x) {
+      const int d = std::abs(static_cast<int>(p[x + 1]) - static_cast<int>(p[x]));
+      ++ws.hist[static_cast<std::size_t>(std::min(d, kBins - 1))];
+    }
+    n += static_cast<std::uint64_t>(img.cols - 1);
+  }
+  if (n == 0) return 1.0;
+  // Median of the integer-valued |d|, interpolated inside its bin (bin k spans [k − ½, k + ½)).
+  const double half = 0.5 * static_cast<double>(n);
+  double cum = 0;
+  double med = 0;
+  for (int k = 0; k < kBins; ++k) {
+    const double h = ws.hist[static_cast<std::size_t>(k)];
+    if (cum + h >= half) {
+      const double lo = k == 0 ? 0.0 : k - 0.5;
+      const double width = k == 0 ? 0.5 : 1.0;
+      med = lo + width * (half - cum) / std::max(h, 1.0);
+      break;
+    }
+    cum += h;
+  }
+  return std::max(1.4826 * med / std::sqrt(2.0), 0.5);  // ≥ 0.5 DN: quantisation floor
+}
+
+// ---- 2. 16×16 block max and sum ---------------------------------------------------------------
+template <typename T>
+void block_stats_scalar(const cv::Mat& img, int nbx, int nby, Workspace& ws) {
+  for (int by = 0; by < nby; ++by) {
+    const int y0 = by * kBlock, y1 = std::min(img.rows, y0 + kBlock);
+    for (int y = y0; y < y1; ++y) {
+      const T* p = img.ptr<T>(y);
+      for (int bx = 0; bx < nbx; ++bx) {
+        const int x0 = bx * kBlock, x1 = std::min(img.cols, x0 + kBlock);
+        unsigned m = 0;
+        std::uint32_t s = 0;
+        for (int x = x0; x < x1; ++x) {
+          m = std::max<unsigned>(m, p[x]);
+          s += p[x];
+        }
+        const std::size_t b = static_cast<std::size_t>(by) * nbx + bx;
+        ws.bmax[b] = static_cast<std::uint16_t>(std::max<unsigned>(ws.bmax[b], m));
+        ws.bsum[b] += s;
+      }
+    }
+  }
+}
+
+#if defined(__SSE2__)
+// 8-bit fast path: per block, 16 loads, max and SAD accumulated in registers (the 16 rows of a
+// block row, 20 KB at 1280 px, stay in L1 while the block columns are swept).
+void block_stats_u8_sse2(const cv::Mat& img, int nbx, int nby, Workspace& ws) {
+  const int full = img.cols / kBlock;  // blocks fully 16 wide
+  const __m128i zero = _mm_setzero_si128();
+  const std::uint8_t* rows[kBlock];
+  for (int by = 0; by < nby; ++by) {
+    const int y0 = by * kBlock, y1 = std::min(img.rows, y0 + kBlock);
+    const int nr = y1 - y0;
+    for (int r = 0; r < nr; ++r) rows[r] = img.ptr<std::uint8_t>(y0 + r);
+    for (int bx = 0; bx < full; ++bx) {
+      __m128i m0 = zero, m1 = zero, s0 = zero, s1 = zero;
+      int r = 0;
+      for (; r + 2 <= nr; r += 2) {
+        const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(rows[r] + bx * kBlock));
+        const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(rows[r + 1] + bx * kBlock));
+        m0 = _mm_max_epu8(m0, a);
+        m1 = _mm_max_epu8(m1, b);
+        s0 = _mm_add_epi64(s0, _mm_sad_epu8(a, zero));
+        s1 = _mm_add_epi64(s1, _mm_sad_epu8(b, zero));
+      }
+      if (r < nr) {
+        const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(rows[r] + bx * kBlock));
+        m0 = _mm_max_epu8(m0, a);
+        s0 = _mm_add_epi64(s0, _mm_sad_epu8(a, zero));
+      }
+      __m128i m = _mm_max_epu8(m0, m1);
+      m = _mm_max_epu8(m, _mm_srli_si128(m, 8));
+      m = _mm_max_epu8(m, _mm_srli_si128(m, 4));
+      m = _mm_max_epu8(m, _mm_srli_si128(m, 2));
+      m = _mm_max_epu8(m, _mm_srli_si128(m, 1));
+      const __m128i s = _mm_add_epi64(s0, s1);
+      const std::size_t b = static_cast<std::size_t>(by) * nbx + bx;
+      ws.bmax[b] = static_cast<std::uint16_t>(_mm_cvtsi128_si32(m) & 0xFF);
+      ws.bsum[b] = static_cast<std::uint64_t>(_mm_cvtsi128_si32(s)) +
+                   static_cast<std::uint64_t>(_mm_cvtsi128_si32(_mm_srli_si128(s, 8)));
+    }
+    if (full < nbx) {  // the last, partial block column
+      const int bx = nbx - 1;
+      const std::size_t b = static_cast<std::size_t>(by) * nbx + bx;
+      for (int r = 0; r < nr; ++r)
+        for (int x = bx * kBlock; x < img.cols; ++x) {
+          ws.bmax[b] = std::max<std::uint16_t>(ws.bmax[b], rows[r][x]);
+          ws.bsum[b] += rows[r][x];
+        }
+    }
+  }
+}
+#endif
+
+// ---- 6. pixel-integrated Gaussian fit --------------------------------------------------------
+struct FitResult {
+  bool ok = false;
+  double u = 0, v = 0, sigma = 0, flux = 0, background = 0;
+};
+
+// Least squares (Levenberg–Marquardt) of m(x, y) = b + F·Ex(x)·Ey(y) over the window
+// [x0, x1] × [y0, y1], pixels ≥ sat excluded. Ex is the PSF integrated over the pixel (see
+// frame_renderer.hpp), so the model matches how a sensor samples a blurred point: no
+// sampling bias. Parameters p = (F, u, v, σ, b).
+template <typename T>
+FitResult fit_gaussian(const cv::Mat& img, int x0, int x1, int y0, int y1, int sat, double u_init,
+                       double v_init, double s_init, double b_init) {
+  const int nx = x1 - x0 + 1, ny = y1 - y0 + 1;
+  constexpr int kMax = 64;
+  if (nx > kMax - 1 || ny > kMax - 1 || nx < 3 || ny < 3) return {};
+  // Data and mask.
+  double data[kMax * kMax];
+  bool use[kMax * kMax];
+  int n_used = 0;
+  double sum_above = 0;
+  for (int j = 0; j < ny; ++j) {
+    const T* p = img.ptr<T>(y0 + j);
+    for (int i = 0; i < nx; ++i) {
+      const int val = p[x0 + i];
+      data[j * nx + i] = val;
+      use[j * nx + i] = val < sat;
+      n_used += use[j * nx + i];
+      sum_above += val - b_init;
+    }
+  }
+  if (n_used < 8) return {};
+  Eigen::Matrix<double, 5, 1> p;
+  p << std::max(sum_above, 1.0), u_init, v_init, s_init, b_init;
+  static const double kInvSqrt2Pi = 0.3989422804014327;
+
+  auto evaluate = [&](const Eigen::Matrix<double, 5, 1>& q, Eigen::Matrix<double, 5, 5>* JtJ,
+                      Eigen::Matrix<double, 5, 1>* Jtr) {
+    double ex[kMax], dxu[kMax], dxs[kMax], ey[kMax], dyv[kMax], dys[kMax];
+    const double s = q(3);
+    const double k = 1.0 / (std::sqrt(2.0) * s);
+    auto edges = [&](int n, int o, double c, double* e, double* de, double* ds) {
+      double Phi_prev = 0, phi_prev = 0, t_prev = 0;
+      for (int i = 0; i <= n; ++i) {
+        const double t = (o + i - 0.5) - c;
+        const double Phi = 0.5 * std::erf(t * k);
+        const double phi = kInvSqrt2Pi / s * std::exp(-0.5 * t * t / (s * s));
+        if (i > 0) {
+          e[i - 1] = Phi - Phi_prev;
+          de[i - 1] = -(phi - phi_prev);                   // ∂E/∂centre
+          ds[i - 1] = -(t * phi - t_prev * phi_prev) / s;  // ∂E/∂σ
+        }
+        Phi_prev = Phi;
+        phi_prev = phi;
+        t_prev = t;
+      }
+    };
+    edges(nx, x0, q(1), ex, dxu, dxs);
+    edges(ny, y0, q(2), ey, dyv, dys);
+    const double F = q(0), b = q(4);
+    double cost = 0;
+    if (JtJ) {
+      JtJ->setZero();
+      Jtr->setZero();
+    }
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        if (!use[j * nx + i]) continue;
+        const double m = b + F * ex[i] * ey[j];
+        const double r = data[j * nx + i] - m;
+        cost += r * r;
+        if (JtJ) {
+          Eigen::Matrix<double, 5, 1> J;
+          J << ex[i] * ey[j], F * dxu[i] * ey[j], F * ex[i] * dyv[j], F * (dxs[i] * ey[j] + ex[i] * dys[j]),
+              1.0;
+          JtJ->selfadjointView<Eigen::Upper>().rankUpdate(J);
+          *Jtr += J * r;
+        }
+      }
+    }
+    if (JtJ) *JtJ = JtJ->selfadjointView<Eigen::Upper>();
+    return cost;
+  };
+
+  Eigen::Matrix<double, 5, 5> A;
+  Eigen::Matrix<double, 5, 1> g;
+  double cost = evaluate(p, &A, &g);
+  double lambda = 1e-3;
+  for (int it = 0; it < 30; ++it) {
+    Eigen::Matrix<double, 5, 5> M = A;
+    for (int d = 0; d < 5; ++d) M(d, d) += lambda * std::max(A(d, d), 1e-12);
+    const Eigen::Matrix<double, 5, 1> step = M.ldlt().solve(g);
+    Eigen::Matrix<double, 5, 1> q = p + step;
+    if (!(q(3) > 0.2 && q(3) < 20 && q(0) > 0)) {
+      lambda *= 10;
+      if (lambda > 1e8) break;
+      continue;
+    }
+    Eigen::Matrix<double, 5, 5> A2;
+    Eigen::Matrix<double, 5, 1> g2;
+    const double c2 = evaluate(q, &A2, &g2);
+    if (c2 < cost) {
+      p = q;
+      A = A2;
+      g = g2;
+      cost = c2;
+      lambda = std::max(lambda * 0.2, 1e-7);
+      // Converged when the position moves < 1e-4 px (far below the 0.02 px bias budget).
+      if (std::abs(step(1)) < 1e-4 && std::abs(step(2)) < 1e-4 && std::abs(step(3)) < 1e-3) break;
+    } else {
+      lambda *= 10;
+      if (lambda > 1e8) break;
+    }
+  }
+  FitResult r;
+  r.flux = p(0);
+  r.u = p(1);
+  r.v = p(2);
+  r.sigma = p(3);
+  r.background = p(4);
+  r.ok = std::isfinite(r.u) && std::isfinite(r.v) && r.u >= x0 - 0.5 && r.u <= x1 + 0.5 && r.v >= y0 - 0.5 &&
+         r.v <= y1 + 0.5;
+  return r;
+}
+
+// Median of up to 9 values (small insertion sort).
+float median_small(float* a, int n) {
+  for (int i = 1; i < n; ++i)
+    for (int j = i; j > 0 && a[j - 1] > a[j]; --j) std::swap(a[j - 1], a[j]);
+  return n % 2 ? a[n / 2] : 0.5f * (a[n / 2 - 1] + a[n / 2]);
+}
+
+struct BlockHit {
+  int bx, by;
+  unsigned max;
+  float background;
+};
+
+template <typename T>
+FrameCandidates find_candidates_t(const cv::Mat& img, int bits, const LampDetectorOptions& o) {
+  Workspace& ws = workspace();
+  FrameCandidates fc;
+  const int W = img.cols, H = img.rows;
+  const int sat = (1 << bits) - 1;
+  const double sigma = estimate_noise<T>(img, ws);
+  fc.noise_sigma = sigma;
+
+  const int nbx = (W + kBlock - 1) / kBlock, nby = (H + kBlock - 1) / kBlock;
+  const std::size_t nb = static_cast<std::size_t>(nbx) * nby;
+  ws.bmax.assign(nb, 0);
+  ws.bsum.assign(nb, 0);
+  ws.bmean.resize(nb);
+#if defined(__SSE2__)
+  if constexpr (sizeof(T) == 1)
+    block_stats_u8_sse2(img, nbx, nby, ws);
+  else
+    block_stats_scalar<T>(img, nbx, nby, ws);
+#else
+  block_stats_scalar<T>(img, nbx, nby, ws);
+#endif
+  for (int by = 0; by < nby; ++by) {
+    const int bh = std::min(H, (by + 1) * kBlock) - by * kBlock;
+    for (int bx = 0; bx < nbx; ++bx) {
+      const int bw = std::min(W, (bx + 1) * kBlock) - bx * kBlock;
+      const std::size_t b = static_cast<std::size_t>(by) * nbx + bx;
+      ws.bmean[b] = static_cast<float>(static_cast<double>(ws.bsum[b]) / (bw * bh));
+    }
+  }
+
+  // ---- 3. candidate blocks
+  const double gate = o.k_detect * sigma;
+  std::vector<BlockHit> hits;
+  for (int by = 0; by < nby; ++by) {
+    for (int bx = 0; bx < nbx; ++bx) {
+      const std::size_t b = static_cast<std::size_t>(by) * nbx + bx;
+      if (ws.bmax[b] <= ws.bmean[b] + gate) continue;
+      float nb9[9];
+      int k = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = bx + dx, y = by + dy;
+          if (x >= 0 && x < nbx && y >= 0 && y < nby)
+            nb9[k++] = ws.bmean[static_cast<std::size_t>(y) * nbx + x];
+        }
+      const float bg = median_small(nb9, k);
+      if (ws.bmax[b] > bg + gate) hits.push_back({bx, by, ws.bmax[b], bg});
+    }
+  }
+  std::sort(hits.begin(), hits.end(), [](const BlockHit& a, const BlockHit& b) {
+    return a.max != b.max ? a.max > b.max : (a.by != b.by ? a.by < b.by : a.bx < b.bx);
+  });
+  // Hot pixels are cheap to classify and must not crowd the lamp out, so the cap on examined
+  // blocks is generous and only lamp-like candidates count towards max_candidates.
+  if (hits.size() > static_cast<std::size_t>(16 * o.max_candidates)) hits.resize(16 * o.max_candidates);
+  int n_lamp_like = 0;
+
+  struct Box {
+    int x0, y0, x1, y1;
+  };
+  std::vector<Box> claimed;
+  for (const BlockHit& h : hits) {
+    // ---- 4. seed = brightest pixel of the block; grow the connected blob.
+    const int bx0 = h.bx * kBlock, by0 = h.by * kBlock;
+    const int bx1 = std::min(W, bx0 + kBlock), by1 = std::min(H, by0 + kBlock);
+    int sx = bx0, sy = by0;
+    unsigned best = 0;
+    for (int y = by0; y < by1; ++y) {
+      const T* p = img.ptr<T>(y);
+      for (int x = bx0; x < bx1; ++x)
+        if (p[x] > best) {
+          best = p[x];
+          sx = x;
+          sy = y;
+        }
+    }
+    bool inside = false;
+    for (const Box& b : claimed)
+      if (sx >= b.x0 && sx <= b.x1 && sy >= b.y0 && sy <= b.y1) inside = true;
+    if (inside) continue;
+
+    const double bg = h.background;
+    const double thr = bg + o.k_grow * sigma;
+    ws.stack.clear();
+    ws.visited.clear();
+    auto mask_at = [&](int x, int y) -> std::uint8_t& {
+      return ws.mask[static_cast<std::size_t>((y - sy + kGrowRadius) * kGrowSide + (x - sx + kGrowRadius))];
+    };
+    mask_at(sx, sy) = 1;
+    ws.stack.push_back(sy * W + sx);
+    ws.visited.push_back(sy * W + sx);
+    int area = 0, n_sat = 0, px = sx, py = sy;
+    unsigned peak = 0;
+    double sw = 0, swx = 0, swy = 0;
+    bool extended = false;
+    Box box{sx, sy, sx, sy};
+    while (!ws.stack.empty()) {
+      const int idx = ws.stack.back();
+      ws.stack.pop_back();
+      const int x = idx % W, y = idx / W;
+      const unsigned val = img.ptr<T>(y)[x];
+      ++area;
+      if (static_cast<int>(val) >= sat) ++n_sat;
+      if (val > peak) {
+        peak = val;
+        px = x;
+        py = y;
+      }
+      const double w = val - bg;
+      sw += w;
+      swx += w * x;
+      swy += w * y;
+      box.x0 = std::min(box.x0, x);
+      box.x1 = std::max(box.x1, x);
+      box.y0 = std::min(box.y0, y);
+      box.y1 = std::max(box.y1, y);
+      if (area > o.max_blob_px) {
+        extended = true;
+        break;
+      }
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
+          if (std::abs(xx - sx) > kGrowRadius || std::abs(yy - sy) > kGrowRadius) {
+            if (img.ptr<T>(yy)[xx] > thr) extended = true;
+            continue;
+          }
+          std::uint8_t& m = mask_at(xx, yy);
+          if (m || img.ptr<T>(yy)[xx] <= thr) continue;
+          m = 1;
+          ws.stack.push_back(yy * W + xx);
+          ws.visited.push_back(yy * W + xx);
+        }
+    }
+    for (const int idx : ws.visited) mask_at(idx % W, idx / W) = 0;
+    claimed.push_back({box.x0 - 1, box.y0 - 1, box.x1 + 1, box.y1 + 1});
+
+    // ---- 5. classify
+    LampCandidate c;
+    c.background = bg;
+    c.peak = peak - bg;
+    c.snr = c.peak / sigma;
+    c.area = area;
+    c.saturated_px = n_sat;
+    c.u = sw > 0 ? swx / sw : px;
+    c.v = sw > 0 ? swy / sw : py;
+    if (extended) {
+      c.kind = CandidateKind::extended;
+    } else if (px < o.edge_margin_px || py < o.edge_margin_px || px >= W - o.edge_margin_px ||
+               py >= H - o.edge_margin_px) {
+      c.kind = CandidateKind::edge;
+    } else if (area < o.min_area) {
+      c.kind = CandidateKind::hot_pixel;
+    } else {
+      if (n_sat == 0) {
+        const double nmean = 0.25 * (static_cast<double>(img.ptr<T>(py)[px - 1]) + img.ptr<T>(py)[px + 1] +
+                                     img.ptr<T>(py - 1)[px] + img.ptr<T>(py + 1)[px]) -
+                             bg;
+        if (nmean < o.min_neighbour_ratio * c.peak) c.kind = CandidateKind::hot_pixel;
+      }
+      if (c.kind == CandidateKind::lamp) {
+        // ---- 6. sub-pixel position
+        const int half = std::clamp(static_cast<int>(std::ceil(std::sqrt(area / M_PI))) + 4, 6, 24);
+        const int x0 = std::max(0, px - half), x1 = std::min(W - 1, px + half);
+        const int y0 = std::max(0, py - half), y1 = std::min(H - 1, py + half);
+        const double s0 = std::clamp(std::sqrt(std::max(area, 1) / (2.0 * M_PI)) * 0.6, 0.7, 4.0);
+        const FitResult f = fit_gaussian<T>(img, x0, x1, y0, y1, sat, c.u, c.v, s0, bg);
+        if (f.ok) {
+          c.u = f.u;
+          c.v = f.v;
+          c.sigma_px = f.sigma;
+          c.fitted = true;
+          if (f.sigma < o.min_sigma_px)
+            c.kind = CandidateKind::hot_pixel;
+          else if (f.sigma > o.max_sigma_px)
+            c.kind = CandidateKind::extended;
+        } else if (n_sat > 0) {
+          // Too few unsaturated pixels to fit: centroid of the saturated core.
+          double su = 0, sv = 0;
+          int n = 0;
+          for (int y = box.y0; y <= box.y1; ++y)
+            for (int x = box.x0; x <= box.x1; ++x)
+              if (static_cast<int>(img.ptr<T>(y)[x]) >= sat) {
+                su += x;
+                sv += y;
+                ++n;
+              }
+          if (n > 0) {
+            c.u = su / n;
+            c.v = sv / n;
+          }
+        }
+        if (c.kind == CandidateKind::lamp && c.snr < o.min_snr) c.kind = CandidateKind::low_snr;
+      }
+    }
+    fc.candidates.push_back(c);
+    if (c.kind != CandidateKind::hot_pixel && ++n_lamp_like >= o.max_candidates) break;
+  }
+  std::stable_sort(fc.candidates.begin(), fc.candidates.end(),
+                   [](const LampCandidate& a, const LampCandidate& b) { return a.peak > b.peak; });
+  return fc;
+}
+
+const char* status_of(CandidateKind k) {
+  switch (k) {
+    case CandidateKind::lamp:
+      return lamp_status::kOk;
+    case CandidateKind::hot_pixel:
+      return lamp_status::kHotPixel;
+    case CandidateKind::extended:
+      return lamp_status::kExtended;
+    case CandidateKind::edge:
+      return lamp_status::kEdge;
+    case CandidateKind::low_snr:
+      return lamp_status::kLowSnr;
+  }
+  return lamp_status::kNoLamp;
+}
+
+int rejection_rank(CandidateKind k) {
+  switch (k) {
+    case CandidateKind::low_snr:
+      return 4;
+    case CandidateKind::edge:
+      return 3;
+    case CandidateKind::extended:
+      return 2;
+    case CandidateKind::hot_pixel:
+      return 1;
+    case CandidateKind::lamp:
+      return 0;
+  }
+  return 0;
+}
+
+LampDetection row_from(const FrameCandidates& fc, const LampCandidate* c, const char* status) {
+  LampDetection d;
+  d.frame = fc.frame;
+  d.utc = fc.utc;
+  d.status = status;
+  if (c) {
+    d.u = c->u;
+    d.v = c->v;
+    d.peak = c->peak;
+    d.area = c->area;
+    d.snr = c->snr;
+  }
+  return d;
+}
+
+const char* ok_status(const LampCandidate& c) {
+  return c.saturated_px > 0 ? lamp_status::kOkSaturated : lamp_status::kOk;
+}
+
+}  // namespace
+
+FrameCandidates find_lamp_candidates(const cv::Mat& image, int bits, const LampDetectorOptions& options) {
+  if (image.empty() || image.channels() != 1 || (image.depth() != CV_8U && image.depth() != CV_16U))
+    throw std::invalid_argument("find_lamp_candidates: expected a CV_8UC1 or CV_16UC1 image");
+  if (image.depth() == CV_8U) return find_candidates_t<std::uint8_t>(image, std::min(bits, 8), options);
+  return find_candidates_t<std::uint16_t>(image, bits, options);
+}
+
+LampDetection decide_single_frame(const FrameCandidates& fc, const LampDetectorOptions&) {
+  if (!fc.loaded) return row_from(fc, nullptr, lamp_status::kMissingFrame);
+  const LampCandidate* first = nullptr;
+  int n = 0;
+  for (const LampCandidate& c : fc.candidates)
+    if (c.kind == CandidateKind::lamp) {
+      if (!first) first = &c;
+      ++n;
+    }
+  if (n == 1) return row_from(fc, first, ok_status(*first));
+  if (n > 1) return row_from(fc, first, lamp_status::kAmbiguous);
+  if (fc.candidates.empty()) return row_from(fc, nullptr, lamp_status::kNoLamp);
+  std::size_t best = 0;
+  for (std::size_t c = 1; c < fc.candidates.size(); ++c)
+    if (rejection_rank(fc.candidates[c].kind) > rejection_rank(fc.candidates[best].kind)) best = c;
+  return row_from(fc, &fc.candidates[best], status_of(fc.candidates[best].kind));
+}
+
+std::vector<LampDetection> resolve_lamp_sequence(const std::vector<FrameCandidates>& frames,
+                                                 const LampDetectorOptions& o) {
+  const std::size_t nf = frames.size();
+  // ---- static lights: lamp-like candidates that recur at the same place in many frames.
+  struct Pt {
+    std::size_t f, c;
+    double u, v;
+  };
+  std::vector<Pt> pts;
+  std::size_t n_loaded = 0;
+  for (std::size_t f = 0; f < nf; ++f) {
+    n_loaded += frames[f].loaded;
+    for (std::size_t c = 0; c < frames[f].candidates.size(); ++c) {
+      const auto k = frames[f].candidates[c].kind;
+      if (k == CandidateKind::lamp || k == CandidateKind::low_snr)
+        pts.push_back({f, c, frames[f].candidates[c].u, frames[f].candidates[c].v});
+    }
+  }
+  const std::size_t need =
+      std::max<std::size_t>(static_cast<std::size_t>(o.static_min_frames),
+                            static_cast<std::size_t>(std::ceil(o.static_min_fraction * n_loaded)));
+  const double cell = std::max(o.static_radius_px, 0.5);
+  auto key = [](long cx, long cy) { return (static_cast<std::int64_t>(cx) << 32) ^ (cy & 0xFFFFFFFFll); };
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> grid;
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    grid[key(static_cast<long>(std::floor(pts[i].u / cell)), static_cast<long>(std::floor(pts[i].v / cell)))]
+        .push_back(i);
+  std::vector<std::vector<bool>> is_static(nf);
+  for (std::size_t f = 0; f < nf; ++f) is_static[f].assign(frames[f].candidates.size(), false);
+  const double r2 = o.static_radius_px * o.static_radius_px;
+  std::vector<std::size_t> seen_frames;
+  for (const Pt& p : pts) {
+    const long cx = static_cast<long>(std::floor(p.u / cell)), cy = static_cast<long>(std::floor(p.v / cell));
+    seen_frames.clear();
+    for (long dy = -1; dy <= 1 && seen_frames.size() < need; ++dy)
+      for (long dx = -1; dx <= 1 && seen_frames.size() < need; ++dx) {
+        const auto it = grid.find(key(cx + dx, cy + dy));
+        if (it == grid.end()) continue;
+        for (const std::size_t j : it->second) {
+          const Pt& q = pts[j];
+          if ((q.u - p.u) * (q.u - p.u) + (q.v - p.v) * (q.v - p.v) > r2) continue;
+          if (std::find(seen_frames.begin(), seen_frames.end(), q.f) == seen_frames.end()) {
+            seen_frames.push_back(q.f);
+            if (seen_frames.size() >= need) break;
+          }
+        }
+      }
+    if (seen_frames.size() >= need) is_static[p.f][p.c] = true;
+  }
+
+  // ---- per-frame status
+  std::vector<LampDetection> out(nf);
+  std::vector<std::vector<std::size_t>> lamps(nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const FrameCandidates& fc = frames[f];
+    if (!fc.loaded) {
+      out[f] = row_from(fc, nullptr, lamp_status::kMissingFrame);
+      continue;
+    }
+    for (std::size_t c = 0; c < fc.candidates.size(); ++c)
+      if (fc.candidates[c].kind == CandidateKind::lamp && !is_static[f][c]) lamps[f].push_back(c);
+    if (lamps[f].size() == 1) {
+      const LampCandidate& c = fc.candidates[lamps[f][0]];
+      out[f] = row_from(fc, &c, ok_status(c));
+    } else if (lamps[f].size() > 1) {
+      out[f] = row_from(fc, &fc.candidates[lamps[f][0]], lamp_status::kAmbiguous);
+    } else if (fc.candidates.empty()) {
+      out[f] = row_from(fc, nullptr, lamp_status::kNoLamp);
+    } else {
+      // Report the most lamp-like rejection (static > low SNR > edge > extended > hot pixel), its
+      // strongest candidate.
+      std::size_t best = 0;
+      int best_rank = -1;
+      for (std::size_t c = 0; c < fc.candidates.size(); ++c) {
+        const int rank = is_static[f][c] ? 5 : rejection_rank(fc.candidates[c].kind);
+        if (rank > best_rank) {
+          best_rank = rank;
+          best = c;
+        }
+      }
+      out[f] = row_from(fc, &fc.candidates[best],
+                        is_static[f][best] ? lamp_status::kStatic : status_of(fc.candidates[best].kind));
+    }
+  }
+
+  // ---- motion consistency for frames with several candidates: predict the lamp from the
+  // nearest unambiguous detections before/after (linear in time) and keep the candidate that
+  // agrees — only when exactly one does.
+  std::vector<bool> anchor(nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    anchor[f] = out[f].status == lamp_status::kOk || out[f].status == lamp_status::kOkSaturated;
+  const std::int64_t max_gap_ns = static_cast<std::int64_t>(o.motion_max_gap_s * 1e9);
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (lamps[f].size() < 2) continue;
+    std::vector<std::size_t> before, after;
+    for (std::size_t g = f; g-- > 0 && before.size() < 2;) {
+      if (frames[f].utc.ns - frames[g].utc.ns > max_gap_ns) break;
+      if (anchor[g]) before.push_back(g);
+    }
+    for (std::size_t g = f + 1; g < nf && after.size() < 2; ++g) {
+      if (frames[g].utc.ns - frames[f].utc.ns > max_gap_ns) break;
+      if (anchor[g]) after.push_back(g);
+    }
+    std::size_t a = nf, b = nf;
+    if (!before.empty() && !after.empty()) {
+      a = before[0];
+      b = after[0];
+    } else if (before.size() == 2) {
+      a = before[1];
+      b = before[0];
+    } else if (after.size() == 2) {
+      a = after[0];
+      b = after[1];
+    } else {
+      continue;  // cannot predict: stays ambiguous
+    }
+    const double ta = static_cast<double>(frames[a].utc.ns - frames[f].utc.ns);
+    const double tb = static_cast<double>(frames[b].utc.ns - frames[f].utc.ns);
+    const double w = ta / (ta - tb);  // position at f = A + (B − A)·(0 − ta)/(tb − ta)
+    const double pu = out[a].u + (out[b].u - out[a].u) * w;
+    const double pv = out[a].v + (out[b].v - out[a].v) * w;
+    double d1 = 1e300, d2 = 1e300;
+    std::size_t best = 0;
+    for (const std::size_t c : lamps[f]) {
+      const LampCandidate& lc = frames[f].candidates[c];
+      const double d = std::hypot(lc.u - pu, lc.v - pv);
+      if (d < d1) {
+        d2 = d1;
+        d1 = d;
+        best = c;
+      } else if (d < d2) {
+        d2 = d;
+      }
+    }
+    if (d1 <= o.motion_gate_px && d2 > 2.0 * o.motion_gate_px)
+      out[f] = row_from(frames[f], &frames[f].candidates[best], lamp_status::kOkByMotion);
+  }
+  return out;
+}
+
+namespace {
+
+int arena_threads(int threads) {
+  return threads > 0 ? threads : tbb::task_arena::automatic;
+}
+
+}  // namespace
+
+std::vector<LampDetection> detect_lamp(const FrameSource& source, const std::vector<std::size_t>& indices,
+                                       const LampDetectorOptions& options, int threads,
+                                       const std::function<void()>& on_frame_done) {
+  const std::size_t n = indices.size();
+  std::vector<FrameCandidates> fcs(n);
+  std::vector<std::exception_ptr> errors(n);
+  tbb::task_arena arena(arena_threads(threads));
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          try {
+                            const FrameTimestamp& e = source.entry(indices[i]);
+                            std::string reason;
+                            const auto frame = source.load(indices[i], &reason);
+                            if (frame) {
+                              fcs[i] = find_lamp_candidates(frame->image, frame->bits, options);
+                            } else {
+                              fcs[i].loaded = false;
+                              fcs[i].skip_reason = reason;
+                            }
+                            fcs[i].frame = e.frame;
+                            fcs[i].utc = e.utc;
+                          } catch (...) {
+                            errors[i] = std::current_exception();
+                          }
+                          if (on_frame_done) on_frame_done();
+                        }
+                      });
+  });
+  // The first failing frame in order, whatever the thread count.
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  return resolve_lamp_sequence(fcs, options);
+}
+
+std::vector<LampDetection> detect_lamp(const std::vector<ImageFrame>& frames,
+                                       const LampDetectorOptions& options, int threads) {
+  const std::size_t n = frames.size();
+  std::vector<FrameCandidates> fcs(n);
+  tbb::task_arena arena(arena_threads(threads));
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          fcs[i] = find_lamp_candidates(frames[i].image, frames[i].bits, options);
+                          fcs[i].frame = frames[i].frame;
+                          fcs[i].utc = frames[i].utc;
+                        }
+                      });
+  });
+  return resolve_lamp_sequence(fcs, options);
+}
+
+}  // namespace rangecal

@@ -1,0 +1,219 @@
+#include "vision/frames/frame_source.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "config/error.hpp"
+#include "vision/frames/cine_reader.hpp"
+
+namespace rangecal {
+
+struct VideoHandle {
+  std::mutex mutex;
+  cv::VideoCapture capture;
+  std::int64_t next_index = 0;  ///< index the next read() returns without seeking
+  std::int64_t frame_count = 0;
+};
+
+FrameFileKind frame_file_kind(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".png" || ext == ".tif" || ext == ".tiff") return FrameFileKind::image;
+  if (ext == ".cine") return FrameFileKind::cine;
+  static const char* const kVideo[] = {".avi", ".mkv",  ".mp4",  ".mov", ".m4v",
+                                       ".mpg", ".mpeg", ".webm", ".wmv"};
+  for (const char* v : kVideo)
+    if (ext == v) return FrameFileKind::video;
+  return FrameFileKind::unknown;
+}
+
+namespace {
+
+// Any depth/channel layout OpenCV decodes → single-channel CV_8U or CV_16U.
+cv::Mat to_grey(cv::Mat m, int* bits) {
+  if (m.empty()) return m;
+  if (m.channels() == 3)
+    cv::cvtColor(m, m, cv::COLOR_BGR2GRAY);
+  else if (m.channels() == 4)
+    cv::cvtColor(m, m, cv::COLOR_BGRA2GRAY);
+  else if (m.channels() != 1)
+    return cv::Mat();
+  if (m.depth() == CV_8U) {
+    *bits = 8;
+    return m;
+  }
+  if (m.depth() == CV_16U) {
+    *bits = 16;
+    return m;
+  }
+  return cv::Mat();  // float/signed images are not camera frames
+}
+
+}  // namespace
+
+cv::Mat decode_image_file(const std::string& path, int* bits) {
+  return to_grey(cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR), bits);
+}
+
+FrameSource::FrameSource(FrameSource&&) noexcept = default;
+FrameSource& FrameSource::operator=(FrameSource&&) noexcept = default;
+FrameSource::~FrameSource() = default;
+
+FrameSource FrameSource::from_timestamps_csv(const std::string& csv_path, const SensorConfig& sensor,
+                                             bool allow_missing) {
+  FrameSource s;
+  s.origin_ = csv_path;
+  s.entries_ = read_frame_timestamps(csv_path).entries;
+  s.sensor_w_ = sensor.width_px;
+  s.sensor_h_ = sensor.height_px;
+  s.allow_missing_ = allow_missing;
+  for (const FrameTimestamp& e : s.entries_) {
+    const FrameFileKind kind = frame_file_kind(e.file);
+    if (kind == FrameFileKind::unknown)
+      throw_input_error(
+          csv_path, e.line, "file",
+          "'" + e.file + "' is not a supported frame file (.png .tif .tiff, a video, or .cine)");
+    if (kind == FrameFileKind::image || s.container_errors_.count(e.file)) continue;
+    std::string problem;
+    if (kind == FrameFileKind::cine && !s.cines_.count(e.file)) {
+      try {
+        s.cines_[e.file] = std::make_shared<CineReader>(e.file);
+      } catch (const Error& err) {
+        problem = err.what();
+      }
+    } else if (kind == FrameFileKind::video && !s.videos_.count(e.file)) {
+      auto v = std::make_shared<VideoHandle>();
+      if (!std::filesystem::exists(e.file))
+        problem = "missing video file '" + e.file + "'";
+      else if (!v->capture.open(e.file, cv::CAP_FFMPEG) && !v->capture.open(e.file))
+        problem = "cannot open video '" + e.file + "'";
+      else {
+        v->frame_count = static_cast<std::int64_t>(v->capture.get(cv::CAP_PROP_FRAME_COUNT));
+        s.videos_[e.file] = v;
+      }
+    }
+    if (!problem.empty()) {
+      if (!allow_missing) throw_input_error(csv_path, e.line, "file", problem);
+      s.container_errors_[e.file] = problem;
+      continue;
+    }
+    std::int64_t n = -1;
+    if (kind == FrameFileKind::cine) n = static_cast<std::int64_t>(s.cines_.at(e.file)->frame_count());
+    if (kind == FrameFileKind::video) n = s.videos_.at(e.file)->frame_count;
+    if (n >= 0 && e.frame >= n && !allow_missing)
+      throw_input_error(csv_path, e.line, "frame",
+                        "frame " + std::to_string(e.frame) + " is beyond the end of '" + e.file + "' (" +
+                            std::to_string(n) + " frames)");
+  }
+  return s;
+}
+
+FrameSource FrameSource::from_cine(const std::string& cine_path, const SensorConfig& sensor) {
+  FrameSource s;
+  s.origin_ = cine_path;
+  s.sensor_w_ = sensor.width_px;
+  s.sensor_h_ = sensor.height_px;
+  auto reader = std::make_shared<CineReader>(cine_path);
+  if (!reader->has_times())
+    throw_input_error(cine_path, 0, "tagged block 1002 (TimeOnly)",
+                      "the .cine has no per-frame time stamps; give a timestamps CSV instead");
+  for (std::size_t i = 0; i < reader->frame_count(); ++i) {
+    FrameTimestamp e;
+    e.frame = static_cast<std::int64_t>(i);
+    e.file = cine_path;
+    e.utc = reader->frame_time(i);
+    if (!s.entries_.empty() && e.utc <= s.entries_.back().utc)
+      throw_input_error(cine_path, 0, "time stamp of image " + std::to_string(i),
+                        format_iso8601_utc(e.utc) + " is not after the previous image's " +
+                            format_iso8601_utc(s.entries_.back().utc));
+    s.entries_.push_back(e);
+  }
+  s.cines_[cine_path] = std::move(reader);
+  return s;
+}
+
+FrameSource FrameSource::from_config(const FramesConfig& frames, const SensorConfig& sensor) {
+  if (!frames.timestamps.empty()) return from_timestamps_csv(frames.timestamps, sensor, frames.allow_missing);
+  if (!frames.cine.empty()) return from_cine(frames.cine, sensor);
+  throw_config_error("", "frames", "neither `timestamps` nor `cine` is set");
+}
+
+std::optional<ImageFrame> FrameSource::load(std::size_t i, std::string* skip_reason) const {
+  const FrameTimestamp& e = entries_.at(i);
+  ImageFrame f;
+  f.frame = e.frame;
+  f.utc = e.utc;
+  std::string problem;
+  switch (frame_file_kind(e.file)) {
+    case FrameFileKind::image:
+      if (!std::filesystem::exists(e.file)) {
+        problem = "missing frame file '" + e.file + "'";
+      } else {
+        f.image = decode_image_file(e.file, &f.bits);
+        if (f.image.empty()) problem = "cannot decode frame file '" + e.file + "' as an 8/16-bit PNG or TIFF";
+      }
+      break;
+    case FrameFileKind::cine: {
+      const auto it = cines_.find(e.file);
+      if (it == cines_.end()) {
+        problem =
+            container_errors_.count(e.file) ? container_errors_.at(e.file) : "'" + e.file + "' not open";
+        break;
+      }
+      if (e.frame >= static_cast<std::int64_t>(it->second->frame_count())) {
+        problem = "frame " + std::to_string(e.frame) + " is beyond the end of '" + e.file + "'";
+        break;
+      }
+      try {
+        f.image = it->second->read_image(static_cast<std::size_t>(e.frame));
+        f.bits = it->second->bits();
+      } catch (const Error& err) {
+        problem = err.what();
+      }
+      break;
+    }
+    case FrameFileKind::video: {
+      const auto it = videos_.find(e.file);
+      if (it == videos_.end()) {
+        problem =
+            container_errors_.count(e.file) ? container_errors_.at(e.file) : "'" + e.file + "' not open";
+        break;
+      }
+      VideoHandle& v = *it->second;
+      cv::Mat m;
+      {
+        std::lock_guard<std::mutex> lock(v.mutex);
+        if (e.frame != v.next_index) v.capture.set(cv::CAP_PROP_POS_FRAMES, static_cast<double>(e.frame));
+        const bool ok = v.capture.read(m);
+        v.next_index = ok ? e.frame + 1 : -1;
+      }
+      f.image = to_grey(m, &f.bits);
+      if (f.image.empty())
+        problem = "cannot decode frame " + std::to_string(e.frame) + " of video '" + e.file + "'";
+      break;
+    }
+    case FrameFileKind::unknown:
+      problem = "'" + e.file + "' is not a supported frame file";
+      break;
+  }
+  if (!problem.empty()) {
+    if (allow_missing_) {
+      if (skip_reason) *skip_reason = problem;
+      return std::nullopt;
+    }
+    throw_input_error(origin_, e.line, "file", problem);
+  }
+  if ((sensor_w_ > 0 && f.image.cols != sensor_w_) || (sensor_h_ > 0 && f.image.rows != sensor_h_))
+    throw_input_error(origin_, e.line, "file",
+                      "frame '" + e.file + "' (frame " + std::to_string(e.frame) + ") is " +
+                          std::to_string(f.image.cols) + "x" + std::to_string(f.image.rows) +
+                          " px; the sensor is " + std::to_string(sensor_w_) + "x" +
+                          std::to_string(sensor_h_));
+  return f;
+}
+
+}  // namespace rangecal

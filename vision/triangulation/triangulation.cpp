@@ -1,0 +1,250 @@
+#include "vision/triangulation/triangulation.hpp"
+
+#include <ceres/jet.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <cmath>
+#include <cstdio>
+
+#include "config/error.hpp"
+
+namespace rangecal {
+
+namespace {
+
+constexpr int kNumParams = static_cast<int>(kTriangulationParameterNames.size());
+constexpr int kW = 11, kT = 14, kC = 17;  // first index of wx, Tx, CE in the name table
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+/// Parameter indices of `names` in kTriangulationParameterNames; sets *center_mode unless the
+/// names use T. Throws for an unknown name or T mixed with C.
+std::vector<int> parameter_indices(const std::vector<std::string>& names, const std::string& cam_id,
+                                   bool* center_mode) {
+  std::vector<int> idx;
+  bool has_t = false, has_c = false;
+  for (const std::string& n : names) {
+    int k = -1;
+    for (int j = 0; j < kNumParams; ++j)
+      if (n == kTriangulationParameterNames[j]) k = j;
+    if (k < 0)
+      throw_calibration_error("camera " + cam_id + " covariance", "unknown parameter name '" + n + "'");
+    has_t = has_t || (k >= kT && k < kT + 3);
+    has_c = has_c || (k >= kC && k < kC + 3);
+    idx.push_back(k);
+  }
+  if (has_t && has_c) {
+    throw_calibration_error(
+        "camera " + cam_id + " covariance",
+        "mixes translation (Tx Ty Tz) and centre (CE CN CU) parameters; use one pose form");
+  }
+  *center_mode = !has_t;
+  return idx;
+}
+
+/// Pixel of world point X through `cam` perturbed by q (kNumParams values, names table order).
+/// Centre mode: Xc = exp([w]×)·R̂·(X − Ĉ − δC); translation mode: Xc = exp([w]×)·R̂·X + T̂ + δT.
+template <typename T>
+bool project_perturbed(const Camera& cam, bool center_mode, const T* X, const T* q, T* uv, T* depth) {
+  const Eigen::Matrix3d& R = cam.pose.R;
+  const Eigen::Vector3d C = cam.pose.center();
+  T y[3], xc[3];
+  if (center_mode) {
+    const T rel[3] = {X[0] - C.x() - q[kC], X[1] - C.y() - q[kC + 1], X[2] - C.z() - q[kC + 2]};
+    for (int r = 0; r < 3; ++r) y[r] = R(r, 0) * rel[0] + R(r, 1) * rel[1] + R(r, 2) * rel[2];
+    ceres::AngleAxisRotatePoint(q + kW, y, xc);
+  } else {
+    for (int r = 0; r < 3; ++r) y[r] = R(r, 0) * X[0] + R(r, 1) * X[1] + R(r, 2) * X[2];
+    ceres::AngleAxisRotatePoint(q + kW, y, xc);
+    for (int r = 0; r < 3; ++r) xc[r] += cam.pose.T[r] + q[kT + r];
+  }
+  *depth = xc[2];
+  const CameraIntrinsics& in = cam.intr;
+  const T intr[4] = {in.f_mm + q[0], in.sx + q[1], in.u0_px + q[2], in.v0_px + q[3]};
+  const auto d0 = in.dist.as_array();
+  T d[7];
+  for (int k = 0; k < 7; ++k) d[k] = d0[k] + q[4 + k];
+  return project_camera_point(intr, d, in.dx_mm, in.dy_mm, xc, &uv[0], &uv[1]);
+}
+
+/// Pixel, ∂pixel/∂X and (optionally) ∂pixel/∂θ for all kNumParams parameters.
+struct ProjectionDerivatives {
+  Eigen::Vector2d uv;
+  Eigen::Matrix<double, 2, 3> d_point;
+  Eigen::Matrix<double, 2, kNumParams> d_params;
+  double depth = 0;
+  bool ok = false;
+};
+
+ProjectionDerivatives differentiate(const Camera& cam, bool center_mode, const Eigen::Vector3d& X,
+                                    bool with_params) {
+  ProjectionDerivatives out;
+  if (with_params) {
+    using J = ceres::Jet<double, 3 + kNumParams>;
+    J x[3], q[kNumParams], uv[2], depth;
+    for (int k = 0; k < 3; ++k) x[k] = J(X[k], k);
+    for (int k = 0; k < kNumParams; ++k) q[k] = J(0.0, 3 + k);
+    out.ok = project_perturbed(cam, center_mode, x, q, uv, &depth);
+    out.depth = depth.a;
+    for (int r = 0; r < 2; ++r) {
+      out.uv[r] = uv[r].a;
+      out.d_point.row(r) = uv[r].v.template head<3>().transpose();
+      out.d_params.row(r) = uv[r].v.template tail<kNumParams>().transpose();
+    }
+  } else {
+    using J = ceres::Jet<double, 3>;
+    J x[3], q[kNumParams], uv[2], depth;
+    for (int k = 0; k < 3; ++k) x[k] = J(X[k], k);
+    for (int k = 0; k < kNumParams; ++k) q[k] = J(0.0);
+    out.ok = project_perturbed(cam, center_mode, x, q, uv, &depth);
+    out.depth = depth.a;
+    for (int r = 0; r < 2; ++r) {
+      out.uv[r] = uv[r].a;
+      out.d_point.row(r) = uv[r].v.transpose();
+    }
+    out.d_params.setZero();
+  }
+  return out;
+}
+
+[[noreturn]] void behind_camera(const std::string& what, const Camera& cam, double depth) {
+  throw_calibration_error(what, "the triangulated point lies behind camera " + cam.id + " (depth " +
+                                    fmt("%.3f", depth) +
+                                    " m): the rays do not meet in front of every camera — check the picks "
+                                    "and the calibrations");
+}
+
+}  // namespace
+
+Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera, const std::vector<std::string>& names,
+                                              const Eigen::Vector3d& X,
+                                              Eigen::Matrix<double, 2, 3>* d_point) {
+  bool center_mode = true;
+  const std::vector<int> idx = parameter_indices(names, camera.id, &center_mode);
+  const ProjectionDerivatives pd = differentiate(camera, center_mode, X, true);
+  if (!(pd.depth > 0)) behind_camera("camera " + camera.id + " Jacobian", camera, pd.depth);
+  Eigen::MatrixXd J(2, static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t k = 0; k < idx.size(); ++k) J.col(static_cast<Eigen::Index>(k)) = pd.d_params.col(idx[k]);
+  if (d_point) *d_point = pd.d_point;
+  return J;
+}
+
+TriangulationResult triangulate_point(const std::vector<TriangulationView>& views, const std::string& what) {
+  const std::size_t n = views.size();
+  if (n < 2) {
+    throw_calibration_error(
+        what, "seen by " + std::to_string(n) + " calibrated camera(s); triangulation needs at least two");
+  }
+  // Validate the views and their covariances up front.
+  std::vector<std::vector<int>> param_idx(n);
+  std::vector<char> center_mode(n, 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const TriangulationView& v = views[i];
+    if (!(std::isfinite(v.uv_px.x()) && std::isfinite(v.uv_px.y())))
+      throw_input_error("", 0, "u,v", what + ": the pixel seen by camera " + v.camera.id + " is not finite");
+    if (!(std::isfinite(v.pick_sigma_px) && v.pick_sigma_px > 0))
+      throw_input_error(
+          "", 0, "pick_sigma_px",
+          what + ": camera " + v.camera.id + " pick σ must be positive, got " + fmt("%g", v.pick_sigma_px));
+    bool cm = true;
+    param_idx[i] = parameter_indices(v.calibration.parameter_names, v.camera.id, &cm);
+    center_mode[i] = cm;
+    const auto m = static_cast<Eigen::Index>(param_idx[i].size());
+    const Eigen::MatrixXd& S = v.calibration.covariance;
+    if (S.rows() != m || S.cols() != m)
+      throw_calibration_error("camera " + v.camera.id + " covariance",
+                              "is " + std::to_string(S.rows()) + "×" + std::to_string(S.cols()) + " for " +
+                                  std::to_string(m) + " parameter names");
+    if (m > 0 && !S.allFinite())
+      throw_calibration_error("camera " + v.camera.id + " covariance", "has non-finite entries");
+  }
+
+  TriangulationResult res;
+  // 1. Linear: least-squares midpoint of the rays.
+  std::vector<Eigen::Vector3d> dirs(n);
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    dirs[i] = pixel_ray_world(views[i].camera, views[i].uv_px);
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - dirs[i] * dirs[i].transpose();
+    A += P;
+    b += P * views[i].camera.pose.center();
+  }
+  double max_angle = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j)
+      max_angle = std::max(max_angle, std::atan2(dirs[i].cross(dirs[j]).norm(), dirs[i].dot(dirs[j])));
+  res.max_ray_angle_deg = max_angle * 57.295779513082320876;  // 180/π
+  if (!(max_angle >= 1e-4)) {
+    throw_calibration_error(what, "the viewing rays are parallel (largest angle between them " +
+                                      fmt("%.2e", max_angle) +
+                                      " rad): no intersection; the cameras see the "
+                                      "point from the same direction");
+  }
+  res.linear_point = A.ldlt().solve(b);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double depth = world_to_camera(views[i].camera.pose, res.linear_point).z();
+    if (!(depth > 0)) behind_camera(what, views[i].camera, depth);
+  }
+
+  // 2. Gauss–Newton on the weighted reprojection error.
+  Eigen::Vector3d X = res.linear_point;
+  Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
+  bool converged = false;
+  for (int it = 0; it < 50 && !converged; ++it) {
+    N.setZero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < n; ++i) {
+      const ProjectionDerivatives pd = differentiate(views[i].camera, center_mode[i] != 0, X, false);
+      if (!(pd.depth > 0)) behind_camera(what, views[i].camera, pd.depth);
+      const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
+      N += w * pd.d_point.transpose() * pd.d_point;
+      g += w * pd.d_point.transpose() * (pd.uv - views[i].uv_px);
+    }
+    const Eigen::Vector3d step = -N.ldlt().solve(g);
+    if (!step.allFinite()) throw_calibration_error(what, "the reprojection normal equations are singular");
+    X += step;
+    res.iterations = it + 1;
+    converged = step.norm() < 1e-10 * (1.0 + X.norm());
+  }
+  if (!converged)
+    throw_calibration_error(what, "the nonlinear triangulation did not converge in 50 iterations");
+
+  // 3. Residuals and covariance at the solution.
+  res.point = X;
+  N.setZero();
+  std::vector<ProjectionDerivatives> pds(n);
+  double sum_sq = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    pds[i] = differentiate(views[i].camera, center_mode[i] != 0, X, !param_idx[i].empty());
+    if (!(pds[i].depth > 0)) behind_camera(what, views[i].camera, pds[i].depth);
+    const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
+    N += w * pds[i].d_point.transpose() * pds[i].d_point;
+    res.residuals_px.push_back(pds[i].uv - views[i].uv_px);
+    sum_sq += res.residuals_px.back().squaredNorm();
+  }
+  res.rms_px = std::sqrt(sum_sq / static_cast<double>(n));
+  const Eigen::Matrix3d Ninv = N.inverse();
+  res.cov_pick_m2 = Ninv;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (param_idx[i].empty()) continue;
+    const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
+    Eigen::MatrixXd Jt(2, static_cast<Eigen::Index>(param_idx[i].size()));
+    for (std::size_t k = 0; k < param_idx[i].size(); ++k)
+      Jt.col(static_cast<Eigen::Index>(k)) = pds[i].d_params.col(param_idx[i][k]);
+    const Eigen::MatrixXd dX = -Ninv * (w * pds[i].d_point.transpose()) * Jt;  // ∂X/∂θ_i, 3×m
+    res.cov_calibration_m2 += dX * views[i].calibration.covariance * dX.transpose();
+  }
+  res.cov_calibration_m2 = 0.5 * (res.cov_calibration_m2 + res.cov_calibration_m2.transpose()).eval();
+  res.cov_m2 = res.cov_pick_m2 + res.cov_calibration_m2;
+  res.sigma_m = std::sqrt(res.cov_m2.trace());
+  return res;
+}
+
+}  // namespace rangecal

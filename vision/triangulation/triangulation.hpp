@@ -1,0 +1,81 @@
+#pragma once
+// N-camera triangulation of one point (SPEC §4.5; seed 002 §4.2 Table 4) with its predicted
+// covariance from the pick noise and the cameras' calibration covariances. Method and choices:
+// docs/intersection.md.
+//
+//  1. Linear: the least-squares midpoint of the undistorted viewing rays (pixel_ray_world):
+//       X0 = argmin Σ_i |(I − d_i d_iᵀ)(X − C_i)|²   (closed form, 3×3 solve).
+//  2. Nonlinear: Gauss–Newton on the reprojection error (camera_model's project, distortion
+//     inverted exactly), each camera's residual weighted by 1/σ_px².
+//  3. Covariance, first order at the solution (J_i = ∂pixel_i/∂X, W_i = I/σ_i²,
+//     N = Σ J_iᵀ W_i J_i):
+//       pick noise:   Σ_pick = N⁻¹
+//       calibration:  ∂X/∂θ_i = −N⁻¹ J_iᵀ W_i ∂pixel_i/∂θ_i      (implicit-function theorem)
+//                     Σ_cal  = Σ_i (∂X/∂θ_i) Σ_θi (∂X/∂θ_i)ᵀ   (cameras independent)
+//       Σ_X = Σ_pick + Σ_cal;  sigma_m = √trace Σ_X, the predicted RMS of ΔR (Table 4).
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "vision/camera/camera_model.hpp"
+
+namespace rangecal {
+
+/// Parameter names a camera covariance may use (vision/camera/calibration_result.hpp naming):
+///   f (mm), sx, u0 v0 (px), k1 k2 k3 p1 p2 a1 a2 (sensor mm units),
+///   wx wy wz (rad): rotation perturbation R = exp([w]×)·R̂ (left, camera axes),
+///   Tx Ty Tz (m): translation (Xc = R·Xw + T), or CE CN CU (m): camera centre (Xc = R·(Xw − C)).
+///   clock_offset (s): the camera clock offset of the bundle; a static point's pixel does not
+///   depend on it (zero column), so it acts only through its correlations with the others, which
+///   the covariance already carries.
+/// T and C parameters cannot be mixed in one covariance; with C (or neither) a rotation
+/// perturbation turns the camera about its centre, with T about the world origin.
+inline constexpr std::array<const char*, 21> kTriangulationParameterNames = {
+    "f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2", "a1",          "a2",
+    "wx", "wy", "wz", "Tx", "Ty", "Tz", "CE", "CN", "CU", "clock_offset"};
+
+/// The calibration uncertainty of one camera: covariance over any subset of the names above, in
+/// their units (e.g. CalibrationResult::parameter_names / covariance). Empty = exactly known.
+struct CameraCovariance {
+  std::vector<std::string> parameter_names;
+  Eigen::MatrixXd covariance;  ///< n×n, n = parameter_names.size()
+};
+
+/// One camera's view of the point.
+struct TriangulationView {
+  Camera camera;
+  CameraCovariance calibration;
+  Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();  ///< picked pixel (u right, v down)
+  double pick_sigma_px = 0.2;                       ///< 1σ of the pick per axis (px, > 0)
+};
+
+struct TriangulationResult {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();         ///< ENU (m), nonlinear solution
+  Eigen::Vector3d linear_point = Eigen::Vector3d::Zero();  ///< ENU (m), midpoint start
+  std::vector<Eigen::Vector2d> residuals_px;               ///< projected − picked, per view (px)
+  double rms_px = 0;                                       ///< √(mean over views of |residual|²) (px)
+  double max_ray_angle_deg = 0;  ///< largest angle between two views' rays (intersection geometry)
+  Eigen::Matrix3d cov_pick_m2 = Eigen::Matrix3d::Zero();         ///< from pick noise (m²)
+  Eigen::Matrix3d cov_calibration_m2 = Eigen::Matrix3d::Zero();  ///< from calibration covariances (m²)
+  Eigen::Matrix3d cov_m2 = Eigen::Matrix3d::Zero();              ///< total (m²)
+  double sigma_m = 0;  ///< √trace(cov_m2): predicted RMS of the 3-D error ΔR (m)
+  int iterations = 0;  ///< Gauss–Newton iterations
+};
+
+/// Triangulates one point seen by views.size() ≥ 2 cameras. `what` names the point in messages
+/// (e.g. "pole A3"). Throws rangecal::Error (calibration) when fewer than two views are given,
+/// the rays are (nearly) parallel (largest angle between them < 1e-4 rad), the point lies behind
+/// a camera, the solution does not converge, or a covariance is malformed (size, unknown name,
+/// T mixed with C, non-finite); (input) when a pick σ is not positive or a pixel is not finite.
+TriangulationResult triangulate_point(const std::vector<TriangulationView>& views,
+                                      const std::string& what = "point");
+
+/// ∂pixel/∂θ (2×n) of `camera` at world point X for the named parameters (perturbation model as
+/// above), and ∂pixel/∂X (2×3) in `d_point` when non-null. Throws like triangulate_point for a
+/// bad name or a point behind the camera. Exposed for tests and planning tools.
+Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera, const std::vector<std::string>& names,
+                                              const Eigen::Vector3d& X,
+                                              Eigen::Matrix<double, 2, 3>* d_point = nullptr);
+
+}  // namespace rangecal
