@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "config/mission_config.hpp"
+#include "gnss/geodesy/geodetic_origin.hpp"
 
 namespace rangecal {
 

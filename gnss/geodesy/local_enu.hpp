@@ -6,7 +6,7 @@
 #include <GeographicLib/LocalCartesian.hpp>
 #include <limits>
 
-#include "config/mission_config.hpp"
+#include "gnss/geodesy/geodetic_origin.hpp"
 #include "gnss/formats/rtklib_pos_reader.hpp"
 
 namespace rangecal {

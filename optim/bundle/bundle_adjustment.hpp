@@ -2,51 +2,34 @@
 // Single-camera bundle adjustment (SPEC §4.4 `bundle`): Ceres Levenberg–Marquardt over a chosen
 // subset of the camera's parameters, from (world ENU point, pixel) pairs, with
 //   - weights: each pixel residual whitened by its effective image covariance
-//       C_i = σ_px²·I + J_X·Σ_X·J_Xᵀ    (J_X = ∂pixel/∂world point, Σ_X the point's PPK covariance)
+//       C_i = σ_px²·I + J_X·Σ_X·J_Xᵀ    (optim/bundle/whitening.hpp)
 //     so the world-point noise (1 cm at 64 m through 135 mm / 20 µm ≈ 1 px) is honestly counted;
 //   - priors on the principal point and the camera centre as extra residual blocks;
 //   - a robust loss (Huber or Cauchy, scale in whitened units) to find outliers, which are listed
 //     and (by default) dropped before a final plain least-squares solve;
 //   - covariance → 1σ and correlations of every free parameter, camera-centre covariance, the
-//     a-posteriori variance factor, and warnings for poorly determined parameters.
+//     a-posteriori variance factor (optim/bundle/bundle_covariance.hpp), and warnings for poorly
+//     determined parameters (optim/bundle/bundle_diagnostics.hpp).
 // Method, weighting and thresholds: docs/optimisation.md.
 //
-// Parameters (CalibrationResult naming, vision/camera/calibration_result.hpp):
-//   f (mm), sx, u0, v0 (px), k1 k2 k3 p1 p2 a1 a2 (distorted → undistorted, sensor mm),
-//   wx wy wz (rad): rotation perturbation R = exp([w]×)·R̂ about the final R̂ (camera axes),
-//   CE CN CU (m): camera centre in ENU (Xc = R·(Xw − C), T = −R·C),
-//   clock_offset (s): camera clock − GNSS time, δ = frame stamp − true exposure time. The world
-//     point was interpolated at the frame's stamp, so the lamp really stood at
-//       X(t_true) = X(stamp − δ) ≈ Xw − v·δ        (v the lamp velocity at the stamp)
-//     and that is what the camera saw (docs/optimisation.md "Clock offset"). The lamp moves up to
-//     10 m/s, so 1 ms is up to 1 cm. Separable from the camera centre only where the velocity
-//     varies (ascents and descents, accelerations) or static points (control poles) are present;
-//     a constant velocity makes δ and the centre one direction, which the rank test reports.
-// Free-parameter names accepted in BundleOptions::free: f, sx, u0, v0, k1, k2, k3, p1, p2, a1, a2,
-// pose (= rotation + center), rotation (wx wy wz), center (CE CN CU), clock_offset.
+// Parameters: vision/camera/camera_parameters.hpp, f … clock_offset (the centre form of the pose).
+// The clock offset δ = frame stamp − true exposure time: the lamp really stood at Xw − v·δ
+// (optim/bundle/bundle_observation.hpp). The lamp moves up to 10 m/s, so 1 ms is up to 1 cm.
+// Separable from the camera centre only where the velocity varies (ascents and descents,
+// accelerations) or static points (control poles) are present; a constant velocity makes δ and the
+// centre one direction, which the rank test reports.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "optim/bundle/bundle_observation.hpp"
+#include "optim/bundle/whitening.hpp"
 #include "vision/camera/calibration_result.hpp"
 #include "vision/camera/camera_model.hpp"
+#include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
-
-struct BundleObservation {
-  Eigen::Vector3d world = Eigen::Vector3d::Zero();      ///< ENU, m
-  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();      ///< (u, v), px
-  Eigen::Matrix3d world_cov = Eigen::Matrix3d::Zero();  ///< Σ_X, m² (e.g. diag(sdE², sdN², sdU²))
-  double pixel_sigma_px = 0;  ///< σ_px of this pixel; ≤ 0 → BundleOptions::pixel_sigma_px
-  /// Lamp velocity (ENU, m/s) at the observation's time stamp (Hermite derivative of the track);
-  /// zero for static points such as poles. Used only when clock_offset is free (or nonzero).
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-};
-
-/// The world point the camera saw: Xw − v·δ for a camera clock offset δ (s), see above.
-inline Eigen::Vector3d observed_world_point(const BundleObservation& o, double clock_offset_s) {
-  return o.world - o.velocity * clock_offset_s;
-}
 
 struct BundlePriors {
   bool use_principal_point = false;
@@ -58,9 +41,11 @@ struct BundlePriors {
 };
 
 enum class RobustLoss { none, huber, cauchy };
+const char* to_string(RobustLoss loss);
 
 struct BundleOptions {
-  /// Free parameters (names above); the rest are held at the initial camera's values.
+  /// Free parameters, as calibrate.free names them (expand_free_parameters,
+  /// vision/camera/camera_parameters.hpp); the rest are held at the initial camera's values.
   std::vector<std::string> free = {"f", "k1", "pose"};
   double pixel_sigma_px = 0.1;  ///< default σ of a pixel measurement (centroid noise)
   BundlePriors priors;
@@ -83,21 +68,48 @@ struct BundleOptions {
   double rank_tolerance = 1e-14;
 };
 
+/// One Levenberg–Marquardt solve of the bundle.
+struct BundleSolve {
+  RobustLoss loss = RobustLoss::none;
+  int iterations = 0;
+  std::optional<std::size_t> rejected;  ///< the final solve: points dropped as outliers before it
+};
+
+/// What the bundle did, for calibration.json's `details` (written by pipeline/io).
+struct BundleDetails {
+  std::vector<CameraParameter> free;
+  std::vector<BundleSolve> solves;
+  int iterations = 0;                  ///< Ceres iterations over all solves
+  double chi2 = 0;                     ///< Σ whitened residual² + prior residual² (inliers)
+  int dof = 0;                         ///< residuals − free parameters
+  double variance_factor = 0;          ///< χ²/dof (≈ 1 when the noise model is right)
+  bool covariance_scaled = false;      ///< BundleOptions::scale_covariance
+  bool rank_deficient = false;
+  double outlier_threshold_sigma = 0;  ///< the threshold applied (whitened units)
+  double pixel_sigma_px = 0;           ///< the default pixel σ used
+  std::optional<double> clock_offset_s;  ///< when the clock offset was free
+  /// 1σ of each free parameter from the a-priori noise model and scaled by √variance_factor;
+  /// empty when the covariance is rank-deficient.
+  Eigen::VectorXd sigma_unscaled, sigma_scaled;
+  std::vector<std::size_t> outliers;  ///< indices of the observations flagged as outliers
+};
+
 struct BundleResult {
-  /// method "bundle"; parameter_names/covariance over the free parameters; rejected = outliers
-  /// (when dropped); reprojection over the points used; warnings; details (iterations, χ², dof,
-  /// variance factor, scaled σ, outliers, stages).
+  /// method "bundle"; parameters/covariance over the free parameters; rejected = outliers (when
+  /// dropped); reprojection over the points used; warnings. Its `details` is left empty: the
+  /// typed `details` below is what the bundle reports.
   CalibrationResult calibration;
+  BundleDetails details;
   Eigen::MatrixXd covariance_unscaled;  ///< from the a-priori noise model
   Eigen::MatrixXd covariance_scaled;    ///< × variance_factor
-  double chi2 = 0;                      ///< Σ whitened residual² + prior residual² (inliers)
-  int dof = 0;                          ///< residuals − free parameters
-  double variance_factor = 0;           ///< χ²/dof (≈ 1 when the noise model is right)
-  bool rank_deficient = false;
+  double chi2 = 0;                      ///< = details.chi2
+  int dof = 0;                          ///< = details.dof
+  double variance_factor = 0;           ///< = details.variance_factor
+  bool rank_deficient = false;          ///< = details.rank_deficient
   std::vector<Eigen::Vector2d> residual_px;  ///< projected − observed, every input point
   std::vector<double> whitened_norm;         ///< ‖W·e‖ per point (σ units)
   std::vector<bool> outlier;                 ///< flagged by the threshold above
-  int iterations = 0;                        ///< Ceres iterations over all stages
+  int iterations = 0;                        ///< = details.iterations
 };
 
 /// Calibrates one camera. `initial` gives the starting values of the free parameters and the
@@ -108,8 +120,5 @@ struct BundleResult {
 /// is not an error: it is reported (rank_deficient, warnings, empty covariance).
 BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObservation>& observations,
                            const BundleOptions& options = {});
-
-/// ∂(u, v)/∂Xw (2×3, px/m) of `cam` at world point Xw (autodiff through the camera model).
-Eigen::Matrix<double, 2, 3> pixel_jacobian_wrt_world(const Camera& cam, const Eigen::Vector3d& Xw);
 
 }  // namespace rangecal

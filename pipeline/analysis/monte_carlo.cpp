@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "config/deterministic_random.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
@@ -21,15 +22,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-/// splitmix64 (Steele, Lea & Flood 2014): a fully specified mixer, so the per-trial seeds — and
-/// with them every trial — are the same on every platform and for any thread count.
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
+/// The seed of trial `trial` of stream `stream` (a camera index, or the pole and world streams):
+/// nested SplitMix64 mixes (config/deterministic_random.hpp), the same on every platform and for
+/// any thread count.
 std::uint64_t trial_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_t trial) {
   return splitmix64(splitmix64(splitmix64(seed) ^ stream) ^ trial);
 }
@@ -44,10 +39,6 @@ Eigen::Vector3d keyed_normal3(std::uint64_t seed, std::size_t trial, std::int64_
   return {a, b, c};
 }
 
-bool is_free(const std::vector<std::string>& free, const char* name) {
-  return std::find(free.begin(), free.end(), name) != free.end();
-}
-
 /// The simulated truth of one camera: the reference camera, the observations it keeps (not
 /// rejected as outliers, projecting) with their exact pixels, and the Cholesky factors of their
 /// world covariances.
@@ -56,7 +47,7 @@ struct CameraTruth {
   std::vector<Eigen::Matrix3d> world_factor;    ///< L with L·Lᵀ = Σ_X
   std::vector<double> pixel_sigma;
   std::vector<std::int64_t> key;  ///< world-noise key per kept observation (−1: own draw)
-  std::vector<std::string> names;
+  std::vector<CameraParameter> parameters;
   std::string method;
 };
 
@@ -67,8 +58,8 @@ CameraTruth make_truth(const MonteCarloCamera& c, bool shared) {
                            " keys for " + std::to_string(c.problem.observations.size()) + " observations");
   CameraTruth t;
   t.method = c.method.empty() ? c.reference.method : c.method;
-  t.names = c.reference.parameter_names.empty() ? expand_free_parameters(c.problem.free)
-                                                : c.reference.parameter_names;
+  t.parameters = c.reference.parameters.empty() ? expand_free_parameters(c.problem.free)
+                                               : c.reference.parameters;
   std::vector<bool> rejected(c.problem.observations.size(), false);
   for (std::size_t i : c.reference.rejected)
     if (i < rejected.size()) rejected[i] = true;
@@ -116,12 +107,13 @@ CalibrationProblem trial_problem(const MonteCarloCamera& c, const CameraTruth& t
     }
   }
   const Camera& ref = c.reference.camera;
-  if (p.priors.principal_point_px && (is_free(p.free, "u0") || is_free(p.free, "v0"))) {
+  const std::vector<CameraParameter> free = expand_free_parameters(p.free);
+  if (p.priors.principal_point_px && (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
     const double zu = rng.normal(), zv = rng.normal();
     p.priors.principal_point_px = Eigen::Vector2d(ref.intr.u0_px, ref.intr.v0_px) +
                                   p.priors.principal_point_sigma_px * Eigen::Vector2d(zu, zv);
   }
-  if (p.priors.center_enu_m && is_free(p.free, "pose")) {
+  if (p.priors.center_enu_m && contains(free, CameraParameter::CE)) {
     const double a = rng.normal(), b = rng.normal(), d = rng.normal();  // in this order on every compiler
     const Eigen::Vector3d z(a, b, d);
     p.priors.center_enu_m = ref.pose.center() + p.priors.center_sigma_m * z;
@@ -133,8 +125,8 @@ CalibrationProblem trial_problem(const MonteCarloCamera& c, const CameraTruth& t
 struct TrialCamera {
   Camera camera;
   double clock_offset_s = 0;
-  double value(const Camera& reference, const std::string& name) const {
-    return camera_parameter_value(camera, reference, name, clock_offset_s);
+  double value(const Camera& reference, CameraParameter p) const {
+    return parameter_value(camera, p, reference, clock_offset_s);
   }
 };
 
@@ -144,57 +136,7 @@ struct TrialOutcome {
   std::vector<std::optional<Eigen::Vector3d>> pole_error;  ///< triangulated − truth, per pole
 };
 
-std::string fmt(const char* f, double v) {
-  if (!std::isfinite(v)) return "";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
-
 }  // namespace
-
-std::vector<std::string> expand_free_parameters(const std::vector<std::string>& free) {
-  static const char* kOrder[] = {"f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2",
-                                 "a1", "a2", "wx", "wy", "wz", "CE", "CN", "CU", "clock_offset"};
-  std::vector<std::string> out;
-  for (const char* n : kOrder) {
-    const std::string s = n;
-    const bool rot = s == "wx" || s == "wy" || s == "wz";
-    const bool cen = s == "CE" || s == "CN" || s == "CU";
-    if (is_free(free, n) || ((rot || cen) && is_free(free, "pose")) || (rot && is_free(free, "rotation")) ||
-        (cen && is_free(free, "center")))
-      out.push_back(s);
-  }
-  return out;
-}
-
-double camera_parameter_value(const Camera& cam, const Camera& reference, const std::string& n,
-                              double clock_offset_s) {
-  if (n == "clock_offset") return clock_offset_s;
-  const CameraIntrinsics& in = cam.intr;
-  if (n == "f") return in.f_mm;
-  if (n == "sx") return in.sx;
-  if (n == "u0") return in.u0_px;
-  if (n == "v0") return in.v0_px;
-  const double d[7] = {in.dist.k1, in.dist.k2, in.dist.k3, in.dist.p1, in.dist.p2, in.dist.a1, in.dist.a2};
-  for (int k = 0; k < 7; ++k)
-    if (n == kDistortionNames[k]) return d[k];
-  if (n == "wx" || n == "wy" || n == "wz") {
-    // The bundle's rotation parameters perturb R on the left in camera axes (calibration_result.hpp).
-    const Eigen::AngleAxisd aa(Eigen::Matrix3d(cam.pose.R * reference.pose.R.transpose()));
-    if (aa.angle() < 1e-14) return 0.0;  // R·Rᵀ of the same camera: exactly 0, not rounding noise
-    const Eigen::Vector3d w = aa.angle() * aa.axis();
-    return w[n == "wx" ? 0 : n == "wy" ? 1 : 2];
-  }
-  const Eigen::Vector3d C = cam.pose.center();
-  if (n == "CE") return C.x();
-  if (n == "CN") return C.y();
-  if (n == "CU") return C.z();
-  if (n == "Tx") return cam.pose.T.x();
-  if (n == "Ty") return cam.pose.T.y();
-  if (n == "Tz") return cam.pose.T.z();
-  return kNaN;
-}
 
 MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
                                  const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options) {
@@ -277,10 +219,10 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
     if (cm.trials_ok == 0)
       throw_calibration_error("montecarlo " + cm.camera_id,
                               "every trial failed; the first: " + cm.first_failure);
-    for (const std::string& name : truth[c].names) {
+    for (const CameraParameter name : truth[c].parameters) {
       ParameterStatistics s;
-      s.name = name;
-      s.estimate = camera_parameter_value(ref.camera, ref.camera, name, ref.clock_offset_s);
+      s.parameter = name;
+      s.estimate = parameter_value(ref.camera, name, ref.camera, ref.clock_offset_s);
       double sum = 0;
       for (const TrialOutcome& o : outcome)
         if (o.cameras[c]) sum += o.cameras[c]->value(ref.camera, name);
@@ -327,7 +269,7 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
       TriangulationView v;
       v.camera = cameras[c].reference.camera;
       if (!project(v.camera, pole.enu, &v.uv_px)) continue;
-      v.calibration.parameter_names = cameras[c].reference.parameter_names;
+      v.calibration.parameters = cameras[c].reference.parameters;
       v.calibration.covariance = cameras[c].reference.covariance;
       v.pick_sigma_px = options.pick_sigma_px;
       views.push_back(v);
@@ -348,8 +290,8 @@ std::string format_montecarlo_csv(const MonteCarloResult& r) {
   std::string s = "camera,parameter,estimate,bias_mc,sd_mc,sd_predicted\n";
   for (const CameraMonteCarlo& c : r.cameras)
     for (const ParameterStatistics& p : c.parameters)
-      s += c.camera_id + "," + p.name + "," + fmt("%.10g", p.estimate) + "," + fmt("%.10g", p.bias_mc) + "," +
-           fmt("%.10g", p.sd_mc) + "," + fmt("%.10g", p.sd_predicted) + "\n";
+      s += c.camera_id + "," + parameter_name(p.parameter) + "," + format_finite("%.10g", p.estimate) + "," + format_finite("%.10g", p.bias_mc) + "," +
+           format_finite("%.10g", p.sd_mc) + "," + format_finite("%.10g", p.sd_predicted) + "\n";
   return s;
 }
 
@@ -364,10 +306,10 @@ std::string format_montecarlo_table(const CameraMonteCarlo& c) {
   s += line;
   for (const ParameterStatistics& p : c.parameters) {
     const double ratio = p.sd_mc / p.sd_predicted;
-    std::snprintf(line, sizeof line, "  %-9s %16.9g %13.4g %13.4g %13s %7s\n", p.name.c_str(), p.estimate,
+    std::snprintf(line, sizeof line, "  %-9s %16.9g %13.4g %13.4g %13s %7s\n", parameter_name(p.parameter), p.estimate,
                   p.bias_mc, p.sd_mc,
-                  std::isfinite(p.sd_predicted) ? fmt("%.4g", p.sd_predicted).c_str() : "-",
-                  std::isfinite(ratio) ? fmt("%.3f", ratio).c_str() : "-");
+                  std::isfinite(p.sd_predicted) ? format_finite("%.4g", p.sd_predicted).c_str() : "-",
+                  std::isfinite(ratio) ? format_finite("%.3f", ratio).c_str() : "-");
     s += line;
   }
   return s;

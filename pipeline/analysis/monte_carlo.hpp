@@ -54,7 +54,7 @@ struct MonteCarloOptions {
 };
 
 struct ParameterStatistics {
-  std::string name;         ///< vision/camera/calibration_result.hpp naming and units
+  CameraParameter parameter = CameraParameter::f;  ///< vision/camera/camera_parameters.hpp; its unit
   double estimate = 0;      ///< the reference value (0 for the rotation perturbations wx wy wz)
   double mean = 0;          ///< mean over the successful trials
   double bias_mc = 0;       ///< mean − estimate
@@ -92,16 +92,6 @@ struct MonteCarloResult {
 /// camera fails.
 MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
                                  const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options);
-
-/// The parameter names a free list stands for, in the bundle's order (optim/bundle/bundle_adjustment.hpp):
-/// "pose" → wx wy wz CE CN CU, "rotation" → wx wy wz, "center" → CE CN CU; clock_offset last.
-std::vector<std::string> expand_free_parameters(const std::vector<std::string>& free);
-
-/// The value of parameter `name` of `cam`; the rotations wx wy wz are the perturbation w with
-/// cam.R = exp([w]×)·reference.R, i.e. the rotation vector of cam.R·reference.Rᵀ (rad, camera
-/// axes); "clock_offset" is `clock_offset_s` (s). NaN for an unknown name.
-double camera_parameter_value(const Camera& cam, const Camera& reference, const std::string& name,
-                              double clock_offset_s = 0);
 
 /// montecarlo.csv text: `camera,parameter,estimate,bias_mc,sd_mc,sd_predicted`, one row per camera
 /// and parameter, 10 significant digits, empty field for a NaN; deterministic.

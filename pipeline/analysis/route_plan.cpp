@@ -10,6 +10,8 @@
 #include <set>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
+#include "pipeline/report/html_escape.hpp"
 #include "pipeline/simulate/mission_simulator.hpp"
 #include "pipeline/analysis/monte_carlo.hpp"
 #include "vision/triangulation/triangulation.hpp"
@@ -19,12 +21,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
 
 /// Frames of one camera with their epochs: what the align stage keeps (SPEC §4.2: for every
 /// lamp-track epoch the nearest frame, kept within max_frame_offset_s), lamp in view.
@@ -95,16 +91,16 @@ CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObserv
   CameraBound b;
   b.camera_id = truth.id;
   b.n_points = static_cast<int>(obs.size());
-  b.parameter_names = expand_free_parameters(free);
-  const int n = static_cast<int>(b.parameter_names.size());
-  const auto it = std::find(b.parameter_names.begin(), b.parameter_names.end(), "clock_offset");
-  const int clock = it == b.parameter_names.end() ? -1 : static_cast<int>(it - b.parameter_names.begin());
+  b.free_parameters = expand_free_parameters(free);
+  const int n = static_cast<int>(b.free_parameters.size());
+  const auto it = std::find(b.free_parameters.begin(), b.free_parameters.end(), CameraParameter::clock_offset);
+  const int clock = it == b.free_parameters.end() ? -1 : static_cast<int>(it - b.free_parameters.begin());
   Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
   double max_speed = 0;  // m/s, for the clock offset's rule
   for (const BundleObservation& ob : obs) {
     max_speed = std::max(max_speed, ob.velocity.norm());
     Eigen::Matrix<double, 2, 3> Jx;
-    Eigen::MatrixXd J = pixel_jacobian_wrt_parameters(truth, b.parameter_names, ob.world, &Jx);
+    Eigen::MatrixXd J = pixel_jacobian_wrt_parameters(truth, b.free_parameters, ob.world, &Jx);
     // The clock offset δ moves the seen point by −v·δ (optim/bundle/bundle_adjustment.hpp).
     if (clock >= 0) J.col(clock) = -Jx * ob.velocity;
     const double sp = ob.pixel_sigma_px > 0 ? ob.pixel_sigma_px : o.pixel_sigma_px;
@@ -125,8 +121,8 @@ CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObserv
   }
   for (int i = 0; i < n; ++i) {
     ParameterBound p;
-    p.name = b.parameter_names[i];
-    p.value = camera_parameter_value(truth, truth, p.name);
+    p.parameter = b.free_parameters[i];
+    p.value = parameter_value(truth, p.parameter, truth);
     if (b.singular) {
       p.sigma = kInf;
       p.max_abs_correlation = kNaN;
@@ -136,20 +132,22 @@ CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObserv
       for (int j = 0; j < n; ++j) {
         if (j == i) continue;
         const double r = std::abs(b.covariance(i, j) / std::sqrt(b.covariance(i, i) * b.covariance(j, j)));
-        if (r > p.max_abs_correlation) p.max_abs_correlation = r, p.correlated_with = b.parameter_names[j];
+        if (r > p.max_abs_correlation)
+          p.max_abs_correlation = r, p.correlated_with = parameter_name(b.free_parameters[j]);
       }
       p.sigma_inflation = std::sqrt(F(i, i) * b.covariance(i, i));
-      const bool principal_point = p.name == "u0" || p.name == "v0";
+      const bool principal_point = p.parameter == CameraParameter::u0 || p.parameter == CameraParameter::v0;
       p.poorly_determined = p.max_abs_correlation > o.correlation_limit ||
                             (principal_point && p.sigma > o.principal_point_limit_px) ||
-                            (p.name == "clock_offset" && p.sigma * max_speed > o.clock_offset_limit_m);
+                            (p.parameter == CameraParameter::clock_offset &&
+                             p.sigma * max_speed > o.clock_offset_limit_m);
     }
     b.parameters.push_back(p);
   }
   return b;
 }
 
-FlightPlanAnalysis analyse_flight_plan(const Scenario& s, const std::string& name, const PlanOptions& o) {
+RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name, const PlanOptions& o) {
   const SimMission m = simulate_mission(s);
   std::vector<std::vector<BundleObservation>> obs;
   for (const SimCamera& c : m.cameras) {
@@ -160,7 +158,7 @@ FlightPlanAnalysis analyse_flight_plan(const Scenario& s, const std::string& nam
                               "the routes give only " + std::to_string(n_lamp) +
                                   " lamp points in view; the camera cannot be calibrated from them");
   }
-  FlightPlanAnalysis a;
+  RoutePlanAnalysis a;
   a.name = name;
   for (const std::vector<std::string>& free : o.free_sets) {
     FreeSetPlan fp;
@@ -182,7 +180,7 @@ FlightPlanAnalysis analyse_flight_plan(const Scenario& s, const std::string& nam
         v.camera.id = m.cameras[c].spec.id;
         if (!project(v.camera, pole.enu_m, &v.uv_px) || !inside_image(v.camera.intr, v.uv_px)) continue;
         all_bounded = all_bounded && !fp.cameras[c].singular;
-        v.calibration.parameter_names = fp.cameras[c].parameter_names;
+        v.calibration.parameters = fp.cameras[c].free_parameters;
         v.calibration.covariance = fp.cameras[c].covariance;
         v.pick_sigma_px = s.pick_noise_px;
         views.push_back(v);
@@ -212,28 +210,23 @@ struct PlanTable {
   std::vector<std::string> notes;
 };
 
-std::string unit_of(const std::string& pn) {
-  if (pn == "f") return " mm";
-  if (pn == "u0" || pn == "v0") return " px";
-  if (pn[0] == 'w') return " rad";
-  if (pn[0] == 'C') return " m";
-  if (pn == "k1") return " mm^-2";
-  if (pn == "clock_offset") return " s";
-  return "";
+std::string unit_of(CameraParameter p) {
+  const std::string unit = parameter_unit(p);
+  return unit.empty() ? "" : " " + unit;
 }
 
-const CameraBound* camera_bound(const FlightPlanAnalysis& a, std::size_t k, std::size_t c) {
+const CameraBound* camera_bound(const RoutePlanAnalysis& a, std::size_t k, std::size_t c) {
   return k < a.free_sets.size() && c < a.free_sets[k].cameras.size() ? &a.free_sets[k].cameras[c] : nullptr;
 }
 
 /// The tables of format_plan_table / format_plan_html: per free set, one per camera, then the poles.
-std::vector<PlanTable> plan_tables(const std::vector<FlightPlanAnalysis>& cands) {
+std::vector<PlanTable> plan_tables(const std::vector<RoutePlanAnalysis>& cands) {
   std::vector<PlanTable> out;
   if (cands.empty()) return out;
   auto cell = [](double sigma, bool flagged) {
     if (std::isnan(sigma)) return std::string("-");
     if (std::isinf(sigma)) return std::string("undetermined");
-    return fmt("%.4g", sigma) + (flagged ? " !" : "");
+    return format_number("%.4g", sigma) + (flagged ? " !" : "");
   };
   for (std::size_t k = 0; k < cands.front().free_sets.size(); ++k) {
     const FreeSetPlan& base = cands.front().free_sets[k];
@@ -253,12 +246,12 @@ std::vector<PlanTable> plan_tables(const std::vector<FlightPlanAnalysis>& cands)
       }
       t.rows.push_back(points);
       for (const ParameterBound& bp : base.cameras[c].parameters) {
-        std::vector<std::string> row{bp.name + unit_of(bp.name)};
+        std::vector<std::string> row{parameter_name(bp.parameter) + unit_of(bp.parameter)};
         for (const auto& cand : cands) {
           std::string v = "-";
           if (const CameraBound* b = camera_bound(cand, k, c))
             for (const ParameterBound& p : b->parameters)
-              if (p.name == bp.name) v = cell(p.sigma, p.poorly_determined);
+              if (p.parameter == bp.parameter) v = cell(p.sigma, p.poorly_determined);
           row.push_back(v);
         }
         t.rows.push_back(row);
@@ -267,15 +260,18 @@ std::vector<PlanTable> plan_tables(const std::vector<FlightPlanAnalysis>& cands)
         const CameraBound* b = camera_bound(cand, k, c);
         if (!b) continue;
         for (const ParameterBound& p : b->parameters) {
+          const std::string name = parameter_name(p.parameter);
+          const bool pp = p.parameter == CameraParameter::u0 || p.parameter == CameraParameter::v0;
           if (std::isinf(p.sigma))
-            t.notes.push_back(cand.name + ": " + p.name + " undetermined (singular information matrix)");
+            t.notes.push_back(cand.name + ": " + name + " undetermined (singular information matrix)");
           else if (p.poorly_determined)
             t.notes.push_back(
-                cand.name + ": " + p.name + " poorly determined (" +
-                (p.name == "u0" || p.name == "v0" ? "σ " + fmt("%.2f", p.sigma) + " px; " : "") +
-                (p.name == "clock_offset" ? "σ " + fmt("%.2f", p.sigma * 1e3) + " ms; " : "") + "|ρ| " +
-                fmt("%.4f", p.max_abs_correlation) + " with " + p.correlated_with + "; σ inflated " +
-                fmt("%.1f", p.sigma_inflation) + "× by the other free parameters)");
+                cand.name + ": " + name + " poorly determined (" +
+                (pp ? "σ " + format_number("%.2f", p.sigma) + " px; " : "") +
+                (p.parameter == CameraParameter::clock_offset ? "σ " + format_number("%.2f", p.sigma * 1e3) + " ms; " : "") +
+                "|ρ| " +
+                format_number("%.4f", p.max_abs_correlation) + " with " + p.correlated_with + "; σ inflated " +
+                format_number("%.1f", p.sigma_inflation) + "× by the other free parameters)");
         }
       }
       out.push_back(t);
@@ -290,7 +286,7 @@ std::vector<PlanTable> plan_tables(const std::vector<FlightPlanAnalysis>& cands)
         std::string v = "-";
         if (k < cand.free_sets.size())
           for (const PoleBound& q : cand.free_sets[k].poles)
-            if (q.id == pb.id && std::isfinite(q.sigma_m)) v = fmt("%.4f", q.sigma_m);
+            if (q.id == pb.id && std::isfinite(q.sigma_m)) v = format_number("%.4f", q.sigma_m);
         row.push_back(v);
       }
       t.rows.push_back(row);
@@ -300,31 +296,14 @@ std::vector<PlanTable> plan_tables(const std::vector<FlightPlanAnalysis>& cands)
   return out;
 }
 
-std::string escape_html(const std::string& in) {
-  std::string s;
-  for (char ch : in) {
-    if (ch == '&')
-      s += "&amp;";
-    else if (ch == '<')
-      s += "&lt;";
-    else if (ch == '>')
-      s += "&gt;";
-    else if (ch == '"')
-      s += "&quot;";
-    else
-      s += ch;
-  }
-  return s;
-}
-
 }  // namespace
 
-std::string format_plan_table(const std::vector<FlightPlanAnalysis>& cands) {
+std::string format_plan_table(const std::vector<RoutePlanAnalysis>& cands) {
   std::string s;
   char line[256];
   // Columns as wide as the longest candidate name (at least 16), so names are never cut.
   int width = 16;
-  for (const FlightPlanAnalysis& c : cands) width = std::max(width, static_cast<int>(c.name.size()));
+  for (const RoutePlanAnalysis& c : cands) width = std::max(width, static_cast<int>(c.name.size()));
   for (const PlanTable& t : plan_tables(cands)) {
     s += t.title + "\n";
     auto add_row = [&](const std::vector<std::string>& row) {
@@ -344,7 +323,7 @@ std::string format_plan_table(const std::vector<FlightPlanAnalysis>& cands) {
   return s;
 }
 
-std::string format_plan_html(const std::vector<FlightPlanAnalysis>& cands) {
+std::string format_plan_html(const std::vector<RoutePlanAnalysis>& cands) {
   std::string s =
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>rangecal plan</title>\n"
       "<style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse;margin:0.5em 0 1.5em}"
@@ -352,19 +331,19 @@ std::string format_plan_html(const std::vector<FlightPlanAnalysis>& cands) {
       "{text-align:left}th{background:#eee}.flag{background:#fde2e2}p.note{margin:0.1em 0;color:#a00}"
       "</style></head><body>\n<h1>rangecal plan: predicted calibration accuracy</h1>\n";
   for (const PlanTable& t : plan_tables(cands)) {
-    s += "<h2>" + escape_html(t.title) + "</h2>\n<table>\n<tr>";
-    for (const std::string& h : t.header) s += "<th>" + escape_html(h) + "</th>";
+    s += "<h2>" + html_escape(t.title) + "</h2>\n<table>\n<tr>";
+    for (const std::string& h : t.header) s += "<th>" + html_escape(h) + "</th>";
     s += "</tr>\n";
     for (const auto& row : t.rows) {
       s += "<tr>";
       for (const std::string& c : row) {
         const bool flagged = c.size() > 2 && c.compare(c.size() - 2, 2, " !") == 0;
-        s += std::string(flagged ? "<td class=\"flag\">" : "<td>") + escape_html(c) + "</td>";
+        s += std::string(flagged ? "<td class=\"flag\">" : "<td>") + html_escape(c) + "</td>";
       }
       s += "</tr>\n";
     }
     s += "</table>\n";
-    for (const std::string& n : t.notes) s += "<p class=\"note\">" + escape_html(n) + "</p>\n";
+    for (const std::string& n : t.notes) s += "<p class=\"note\">" + html_escape(n) + "</p>\n";
   }
   return s + "</body></html>\n";
 }

@@ -48,7 +48,7 @@ std::vector<BundleObservation> planned_observations(const Scenario& s, std::size
                                                     const PlanOptions& options = {});
 
 struct ParameterBound {
-  std::string name;                ///< bundle naming and units
+  CameraParameter parameter = CameraParameter::f;  ///< vision/camera/camera_parameters.hpp; its unit
   double value = 0;                ///< true value (0 for wx wy wz)
   double sigma = 0;                ///< √CRB (inf when F is singular)
   double max_abs_correlation = 0;  ///< with the most correlated other parameter
@@ -65,8 +65,8 @@ struct ParameterBound {
 struct CameraBound {
   std::string camera_id;
   int n_points = 0;  ///< observations: lamp points + control poles (when the mission uses them)
-  std::vector<std::string> parameter_names;
-  Eigen::MatrixXd covariance;  ///< the CRB; empty when F is singular
+  std::vector<CameraParameter> free_parameters;  ///< the rows and columns of `covariance`
+  Eigen::MatrixXd covariance;                    ///< the CRB; empty when F is singular
   bool singular = false;
   std::vector<ParameterBound> parameters;
 };
@@ -91,22 +91,22 @@ struct FreeSetPlan {
 };
 
 /// One candidate (a scenario) analysed for every free set.
-struct FlightPlanAnalysis {
+struct RoutePlanAnalysis {
   std::string name;
   std::vector<FreeSetPlan> free_sets;
 };
 
 /// Analyses scenario `s` under `name`. Throws rangecal::Error (calibration) when a camera sees
 /// fewer than 6 lamp points.
-FlightPlanAnalysis analyse_flight_plan(const Scenario& s, const std::string& name,
+RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name,
                                        const PlanOptions& options = {});
 
 /// Side-by-side table of the candidates (same cameras and poles expected; missing ones shown "-"):
 /// per free set, per camera and parameter the σ in each candidate (with "!" for poorly determined),
 /// the points per camera, then the poles' predicted 1σ.
-std::string format_plan_table(const std::vector<FlightPlanAnalysis>& candidates);
+std::string format_plan_table(const std::vector<RoutePlanAnalysis>& candidates);
 
 /// The same tables as one self-contained HTML page (poorly determined cells highlighted).
-std::string format_plan_html(const std::vector<FlightPlanAnalysis>& candidates);
+std::string format_plan_html(const std::vector<RoutePlanAnalysis>& candidates);
 
 }  // namespace rangecal

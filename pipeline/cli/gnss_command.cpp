@@ -5,10 +5,12 @@
 #include <memory>
 #include <string>
 
-#include "config/mission_config.hpp"
+#include "pipeline/config/mission_config.hpp"
 #include "pipeline/cli/commands.hpp"
-#include "pipeline/stages/gnss_stage.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 namespace {
@@ -21,12 +23,6 @@ std::string row(const std::string& label, const std::string& value) {
 
 std::string num(const nlohmann::json& v) {
   return v.is_null() ? "0" : v.dump();
-}
-
-std::string fixed(double v, int digits) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
 }
 
 /// The summary table from the stage's run.json counts.
@@ -43,26 +39,26 @@ std::string gnss_summary(const MissionConfig& cfg, const StageLog& log, bool ver
   for (const auto& [q, n] : c["dropped_quality_by_q"].items())
     byq += (byq.empty() ? "" : ", ") + ("Q=" + q + ": " + n.dump());
   s += row("dropped: Q not accepted", num(c["dropped_quality"]) + (byq.empty() ? "" : "  (" + byq + ")"));
-  s += row("dropped: sd > " + fixed(cfg.gnss.max_sd_m, 3) + " m", num(c["dropped_sd"]));
+  s += row("dropped: sd > " + format_number("%.3f", cfg.gnss.max_sd_m) + " m", num(c["dropped_sd"]));
   if (!cfg.attitude_file.empty()) s += row("dropped: no attitude", num(c["dropped_no_attitude"]));
-  s += row("gaps > " + fixed(cfg.gnss.max_gap_s, 3) + " s", num(c["gaps"]));
+  s += row("gaps > " + format_number("%.3f", cfg.gnss.max_gap_s) + " s", num(c["gaps"]));
   if (verbose)
     for (const auto& g : c["gap_list"])
       s += "    " + g["from"].get<std::string>() + " .. " + g["to"].get<std::string>() + " (" +
-           fixed(g["duration_s"].get<double>(), 3) + " s)\n";
+           format_number("%.3f", g["duration_s"].get<double>()) + " s)\n";
   s += row("track", c["track_start"].get<std::string>() + " .. " + c["track_end"].get<std::string>() + " (" +
-                        fixed(c["track_span_s"].get<double>(), 3) + " s)");
+                        format_number("%.3f", c["track_span_s"].get<double>()) + " s)");
   const auto& la = c["lever_arm"];
   const std::string src = la["source"].get<std::string>();
   std::string lever;
   if (src == "body_frd") {
-    lever = "body FRD (" + fixed(la["body_frd_m"][0].get<double>(), 3) + ", " +
-            fixed(la["body_frd_m"][1].get<double>(), 3) + ", " + fixed(la["body_frd_m"][2].get<double>(), 3) +
+    lever = "body FRD (" + format_number("%.3f", la["body_frd_m"][0].get<double>()) + ", " +
+            format_number("%.3f", la["body_frd_m"][1].get<double>()) + ", " + format_number("%.3f", la["body_frd_m"][2].get<double>()) +
             ") m with attitude";
   } else {
-    lever = "vertical " + fixed(la["vertical_m"].get<double>(), 4) + " m";
+    lever = "vertical " + format_number("%.4f", la["vertical_m"].get<double>()) + " m";
     if (src == "total_station")
-      lever += " +/- " + fixed(la["vertical_sd_m"].get<double>(), 4) + " m (total station, " +
+      lever += " +/- " + format_number("%.4f", la["vertical_sd_m"].get<double>()) + " m (total station, " +
                num(la["sessions"]) + " sessions)";
   }
   s += row("lever arm", lever);
@@ -79,8 +75,7 @@ void add_gnss_command(CLI::App& app, const CliContext& ctx) {
   sub->add_option("CONFIG", *config_path, "Mission config (JSON)")->required();
   sub->callback([config_path, &ctx]() {
     const MissionConfig cfg = load_mission_config(*config_path);
-    const StageLog log = run_gnss_stage(cfg);
-    update_run_log(cfg, log);
+    const StageLog log = run_stage("gnss", cfg);
     if (ctx.quiet) return;
     std::cout << gnss_summary(cfg, log, ctx.verbose);
     for (const std::string& w : log.warnings) std::cerr << "warning: " << w << "\n";

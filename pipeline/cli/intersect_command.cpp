@@ -13,6 +13,7 @@
 #include "config/error.hpp"
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/stages/intersect_stage.hpp"
+#include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/steps/intersection.hpp"
 #include "pipeline/cli/stage_command.hpp"
 #include "pipeline/io/calibration_json.hpp"
@@ -110,8 +111,7 @@ void add_intersect_command(CLI::App& app, const CliContext& ctx) {
       usage_error("CONFIG", "give a mission CONFIG or --calibration/--observations pairs");
     const MissionConfig cfg = load_mission_config(args->config);
     require_intersect_inputs(cfg);  // asked for this stage alone: nothing to do is an error
-    const StageLog log = run_intersect_stage(cfg);
-    update_run_log(cfg, log);
+    const StageLog log = run_stage("intersect", cfg);
     if (!ctx.quiet) print_stage_summary(log, ctx.verbose);
   });
 }

@@ -15,17 +15,15 @@
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
 #include "gnss/formats/pole_survey_csv.hpp"
-#include "pipeline/stages/calibrate_stage.hpp"
 #include "pipeline/cli/commands.hpp"
-#include "pipeline/stages/gnss_stage.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/analysis/monte_carlo.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/calibration_json.hpp"
 
 namespace rangecal {
 namespace {
-
-constexpr const char* kMonteCarloCsv = "montecarlo.csv";
 
 /// Check poles picked in ≥ 2 of the cameras, for the intersection statistics.
 std::vector<MonteCarloPole> check_poles(const MissionConfig& cfg) {
@@ -120,7 +118,7 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
                           "`rangecal calibrate CONFIG` first)");
       MonteCarloCamera m;
       const std::vector<Correspondence> pairs = read_correspondences_csv(corr);
-      m.problem = make_calibration_problem(cfg, cam, pairs);
+      m.problem = make_calibration_problem(cam, cfg.calibrate, pairs, read_control_pole_views(cfg, cam));
       m.reference = read_calibration_json(cal);
       m.world_noise_key = world_noise_keys(m.problem, pairs, track ? &*track : nullptr, &pole_keys);
       cams.push_back(std::move(m));

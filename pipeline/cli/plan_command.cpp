@@ -14,7 +14,7 @@
 
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
-#include "pipeline/stages/calibrate_stage.hpp"
+#include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/analysis/route_plan.hpp"
 #include "pipeline/simulate/scenario.hpp"
@@ -47,21 +47,18 @@ void add_plan_command(CLI::App& app, const CliContext& /*ctx*/) {
     std::stringstream ss(args->free);
     for (std::string item; std::getline(ss, item, ',');)
       if (!item.empty()) base.push_back(item);
-    static const char* kKnown[] = {"f",  "sx", "u0", "v0",   "k1",       "k2",     "k3",          "p1",
-                                   "p2", "a1", "a2", "pose", "rotation", "center", "clock_offset"};
-    for (const std::string& f : base)
-      if (std::find(std::begin(kKnown), std::end(kKnown), f) == std::end(kKnown))
-        throw_config_error("", "--free", "unknown parameter '" + f + "'");
+    expand_free_parameters(base, "", "--free");  // names checked here, before any work
     if (base.empty()) throw_config_error("", "--free", "no parameters given");
     std::vector<std::string> with_pp = base;
-    for (const char* p : {"u0", "v0"})
-      if (std::find(with_pp.begin(), with_pp.end(), p) == with_pp.end()) with_pp.push_back(p);
+    for (const CameraParameter p : {CameraParameter::u0, CameraParameter::v0})
+      if (std::find(with_pp.begin(), with_pp.end(), parameter_name(p)) == with_pp.end())
+        with_pp.push_back(parameter_name(p));
     o.free_sets = {base};
     if (with_pp != base) o.free_sets.push_back(with_pp);
-    std::vector<FlightPlanAnalysis> cands;
+    std::vector<RoutePlanAnalysis> cands;
     for (const std::string& path : args->scenarios)
       cands.push_back(
-          analyse_flight_plan(load_scenario(path), std::filesystem::path(path).stem().string(), o));
+          analyse_route_plan(load_scenario(path), std::filesystem::path(path).stem().string(), o));
     if (!args->html.empty()) write_file_atomic(args->html, format_plan_html(cands));
     std::cout << format_plan_table(cands);
   });

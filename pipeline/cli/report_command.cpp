@@ -1,7 +1,6 @@
 // `rangecal report CONFIG` (SPEC §4.6, §6): writes report.html and summary.json from the files the
 // earlier stages left in the output folder, merges its log into run.json.
 #include "pipeline/cli/commands.hpp"
-#include "pipeline/stages/report_stage.hpp"
 #include "pipeline/cli/stage_command.hpp"
 
 namespace rangecal {
@@ -9,8 +8,7 @@ namespace rangecal {
 void add_report_command(CLI::App& app, const CliContext& ctx) {
   add_stage_command(app, ctx, "report",
                     "Write report.html (tables and inline SVG plots) and summary.json from the output "
-                    "folder",
-                    run_report_stage);
+                    "folder");
 }
 
 }  // namespace rangecal

@@ -41,7 +41,7 @@ void add_simulate_command(CLI::App& app, const CliContext& ctx) {
         line, sizeof line,
         "simulated %.1f s of flight: %zu GNSS epochs, %zu cameras, %zu frames (%zu with the lamp in "
         "view), %zu poles, %zu pole picks; %zu files in %.2f s\n",
-        mission.plan.duration_s(), w.n_epochs, mission.cameras.size(), w.n_frames, in_view,
+        mission.path.duration_s(), w.n_epochs, mission.cameras.size(), w.n_frames, in_view,
         mission.poles.size(), picks, w.n_files, secs);
     std::cout << line << "mission config: " << w.config_path << "\ntruth:          " << w.truth_path << "\n";
   });

@@ -1,14 +1,12 @@
 #include "pipeline/cli/stage_command.hpp"
 
+#include <unistd.h>
+
 #include <iostream>
 #include <memory>
 
-#include "pipeline/stages/calibrate_stage.hpp"
-#include "pipeline/stages/camera_stages.hpp"
-#include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/io/progress_bar.hpp"
-
-#include <unistd.h>
+#include "pipeline/stages/mission_runner.hpp"
 
 namespace rangecal {
 
@@ -22,16 +20,15 @@ void print_stage_summary(const StageLog& log, bool verbose) {
   for (const auto& w : log.warnings) std::cout << "  warning: " << w << "\n";
 }
 
-void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& name,
-                       const std::string& description, StageFunction run) {
-  CLI::App* sub = app.add_subcommand(name, description);
+void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& stage,
+                       const std::string& description) {
+  CLI::App* sub = app.add_subcommand(stage, description);
   auto config = std::make_shared<std::string>();
   sub->add_option("CONFIG", *config, "Mission config (JSON)")->required();
-  sub->callback([&ctx, config, run] {
+  sub->callback([&ctx, config, stage] {
     const MissionConfig cfg = load_mission_config(*config);
     set_progress_bars(!ctx.quiet && ::isatty(2));
-    const StageLog log = run(cfg);
-    update_run_log(cfg, log);
+    const StageLog log = run_stage(stage, cfg);
     if (!ctx.quiet) print_stage_summary(log, ctx.verbose);
   });
 }
@@ -39,31 +36,20 @@ void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& 
 void add_align_command(CLI::App& app, const CliContext& ctx) {
   add_stage_command(app, ctx, "align",
                     "Pick each camera's frames nearest the lamp-track epochs and interpolate the lamp "
-                    "position to their UTC (writes <cam>/aligned.csv)",
-                    run_align_stage);
+                    "position to their UTC (writes <cam>/aligned.csv)");
 }
 
 void add_detect_command(CLI::App& app, const CliContext& ctx) {
   add_stage_command(app, ctx, "detect",
                     "Find the lamp in the aligned frames (writes <cam>/detections.csv and "
-                    "<cam>/correspondences.csv)",
-                    run_detect_stage);
+                    "<cam>/correspondences.csv)");
 }
-
-}  // namespace rangecal
-
-namespace rangecal {
 
 void add_calibrate_command(CLI::App& app, const CliContext& ctx) {
   add_stage_command(app, ctx, "calibrate",
                     "Calibrate each camera from <cam>/correspondences.csv (writes calibration.json, "
-                    "camera_opencv.yml, methods.csv)",
-                    run_calibrate_stage);
+                    "camera_opencv.yml, residuals.csv, methods.csv)");
 }
-
-}  // namespace rangecal
-
-namespace rangecal {
 
 void add_run_command(CLI::App& app, const CliContext& ctx) {
   CLI::App* sub =

@@ -6,7 +6,9 @@
 
 #include "config/error.hpp"
 #include "gnss/formats/pole_survey_csv.hpp"
-#include "pipeline/stages/calibrate_stage.hpp"
+#include "optim/bundle/whitening.hpp"
+#include "pipeline/io/residuals_csv.hpp"
+#include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/io/output_paths.hpp"
@@ -16,26 +18,18 @@ namespace rangecal {
 namespace {
 
 // Expected RMS reprojection error of a perfect calibration: each used lamp point's world σ pushed
-// through the true camera's Jacobian (central differences), plus the centroid σ on both axes.
-double expected_rms_px(const Camera& truth, const std::vector<Correspondence>& pairs,
+// through the true camera's Jacobian, plus the centroid σ on both axes. `used` follows `pairs`
+// (residuals.csv's lamp rows; empty: all used).
+double expected_rms_px(const Camera& truth, const std::vector<Correspondence>& pairs, const std::vector<bool>& used,
                        double centroid_sigma_px) {
   double sum = 0;
   int n = 0;
-  for (const Correspondence& c : pairs) {
-    if (c.used && !*c.used) continue;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const Correspondence& c = pairs[i];
+    if (i < used.size() && !used[i]) continue;
     const Eigen::Vector3d sd = c.sd_enu ? *c.sd_enu : Eigen::Vector3d::Constant(kDefaultWorldSigmaM);
-    Eigen::Matrix<double, 2, 3> J;
-    bool ok = true;
-    for (int k = 0; k < 3 && ok; ++k) {
-      const double h = 1e-3;
-      Eigen::Vector3d a = c.enu, b = c.enu;
-      a[k] += h;
-      b[k] -= h;
-      Eigen::Vector2d ua, ub;
-      ok = project(truth, a, &ua) && project(truth, b, &ub);
-      if (ok) J.col(k) = (ua - ub) / (2 * h);
-    }
-    if (!ok) continue;
+    if (!(world_to_camera(truth.pose, c.enu).z() > 0)) continue;
+    const Eigen::Matrix<double, 2, 3> J = pixel_jacobian_wrt_world(truth, c.enu);
     const Eigen::Matrix2d cov = J * sd.cwiseAbs2().asDiagonal() * J.transpose();
     sum += cov.trace() + 2 * centroid_sigma_px * centroid_sigma_px;
     ++n;
@@ -67,8 +61,13 @@ DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg) 
       if (std::filesystem::exists(path)) d.by_method[meth] = read_calibration_json(path);
     }
     const std::string corr = camera_output(cfg, cc.id, kCorrespondencesCsv);
+    const std::string residuals = camera_output(cfg, cc.id, kResidualsCsv);
+    std::vector<bool> used;
+    if (std::filesystem::exists(residuals))
+      for (const ResidualRow& r : read_residuals_csv(residuals))
+        if (r.kind == ResidualRow::Kind::lamp) used.push_back(r.used);
     if (std::filesystem::exists(corr))
-      d.expected_rms_px = expected_rms_px(d.truth, read_correspondences_csv(corr), 0.05);
+      d.expected_rms_px = expected_rms_px(d.truth, read_correspondences_csv(corr), used, 0.05);
     out.cameras.push_back(std::move(d));
   }
 

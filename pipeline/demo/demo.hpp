@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "config/mission_config.hpp"
+#include "pipeline/config/mission_config.hpp"
 #include "pipeline/demo/demo_tables.hpp"
 #include "pipeline/simulate/mission_simulator.hpp"
 #include "pipeline/io/run_log.hpp"

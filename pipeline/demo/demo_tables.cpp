@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include "config/number_format.hpp"
 
 namespace rangecal {
 namespace {
@@ -32,12 +33,6 @@ constexpr PaperColumn kPaperSassa{"paper SA-SSA",
 
 const char* const kMethodOrder[] = {"tsai", "tsai_sassa", "dlt_lmqn", "bundle"};
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 std::string cell(const std::string& s, int w = 13) {
   return s.size() >= static_cast<std::size_t>(w) ? " " + s : std::string(w - s.size(), ' ') + s;
 }
@@ -49,11 +44,11 @@ std::vector<ParameterCheck> bundle_parameter_checks(const DemoCamera& cam) {
   const auto it = cam.by_method.find("bundle");
   if (it == cam.by_method.end()) return out;
   const CalibrationResult& r = it->second;
-  out.push_back({"f", r.camera.intr.f_mm, cam.truth.intr.f_mm, r.sigma("f")});
-  out.push_back({"k1", r.camera.intr.dist.k1, cam.truth.intr.dist.k1, r.sigma("k1")});
+  using P = CameraParameter;
+  out.push_back({parameter_name(P::f), r.camera.intr.f_mm, cam.truth.intr.f_mm, r.sigma(P::f)});
+  out.push_back({parameter_name(P::k1), r.camera.intr.dist.k1, cam.truth.intr.dist.k1, r.sigma(P::k1)});
   const Eigen::Vector3d c = r.camera.pose.center(), ct = cam.truth.pose.center(), sc = r.center_sigma_m();
-  const char* names[3] = {"CE", "CN", "CU"};
-  for (int k = 0; k < 3; ++k) out.push_back({names[k], c[k], ct[k], sc[k]});
+  for (int k = 0; k < 3; ++k) out.push_back({parameter_name(kCenterParameters[k]), c[k], ct[k], sc[k]});
   return out;
 }
 
@@ -70,8 +65,8 @@ std::string format_demo_table1(const DemoCamera& cam) {
   for (const auto& h : heads) s += cell(h);
   s += "\n";
   auto row = [&](const char* name, const char* f, double pt, double ps, auto get) {
-    s += cell(name, 9) + cell(fmt(f, pt)) + cell(fmt(f, ps)) + cell(fmt(f, get(cam.truth)));
-    for (const Camera* c : ours) s += cell(fmt(f, get(*c)));
+    s += cell(name, 9) + cell(format_number(f, pt)) + cell(format_number(f, ps)) + cell(format_number(f, get(cam.truth)));
+    for (const Camera* c : ours) s += cell(format_number(f, get(*c)));
     s += "\n";
   };
   row("u0/px", "%.2f", kPaperTsai.u0, kPaperSassa.u0, [](const Camera& c) { return c.intr.u0_px; });
@@ -103,9 +98,9 @@ std::string format_demo_tables23(const std::vector<DemoCamera>& cams) {
       const auto it = c.by_method.find(m);
       if (it == c.by_method.end()) continue;
       const ReprojectionStats& r = it->second.reprojection;
-      s += cell(c.id, 9) + cell(m) + cell(fmt("%.3f", r.rms_px)) + cell(fmt("%.3f", r.mean_px)) +
-           cell(fmt("%.3f", r.max_px)) + cell(std::to_string(r.n_used)) +
-           cell(fmt("%.3f", c.expected_rms_px)) + "\n";
+      s += cell(c.id, 9) + cell(m) + cell(format_number("%.3f", r.rms_px)) + cell(format_number("%.3f", r.mean_px)) +
+           cell(format_number("%.3f", r.max_px)) + cell(std::to_string(r.n_used)) +
+           cell(format_number("%.3f", c.expected_rms_px)) + "\n";
     }
   s += "(expected_rms: what a perfect calibration leaves, from the simulated PPK and centroid noise.)\n";
   return s;
@@ -122,8 +117,8 @@ std::string format_demo_table4(const std::vector<DemoIntersection>& by_method) {
     for (const PoleIntersection& p : bundle->result.poles) {
       if (!p.surveyed || p.role != PoleRole::check) continue;
       s += cell(p.id, 9);
-      for (int k = 0; k < 3; ++k) s += cell(fmt("%.2f", 100 * p.d_enu[k]));
-      s += cell(fmt("%.2f", 100 * p.dR)) + cell(fmt("%.2f", 100 * p.sigma_m)) + "\n";
+      for (int k = 0; k < 3; ++k) s += cell(format_number("%.2f", 100 * p.d_enu[k]));
+      s += cell(format_number("%.2f", 100 * p.dR)) + cell(format_number("%.2f", 100 * p.sigma_m)) + "\n";
     }
   s += "Mean rows (cm): paper Tsai |dx| 1.2 |dy| 2.4 |dz| 1.3 dR 3.0; paper proposed 0.7 2.2 0.7 2.5\n" +
        cell("method", 12) + cell("n") + cell("|dE|") + cell("|dN|") + cell("|dU|") + cell("dR survey") +
@@ -131,9 +126,9 @@ std::string format_demo_table4(const std::vector<DemoIntersection>& by_method) {
   for (const auto& d : by_method) {
     const IntersectionMeans& m = d.result.check;
     s += cell(d.method, 12) + cell(std::to_string(m.n));
-    for (int k = 0; k < 3; ++k) s += cell(fmt("%.2f", 100 * m.mean_abs_d[k]));
-    s += cell(fmt("%.2f", 100 * m.mean_dR)) + cell(fmt("%.2f", 100 * d.mean_dR_truth_m)) +
-         cell(fmt("%.2f", 100 * d.max_dR_truth_m)) + cell(fmt("%.2f", 100 * m.mean_sigma_m)) + "\n";
+    for (int k = 0; k < 3; ++k) s += cell(format_number("%.2f", 100 * m.mean_abs_d[k]));
+    s += cell(format_number("%.2f", 100 * m.mean_dR)) + cell(format_number("%.2f", 100 * d.mean_dR_truth_m)) +
+         cell(format_number("%.2f", 100 * d.max_dR_truth_m)) + cell(format_number("%.2f", 100 * m.mean_sigma_m)) + "\n";
   }
   return s;
 }

@@ -1,6 +1,7 @@
 #include "pipeline/io/calibration_json.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -18,9 +19,7 @@ using ojson = nlohmann::ordered_json;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kFormat = "rangecal.calibration/1";
 
-// Distortion keys in Distortion::as_array() order, with their units in the name.
-const char* const kDistKeys[7] = {"k1_per_mm2", "k2_per_mm4", "k3_per_mm6", "p1_per_mm",
-                                  "p2_per_mm",  "a1",         "a2"};
+const std::array<const char*, 7>& kDistKeys = distortion_json_keys();
 
 // NaN → null (nlohmann would print null anyway; being explicit keeps the intent visible).
 ojson num(double x) {
@@ -55,6 +54,12 @@ double number_or_null(const JsonView& v, const std::string& expected) {
 
 }  // namespace
 
+const std::array<const char*, 7>& distortion_json_keys() {
+  static const std::array<const char*, 7> keys = {"k1_per_mm2", "k2_per_mm4", "k3_per_mm6", "p1_per_mm",
+                                                  "p2_per_mm",  "a1",         "a2"};
+  return keys;
+}
+
 ojson calibration_to_json(const CalibrationResult& r) {
   const CameraIntrinsics& in = r.camera.intr;
   const CameraPose& pose = r.camera.pose;
@@ -82,19 +87,20 @@ ojson calibration_to_json(const CalibrationResult& r) {
   j["clock_offset_s"] = num(r.clock_offset_s);
 
   ojson s;
-  s["focal_mm"] = num(r.sigma("f"));
-  s["principal_point_px"] = {num(r.sigma("u0")), num(r.sigma("v0"))};
-  s["sx"] = num(r.sigma("sx"));
-  for (int i = 0; i < 7; ++i) s[kDistKeys[i]] = num(r.sigma(kDistortionNames[i]));
-  s["rotation_rad"] = {num(r.sigma("wx")), num(r.sigma("wy")), num(r.sigma("wz"))};
-  s["translation_m"] = {num(r.sigma("Tx")), num(r.sigma("Ty")), num(r.sigma("Tz"))};
+  using P = CameraParameter;
+  s["focal_mm"] = num(r.sigma(P::f));
+  s["principal_point_px"] = {num(r.sigma(P::u0)), num(r.sigma(P::v0))};
+  s["sx"] = num(r.sigma(P::sx));
+  for (int i = 0; i < 7; ++i) s[kDistKeys[i]] = num(r.sigma(kDistortionParameters[i]));
+  s["rotation_rad"] = {num(r.sigma(P::wx)), num(r.sigma(P::wy)), num(r.sigma(P::wz))};
+  s["translation_m"] = {num(r.sigma(P::Tx)), num(r.sigma(P::Ty)), num(r.sigma(P::Tz))};
   const Eigen::Vector3d cs = r.center_sigma_m();
   s["center_enu_m"] = vec(cs.data(), 3);
-  s["clock_offset_s"] = num(r.sigma("clock_offset"));
+  s["clock_offset_s"] = num(r.sigma(P::clock_offset));
   j["sigma"] = s;
 
   ojson cov;
-  cov["parameters"] = r.parameter_names;
+  cov["parameters"] = parameter_names(r.parameters);
   cov["matrix"] = matrix(r.covariance);
   cov["center_enu_m2"] = r.center_covariance_m2.allFinite() ? matrix(r.center_covariance_m2) : ojson(nullptr);
   j["covariance"] = cov;
@@ -246,8 +252,19 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
     cv->check_keys({"parameters", "matrix", "center_enu_m2"});
     const JsonView pv = cv->at("parameters", "an array of parameter names");
     const std::size_t n = pv.require_array("an array of parameter names");
-    for (std::size_t i = 0; i < n; ++i)
-      r.parameter_names.push_back(pv.element(i).nonempty_string("a parameter name"));
+    std::vector<std::string> choices;
+    for (const CameraParameterInfo& info : camera_parameter_table()) choices.push_back(info.name);
+    for (std::size_t i = 0; i < n; ++i) {
+      const JsonView e = pv.element(i);
+      const std::string name = e.nonempty_string("a parameter name");
+      const auto p = parameter_from_name(name);
+      if (!p) e.fail("unknown parameter '" + name + "'" + did_you_mean(name, choices));
+      if (contains(r.parameters, *p)) e.fail("parameter '" + name + "' is listed twice");
+      r.parameters.push_back(*p);
+    }
+    const bool has_t = std::any_of(r.parameters.begin(), r.parameters.end(), is_translation);
+    const bool has_c = std::any_of(r.parameters.begin(), r.parameters.end(), is_center);
+    if (has_t && has_c) pv.fail("mixes translation (Tx Ty Tz) and centre (CE CN CU) parameters; use one pose form");
     const std::string mform = "a symmetric " + std::to_string(n) + "x" + std::to_string(n) +
                               " matrix (one row per parameter), or [] when not computed";
     const JsonView mv = cv->at("matrix", mform);
@@ -260,7 +277,7 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
     }
     for (std::size_t i = 0; i < rows; ++i) {
       if (!(r.covariance(Eigen::Index(i), Eigen::Index(i)) >= 0))
-        mv.fail("negative variance of '" + r.parameter_names[i] + "'; expected " + mform);
+        mv.fail("negative variance of '" + std::string(parameter_name(r.parameters[i])) + "'; expected " + mform);
       for (std::size_t k = 0; k < i; ++k)
         if (r.covariance(Eigen::Index(i), Eigen::Index(k)) != r.covariance(Eigen::Index(k), Eigen::Index(i)))
           mv.fail("not symmetric; expected " + mform);

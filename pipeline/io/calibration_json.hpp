@@ -3,12 +3,17 @@
 // every consumer (project, intersect, report) reads. Field names, units and conventions are in
 // docs/outputs.md. Writing is deterministic (same result → byte-identical text) and numbers are
 // printed in the shortest form that reads back to the same double, so write → read is exact.
+#include <array>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "vision/camera/calibration_result.hpp"
 
 namespace rangecal {
+
+/// The keys of the distortion coefficients in calibration.json's "distortion" object (and in
+/// truth.json), in Distortion::as_array() order, each with its unit in the name: k1_per_mm2 …
+const std::array<const char*, 7>& distortion_json_keys();
 
 /// The calibration.json document for `r` (keys in a fixed, readable order). NaN values (σ not
 /// estimated, statistics without observations) are written as null.

@@ -14,8 +14,6 @@
 
 namespace rangecal {
 
-inline constexpr const char* kIntersectionCsv = "intersection.csv";  ///< under output_dir
-
 struct IntersectionRow {
   std::string id;
   Eigen::Vector3d enu = Eigen::Vector3d::Zero();         ///< triangulated E, N, U (m)

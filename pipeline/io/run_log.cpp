@@ -6,11 +6,12 @@
 #include <sstream>
 
 #include "config/atomic_file.hpp"
+#include "pipeline/io/output_paths.hpp"
 
 namespace rangecal {
 
 void update_run_log(const MissionConfig& cfg, const StageLog& log) {
-  const std::string path = (std::filesystem::path(cfg.output_dir) / "run.json").string();
+  const std::string path = mission_output(cfg, kRunJson);
   nlohmann::json j = nlohmann::json::object();
   {
     std::ifstream f(path);

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "config/mission_config.hpp"
+#include "pipeline/config/mission_config.hpp"
 
 namespace rangecal {
 

@@ -11,7 +11,9 @@
 
 #include "gnss/time/utc_time.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/io/intersection_csv.hpp"
+#include "pipeline/io/methods_csv.hpp"
 #include "vision/camera/calibration_result.hpp"
 
 namespace rangecal {
@@ -22,24 +24,13 @@ struct LampTrackSummary {
   UtcTime start, end;
 };
 
-/// One row of `<cam>/methods.csv` (pipeline/stages/calibrate_stage.cpp format_methods_csv; seed 002
-/// Table 1 layout).
-struct MethodRow {
-  std::string method;
-  double u0_px = 0, v0_px = 0, f_mm = 0, sx = 1, k1_per_mm2 = 0;
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d T = Eigen::Vector3d::Zero();
-  std::optional<double> sigma_f_mm;
-  double rms_px = 0;
-  int n_used = 0;
-  int n_rejected = 0;
-};
-
 /// Everything the report knows about one camera of the config.
 struct CameraReportData {
   std::string id;
   std::optional<CalibrationResult> calibration;      ///< absent: calibration.json missing
   std::optional<std::vector<Correspondence>> pairs;  ///< absent: correspondences.csv missing
+  /// absent: residuals.csv missing (not calibrated); its lamp rows follow `pairs` one to one
+  std::optional<std::vector<ResidualRow>> residuals;
   std::optional<std::vector<MethodRow>> methods;     ///< absent: methods.csv missing (no `compare`)
   /// run.json calibrate counts "<cam>.failed": why the calibrate stage gave up on the camera.
   std::string calibration_failure;
@@ -65,9 +56,6 @@ struct ReportData {
   std::optional<std::vector<IntersectionRow>> intersection;
   std::vector<StageWarnings> stage_warnings;  ///< stages in run.json order (sorted by name)
 };
-
-/// Parses methods.csv text (`path` for messages); errors name file, line and column.
-std::vector<MethodRow> parse_methods_csv(const std::string& text, const std::string& path);
 
 /// Reads `output_dir` for the given cameras. Missing files are recorded as absent; malformed files
 /// throw rangecal::Error (kind input) naming file, line and field.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "config/number_format.hpp"
 #include "pipeline/report/html_escape.hpp"
 #include "pipeline/report/svg_plot.hpp"
 #include "vision/camera/camera_model.hpp"
@@ -15,10 +16,7 @@ constexpr const char* kDash = "&#8212;";  // shown for a value that does not exi
 
 // Fixed-format number; a dash for NaN / infinity.
 std::string fmt(const char* f, double x) {
-  if (!std::isfinite(x)) return kDash;
-  char b[64];
-  std::snprintf(b, sizeof b, f, x);
-  return b;
+  return std::isfinite(x) ? format_number(f, x) : std::string(kDash);
 }
 
 std::string td(const std::string& html, const char* cls = "num") {
@@ -38,26 +36,6 @@ const char* kStyle =
     ".missing{color:#a33;font-weight:bold}.warn{color:#8a5a00}"
     "figure{display:inline-block;margin:8px 16px 8px 0;vertical-align:top}"
     "figcaption{font-size:12px;color:#555}";
-
-// One calibrated camera's parameters as a methods.csv row, for the methods table when there is no
-// methods.csv (no `compare` in the config).
-MethodRow method_row(const CalibrationResult& r) {
-  MethodRow m;
-  const CameraIntrinsics& in = r.camera.intr;
-  m.method = r.method;
-  m.u0_px = in.u0_px;
-  m.v0_px = in.v0_px;
-  m.f_mm = in.f_mm;
-  m.sx = in.sx;
-  m.k1_per_mm2 = in.dist.k1;
-  m.R = r.camera.pose.R;
-  m.T = r.camera.pose.T;
-  if (std::isfinite(r.sigma("f"))) m.sigma_f_mm = r.sigma("f");
-  m.rms_px = r.reprojection.rms_px;
-  m.n_used = r.reprojection.n_used;
-  m.n_rejected = r.reprojection.n_rejected;
-  return m;
-}
 
 std::string mission_section(const ReportData& d) {
   std::string s = "<section id=\"mission\">\n<h2>Mission</h2>\n<table class=\"kv\">\n";
@@ -122,28 +100,27 @@ std::string parameters_table(const CalibrationResult& r) {
                  const std::string& unit) {
     s += "<tr>" + td(name, "txt") + td(fmt(vf, v)) + td(fmt(sf, sg)) + td(unit, "txt") + "</tr>\n";
   };
-  row("f", "%.4f", in.f_mm, "%.4f", r.sigma("f"), "mm");
-  row("u<sub>0</sub>", "%.2f", in.u0_px, "%.2f", r.sigma("u0"), "px");
-  row("v<sub>0</sub>", "%.2f", in.v0_px, "%.2f", r.sigma("v0"), "px");
-  row("s<sub>x</sub>", "%.6f", in.sx, "%.6f", r.sigma("sx"), "");
+  using P = CameraParameter;
+  row("f", "%.4f", in.f_mm, "%.4f", r.sigma(P::f), "mm");
+  row("u<sub>0</sub>", "%.2f", in.u0_px, "%.2f", r.sigma(P::u0), "px");
+  row("v<sub>0</sub>", "%.2f", in.v0_px, "%.2f", r.sigma(P::v0), "px");
+  row("s<sub>x</sub>", "%.6f", in.sx, "%.6f", r.sigma(P::sx), "");
   const auto dist = in.dist.as_array();
   const char* units[7] = {
       "mm<sup>-2</sup>", "mm<sup>-4</sup>", "mm<sup>-6</sup>", "mm<sup>-1</sup>", "mm<sup>-1</sup>", "", ""};
   for (int i = 0; i < 7; ++i)
     if (i == 0 || dist[i] != 0)
-      row(std::string(kDistortionNames[i]).insert(1, "<sub>") + "</sub>", "%.4e", dist[i], "%.2e",
-          r.sigma(kDistortionNames[i]), units[i]);
-  const char* w[3] = {"wx", "wy", "wz"};
-  for (int i = 0; i < 3; ++i)
-    row(std::string("rotation ") + w[i], "%.1f", std::nan(""), "%.4f", r.sigma(w[i]) * 1e3,
+      row(std::string(parameter_name(kDistortionParameters[i])).insert(1, "<sub>") + "</sub>", "%.4e", dist[i],
+          "%.2e", r.sigma(kDistortionParameters[i]), units[i]);
+  for (const P w : kRotationParameters)
+    row(std::string("rotation ") + parameter_name(w), "%.1f", std::nan(""), "%.4f", r.sigma(w) * 1e3,
         "mrad (small rotation about R below)");
-  const char* t[3] = {"Tx", "Ty", "Tz"};
   for (int i = 0; i < 3; ++i)
-    row(std::string("T") + "xyz"[i], "%.4f", r.camera.pose.T[i], "%.4f", r.sigma(t[i]), "m");
+    row(std::string("T") + "xyz"[i], "%.4f", r.camera.pose.T[i], "%.4f", r.sigma(kTranslationParameters[i]), "m");
   const Eigen::Vector3d C = r.camera.pose.center(), cs = r.center_sigma_m();
   for (int i = 0; i < 3; ++i) row(std::string("centre ") + "ENU"[i], "%.4f", C[i], "%.4f", cs[i], "m");
-  if (r.parameter_index("clock_offset") >= 0)
-    row("clock offset", "%.3f", r.clock_offset_s * 1e3, "%.3f", r.sigma("clock_offset") * 1e3,
+  if (r.parameter_index(P::clock_offset) >= 0)
+    row("clock offset", "%.3f", r.clock_offset_s * 1e3, "%.3f", r.sigma(P::clock_offset) * 1e3,
         "ms (camera stamp &#8722; GNSS time)");
   s += "</table>\n<p>R (world ENU &#8594; camera):</p>\n<table class=\"matrix\">\n";
   for (int i = 0; i < 3; ++i) {
@@ -171,10 +148,18 @@ struct PairResidual {
 std::vector<PairResidual> pair_residuals(const CameraReportData& c) {
   std::vector<PairResidual> out;
   if (!c.pairs) return out;
-  for (const Correspondence& p : *c.pairs) {
+  // residuals.csv's lamp rows follow the pairs one to one: they say which the calibration used.
+  std::vector<bool> used(c.pairs->size(), true);
+  if (c.residuals) {
+    std::size_t k = 0;
+    for (const ResidualRow& row : *c.residuals)
+      if (row.kind == ResidualRow::Kind::lamp && k < used.size()) used[k++] = row.used;
+  }
+  for (std::size_t i = 0; i < c.pairs->size(); ++i) {
+    const Correspondence& p = (*c.pairs)[i];
     PairResidual r;
     r.observed = p.uv;
-    r.used = p.used.value_or(true);
+    r.used = used[i];
     if (c.calibration) {
       // Where the lamp stood at the true exposure time (optim/bundle/bundle_adjustment.hpp clock offset).
       const Eigen::Vector3d seen =
@@ -277,7 +262,7 @@ std::string methods_table(const CameraReportData& c) {
   if (c.methods) {
     rows = *c.methods;
   } else if (c.calibration) {
-    rows.push_back(method_row(*c.calibration));
+    rows.push_back(method_row(*c.calibration));  // no methods.csv (no `compare`): the one method
     note =
         "<p>methods.csv missing (no <code>calibrate.compare</code> in the config): main method only.</p>\n";
   } else {

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "pipeline/report/html_escape.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 namespace {
@@ -13,16 +14,12 @@ constexpr double kPlotWidth = 640;  // drawing width of image plots (SVG user un
 constexpr double kMargin = 36;      // room for axis labels
 
 std::string f2(double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.2f", x);
-  return b;
+  return format_number("%.2f", x);
 }
 
 // Short label of a round number (bin edges, scale bar): at most 3 significant digits.
 std::string label(double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.3g", x);
-  return b;
+  return format_number("%.3g", x);
 }
 
 // Pixel → drawing coordinates (pixel centres at +0.5 so the frame spans [−0.5, W−0.5]).

@@ -10,8 +10,10 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "pipeline/io/calibration_json.hpp"
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "gnss/track/lever_arm.hpp"
 #include "gnss/formats/rtklib_pos_writer.hpp"
 #include "pipeline/io/progress_bar.hpp"
@@ -23,18 +25,9 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kGravity = 9.80665;
 
-// Independent random streams: each purpose (GNSS noise, survey noise, picks of camera i, frame n
-// of camera i, …) gets its own seed, so adding frames or poles never changes the other draws.
-std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t a, std::uint64_t b = 0, std::uint64_t c = 0) {
-  std::uint64_t h = seed ^ 0x243F6A8885A308D3ull;
-  for (std::uint64_t x : {a, b, c}) {
-    h ^= x + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
-    h = (h ^ (h >> 31)) * 0xBF58476D1CE4E5B9ull;
-    h ^= h >> 29;
-  }
-  return h;
-}
-
+// Independent random streams (config/deterministic_random.hpp mix_seed): each purpose (GNSS
+// noise, survey noise, picks of camera i, frame n of camera i, …) gets its own seed, so adding frames
+// or poles never changes the other draws.
 enum Stream : std::uint64_t {
   kGnssNoise = 1,
   kGnssFloat = 2,
@@ -58,7 +51,7 @@ std::int64_t seconds_to_ns(double s) {
 
 // Position and velocity along a move leg with a trapezoidal speed profile (or a triangular one
 // when the leg is too short to reach the cruise speed).
-void leg_motion(const FlightLeg& leg, double t, Eigen::Vector3d* p, Eigen::Vector3d* v) {
+void leg_motion(const FlightPathLeg& leg, double t, Eigen::Vector3d* p, Eigen::Vector3d* v) {
   if (leg.hover) {
     *p = leg.from;
     *v = Eigen::Vector3d::Zero();
@@ -86,9 +79,9 @@ void leg_motion(const FlightLeg& leg, double t, Eigen::Vector3d* p, Eigen::Vecto
   *v = dir * sp;
 }
 
-FlightLeg make_move(double t0, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double speed,
+FlightPathLeg make_move(double t0, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double speed,
                     double accel, int route) {
-  FlightLeg leg;
+  FlightPathLeg leg;
   leg.t0_s = t0;
   leg.from = from;
   leg.to = to;
@@ -107,8 +100,8 @@ FlightLeg make_move(double t0, const Eigen::Vector3d& from, const Eigen::Vector3
   return leg;
 }
 
-FlightLeg make_hover(double t0, const Eigen::Vector3d& at, double duration, int route) {
-  FlightLeg leg;
+FlightPathLeg make_hover(double t0, const Eigen::Vector3d& at, double duration, int route) {
+  FlightPathLeg leg;
   leg.t0_s = t0;
   leg.t1_s = t0 + duration;
   leg.from = leg.to = at;
@@ -117,10 +110,10 @@ FlightLeg make_hover(double t0, const Eigen::Vector3d& at, double duration, int 
   return leg;
 }
 
-void antenna_motion(const FlightPlan& plan, double t, Eigen::Vector3d* p, Eigen::Vector3d* v) {
-  const auto it = std::lower_bound(plan.legs.begin(), plan.legs.end(), t,
-                                   [](const FlightLeg& l, double x) { return l.t1_s < x; });
-  leg_motion(it == plan.legs.end() ? plan.legs.back() : *it, t, p, v);
+void antenna_motion(const FlightPath& path, double t, Eigen::Vector3d* p, Eigen::Vector3d* v) {
+  const auto it = std::lower_bound(path.legs.begin(), path.legs.end(), t,
+                                   [](const FlightPathLeg& l, double x) { return l.t1_s < x; });
+  leg_motion(it == path.legs.end() ? path.legs.back() : *it, t, p, v);
 }
 
 // A hovering multirotor's attitude wobble: per axis two sinusoids with seeded frequencies
@@ -130,7 +123,7 @@ struct Wobble {
 };
 
 Wobble make_wobble(std::uint64_t seed) {
-  RenderRng rng(mix_seed(seed, kWobble));
+  RenderRandom rng(mix_seed(seed, kWobble));
   Wobble w;
   for (int a = 0; a < 3; ++a)
     for (int k = 0; k < 2; ++k) {
@@ -145,10 +138,10 @@ double wobble_value(const Wobble& w, int axis, double t) {
          0.3 * std::sin(2 * M_PI * w.f[axis][1] * t + w.ph[axis][1]);
 }
 
-SimState state_with(const Scenario& s, const FlightPlan& plan, const Wobble& w, double t) {
-  t = std::clamp(t, 0.0, plan.duration_s());
+SimState state_with(const Scenario& s, const FlightPath& path, const Wobble& w, double t) {
+  t = std::clamp(t, 0.0, path.duration_s());
   SimState st;
-  antenna_motion(plan, t, &st.antenna_enu, &st.velocity_enu);
+  antenna_motion(path, t, &st.antenna_enu, &st.velocity_enu);
   const double A = s.attitude.wobble_deg;
   Attitude& att = st.attitude;
   att.roll_deg = A * wobble_value(w, 0, t);
@@ -159,8 +152,8 @@ SimState state_with(const Scenario& s, const FlightPlan& plan, const Wobble& w, 
     // forward, roll right to accelerate right. The acceleration is the mean over ±0.25 s (the
     // airframe's response time), which keeps the attitude continuous across the profile's kinks.
     Eigen::Vector3d p0, v0, p1, v1;
-    antenna_motion(plan, std::max(0.0, t - 0.25), &p0, &v0);
-    antenna_motion(plan, std::min(plan.duration_s(), t + 0.25), &p1, &v1);
+    antenna_motion(path, std::max(0.0, t - 0.25), &p0, &v0);
+    antenna_motion(path, std::min(path.duration_s(), t + 0.25), &p1, &v1);
     const Eigen::Vector3d acc = (v1 - v0) / 0.5;  // ENU
     const double psi = att.yaw_deg * kDeg;
     const double a_fwd = acc.y() * std::cos(psi) + acc.x() * std::sin(psi);
@@ -176,12 +169,6 @@ double dn_scale(int bit_depth) {
   return bit_depth == 8 ? 255.0 / 65535.0 : 1.0;
 }
 
-std::string fmt(const char* f, double a) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, a);
-  return b;
-}
-
 nlohmann::ordered_json vec_json(const Eigen::VectorXd& v) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
   for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(v[i]);
@@ -190,8 +177,8 @@ nlohmann::ordered_json vec_json(const Eigen::VectorXd& v) {
 
 }  // namespace
 
-FlightPlan make_flight_plan(const Scenario& s) {
-  FlightPlan plan;
+FlightPath make_flight_path(const Scenario& s) {
+  FlightPath path;
   double t = 0;
   for (std::size_t i = 0; i < s.routes.size(); ++i) {
     const ScenarioRoute& r = s.routes[i];
@@ -199,38 +186,38 @@ FlightPlan make_flight_plan(const Scenario& s) {
     if (i > 0) {
       const Eigen::Vector3d from = s.routes[i - 1].end_enu_m;
       if ((r.start_enu_m - from).norm() > 1e-3) {
-        plan.legs.push_back(make_move(t, from, r.start_enu_m, s.transit_speed_mps, s.transit_accel_mps2, -1));
-        t = plan.legs.back().t1_s;
+        path.legs.push_back(make_move(t, from, r.start_enu_m, s.transit_speed_mps, s.transit_accel_mps2, -1));
+        t = path.legs.back().t1_s;
       }
     }
     if (r.hover_s > 0) {
-      plan.legs.push_back(make_hover(t, r.start_enu_m, r.hover_s, ri));
-      t = plan.legs.back().t1_s;
+      path.legs.push_back(make_hover(t, r.start_enu_m, r.hover_s, ri));
+      t = path.legs.back().t1_s;
     }
-    plan.legs.push_back(make_move(t, r.start_enu_m, r.end_enu_m, r.speed_mps, r.accel_mps2, ri));
-    t = plan.legs.back().t1_s;
+    path.legs.push_back(make_move(t, r.start_enu_m, r.end_enu_m, r.speed_mps, r.accel_mps2, ri));
+    t = path.legs.back().t1_s;
     if (r.hover_s > 0) {
-      plan.legs.push_back(make_hover(t, r.end_enu_m, r.hover_s, ri));
-      t = plan.legs.back().t1_s;
+      path.legs.push_back(make_hover(t, r.end_enu_m, r.hover_s, ri));
+      t = path.legs.back().t1_s;
     }
   }
-  return plan;
+  return path;
 }
 
-SimState state_at(const Scenario& s, const FlightPlan& plan, double t_s) {
-  return state_with(s, plan, make_wobble(s.seed), t_s);
+SimState state_at(const Scenario& s, const FlightPath& path, double t_s) {
+  return state_with(s, path, make_wobble(s.seed), t_s);
 }
 
 SimMission simulate_mission(const Scenario& s) {
   SimMission m;
   m.scenario = s;
-  m.plan = make_flight_plan(s);
-  const double duration = m.plan.duration_s();
+  m.path = make_flight_path(s);
+  const double duration = m.path.duration_s();
   const Wobble wob = make_wobble(s.seed);
 
   // GNSS epochs at k/rate, the antenna position + noise (float epochs noisier, Q=2).
   {
-    RenderRng noise(mix_seed(s.seed, kGnssNoise)), flt(mix_seed(s.seed, kGnssFloat));
+    RenderRandom noise(mix_seed(s.seed, kGnssNoise)), flt(mix_seed(s.seed, kGnssFloat));
     const double period_ns = 1e9 / s.gnss.rate_hz;
     for (std::int64_t k = 0;; ++k) {
       const std::int64_t tn = static_cast<std::int64_t>(std::llround(k * period_ns));
@@ -244,7 +231,7 @@ SimMission simulate_mission(const Scenario& s) {
       if (in_gap) continue;
       bool is_float = u_float < s.gnss.float_fraction;
       for (const auto& f : s.gnss.float_intervals) is_float = is_float || f.contains(t);
-      const SimState st = state_with(s, m.plan, wob, t);
+      const SimState st = state_with(s, m.path, wob, t);
       SimEpoch e;
       e.t_s = t;
       e.utc = UtcTime{s.start_utc.ns + tn};
@@ -265,13 +252,13 @@ SimMission simulate_mission(const Scenario& s) {
       const std::int64_t tus = static_cast<std::int64_t>(std::llround(k * period_us));
       const double t = tus * 1e-6;
       if (t > duration + 1e-9) break;
-      m.attitude.push_back({UtcTime{s.start_utc.ns + tus * 1000}, state_with(s, m.plan, wob, t).attitude});
+      m.attitude.push_back({UtcTime{s.start_utc.ns + tus * 1000}, state_with(s, m.path, wob, t).attitude});
     }
   }
 
   // Poles: survey noise.
   {
-    RenderRng rng(mix_seed(s.seed, kSurvey));
+    RenderRandom rng(mix_seed(s.seed, kSurvey));
     for (const auto& p : s.poles) {
       SimPole sp;
       sp.truth = p;
@@ -300,10 +287,10 @@ SimMission simulate_mission(const Scenario& s) {
       char name[96];
       std::snprintf(name, sizeof name, "frames/%s_%07lld.png", sc.spec.id.c_str(), static_cast<long long>(n));
       f.file = name;
-      f.lamp_enu = state_with(s, m.plan, wob, t).lamp_enu;
+      f.lamp_enu = state_with(s, m.path, wob, t).lamp_enu;
       constexpr double h = 1e-3;
       f.lamp_velocity_enu =
-          (state_with(s, m.plan, wob, t + h).lamp_enu - state_with(s, m.plan, wob, t - h).lamp_enu) / (2 * h);
+          (state_with(s, m.path, wob, t + h).lamp_enu - state_with(s, m.path, wob, t - h).lamp_enu) / (2 * h);
       f.projects = project(cam, f.lamp_enu, &f.lamp_px);
       f.in_view = f.projects && inside_image(cam.intr, f.lamp_px);
       sc.frames.push_back(f);
@@ -311,7 +298,7 @@ SimMission simulate_mission(const Scenario& s) {
     sc.hot_pixels = random_hot_pixels(cam.intr.width_px, cam.intr.height_px, s.sky.hot_pixels,
                                       0.5 * s.sky.hot_pixel_excess, s.sky.hot_pixel_excess,
                                       mix_seed(s.seed, kHotPixels, ci));
-    RenderRng rng(mix_seed(s.seed, kPicks, ci));
+    RenderRandom rng(mix_seed(s.seed, kPicks, ci));
     for (const auto& p : s.poles) {
       const Eigen::Vector2d z(rng.normal(), rng.normal());
       Eigen::Vector2d uv;
@@ -381,14 +368,12 @@ std::string format_truth_json(const SimMission& m) {
     cj["image_size_px"] = {cam.intr.width_px, cam.intr.height_px};
     cj["pixel_size_um"] = {cam.intr.dx_mm * 1e3, cam.intr.dy_mm * 1e3};
     cj["focal_mm"] = cam.intr.f_mm;
-    cj["sx"] = cam.intr.sx;
+    cj[parameter_name(CameraParameter::sx)] = cam.intr.sx;
     cj["principal_point_px"] = {cam.intr.u0_px, cam.intr.v0_px};
     J d;
     d["model"] = "seed000_eq7";
-    const char* const keys[7] = {"k1_per_mm2", "k2_per_mm4", "k3_per_mm6", "p1_per_mm",
-                                 "p2_per_mm",  "a1",         "a2"};
     const auto da = cam.intr.dist.as_array();
-    for (int i = 0; i < 7; ++i) d[keys[i]] = da[static_cast<std::size_t>(i)];
+    for (std::size_t i = 0; i < 7; ++i) d[distortion_json_keys()[i]] = da[i];
     cj["distortion"] = d;
     J R = J::array();
     for (int r = 0; r < 3; ++r) R.push_back(vec_json(cam.pose.R.row(r).transpose()));
@@ -445,7 +430,7 @@ std::string format_truth_json(const SimMission& m) {
   }
   j["epochs"] = eps;
   J legs = J::array();
-  for (const FlightLeg& l : m.plan.legs)
+  for (const FlightPathLeg& l : m.path.legs)
     legs.push_back({{"t0_s", l.t0_s},
                     {"t1_s", l.t1_s},
                     {"from_enu_m", vec_json(l.from)},
@@ -453,7 +438,7 @@ std::string format_truth_json(const SimMission& m) {
                     {"route", l.route},
                     {"hover", l.hover},
                     {"peak_speed_mps", l.peak_speed_mps}});
-  j["flight_plan"] = legs;
+  j["flight_path"] = legs;
   return j.dump(1) + "\n";
 }
 
@@ -527,8 +512,8 @@ std::string format_pos(const SimMission& m) {
 std::string format_attitude_csv(const SimMission& m) {
   std::string out = "utc,roll_deg,pitch_deg,yaw_deg\n";
   for (const auto& a : m.attitude)
-    out += format_iso8601_utc(a.utc, 6) + "," + fmt("%.6f", a.attitude.roll_deg) + "," +
-           fmt("%.6f", a.attitude.pitch_deg) + "," + fmt("%.6f", a.attitude.yaw_deg) + "\n";
+    out += format_iso8601_utc(a.utc, 6) + "," + format_number("%.6f", a.attitude.roll_deg) + "," +
+           format_number("%.6f", a.attitude.pitch_deg) + "," + format_number("%.6f", a.attitude.yaw_deg) + "\n";
   return out;
 }
 
@@ -540,8 +525,8 @@ std::string format_poles_csv(const SimMission& m) {
   for (const SimPole& p : m.poles) {
     double a = p.surveyed_enu.x(), b = p.surveyed_enu.y(), c = p.surveyed_enu.z();
     if (llh) lc.Reverse(p.surveyed_enu.x(), p.surveyed_enu.y(), p.surveyed_enu.z(), a, b, c);
-    out += p.truth.id + "," + p.truth.role + "," + fmt(llh ? "%.10f" : "%.4f", a) + "," +
-           fmt(llh ? "%.10f" : "%.4f", b) + "," + fmt("%.4f", c) + "\n";
+    out += p.truth.id + "," + p.truth.role + "," + format_number(llh ? "%.10f" : "%.4f", a) + "," +
+           format_number(llh ? "%.10f" : "%.4f", b) + "," + format_number("%.4f", c) + "\n";
   }
   return out;
 }
@@ -549,7 +534,7 @@ std::string format_poles_csv(const SimMission& m) {
 std::string format_picks_csv(const SimCamera& c) {
   std::string out = "id,u,v\n";
   for (const SimPick& p : c.picks)
-    out += p.id + "," + fmt("%.3f", p.picked_px.x()) + "," + fmt("%.3f", p.picked_px.y()) + "\n";
+    out += p.id + "," + format_number("%.3f", p.picked_px.x()) + "," + format_number("%.3f", p.picked_px.y()) + "\n";
   return out;
 }
 

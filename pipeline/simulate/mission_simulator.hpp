@@ -39,9 +39,9 @@ struct SimState {
   Eigen::Vector3d lamp_enu = Eigen::Vector3d::Zero();  ///< antenna + ENU(R_nb·lever), m
 };
 
-/// One leg of the flight plan: a move from `from` to `to` (trapezoidal speed profile) or a hover
+/// One leg of the flight path: a move from `from` to `to` (trapezoidal speed profile) or a hover
 /// (from == to).
-struct FlightLeg {
+struct FlightPathLeg {
   double t0_s = 0, t1_s = 0;  ///< mission time span
   Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
   double peak_speed_mps = 0;  ///< reached speed (≤ the cruise speed on short legs)
@@ -50,8 +50,8 @@ struct FlightLeg {
   bool hover = false;
 };
 
-struct FlightPlan {
-  std::vector<FlightLeg> legs;  ///< contiguous, starting at mission time 0
+struct FlightPath {
+  std::vector<FlightPathLeg> legs;  ///< contiguous, starting at mission time 0
   double duration_s() const { return legs.empty() ? 0.0 : legs.back().t1_s; }
 };
 
@@ -105,19 +105,19 @@ struct SimPole {
 
 struct SimMission {
   Scenario scenario;
-  FlightPlan plan;
+  FlightPath path;
   std::vector<SimEpoch> epochs;  ///< GNSS epochs written to the .pos (gaps left out)
   std::vector<SimAttitudeSample> attitude;
   std::vector<SimCamera> cameras;
   std::vector<SimPole> poles;
 };
 
-/// The flight plan of a scenario: for each route a transit leg from the previous route's end
+/// The flight path of a scenario: for each route a transit leg from the previous route's end
 /// (none before the first), a hover of hover_s, the route, another hover of hover_s.
-FlightPlan make_flight_plan(const Scenario& s);
+FlightPath make_flight_path(const Scenario& s);
 
 /// The true state at mission time t (s), clamped to [0, duration].
-SimState state_at(const Scenario& s, const FlightPlan& plan, double t_s);
+SimState state_at(const Scenario& s, const FlightPath& path, double t_s);
 
 /// Simulates everything except the pixels of the frames (rendered by write_mission).
 SimMission simulate_mission(const Scenario& s);

@@ -140,31 +140,15 @@ Eigen::Matrix3d matrix3(const JsonView& v) {
 
 ScenarioCamera parse_camera(const JsonView& v) {
   v.require_object("a camera object {\"id\", \"center_enu_m\", \"look_at_enu_m\", \"f_mm\", …}");
-  v.check_keys({"id",
-                "center_enu_m",
-                "look_at_enu_m",
-                "roll_deg",
-                "R",
-                "f_mm",
-                "pixel_size_um",
-                "width_px",
-                "height_px",
-                "u0_px",
-                "v0_px",
-                "sx",
-                "k1",
-                "k2",
-                "k3",
-                "p1",
-                "p2",
-                "a1",
-                "a2",
-                "fps",
-                "export_step",
-                "bit_depth",
-                "clock_offset_s",
-                "start_s",
-                "nominal_focal_mm"});
+  // Keys: the pose and sensor, then the camera-model parameters by their names
+  // (vision/camera/camera_parameters.hpp: sx and the distortion terms), then the recording.
+  std::vector<std::string> keys = {"id", "center_enu_m", "look_at_enu_m", "roll_deg", "R", "f_mm",
+                                   "pixel_size_um", "width_px", "height_px", "u0_px", "v0_px",
+                                   parameter_name(CameraParameter::sx)};
+  for (const CameraParameter d : kDistortionParameters) keys.push_back(parameter_name(d));
+  for (const char* k : {"fps", "export_step", "bit_depth", "clock_offset_s", "start_s", "nominal_focal_mm"})
+    keys.push_back(k);
+  v.check_keys(keys);
   ScenarioCamera c;
   const JsonView id = v.at("id", "a camera id ([A-Za-z0-9_-]+)");
   c.id = id.nonempty_string("a camera id ([A-Za-z0-9_-]+)");
@@ -191,14 +175,14 @@ ScenarioCamera parse_camera(const JsonView& v) {
   in.v0_px = in.height_px / 2.0;
   if (auto x = v.find("u0_px")) in.u0_px = x->number("a number (px)");
   if (auto x = v.find("v0_px")) in.v0_px = x->number("a number (px)");
-  if (auto x = v.find("sx")) {
+  if (auto x = v.find(parameter_name(CameraParameter::sx))) {
     in.sx = positive(*x, "dimensionless, near 1");
     if (in.sx < 0.5 || in.sx > 2) x->fail_expected("a number in [0.5, 2]");
   }
   double* dist[] = {&in.dist.k1, &in.dist.k2, &in.dist.k3, &in.dist.p1,
                     &in.dist.p2, &in.dist.a1, &in.dist.a2};
-  for (std::size_t i = 0; i < kDistortionNames.size(); ++i)
-    if (auto x = v.find(kDistortionNames[i]))
+  for (std::size_t i = 0; i < kDistortionParameters.size(); ++i)
+    if (auto x = v.find(parameter_name(kDistortionParameters[i])))
       *dist[i] = x->number("a number (seed 000 eq. 7 units, mm-based)");
 
   const Eigen::Vector3d center = vec3(v.at("center_enu_m", "an array [E, N, U] (m)"), "E, N, U in metres");

@@ -11,9 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "config/mission_config.hpp"
+#include "pipeline/config/mission_config.hpp"
 #include "gnss/time/utc_time.hpp"
 #include "vision/camera/camera_model.hpp"
+#include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
 

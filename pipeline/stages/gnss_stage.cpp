@@ -1,16 +1,17 @@
 #include "pipeline/stages/gnss_stage.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "gnss/track/antenna_epochs.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
 #include "gnss/track/lever_arm.hpp"
 #include "gnss/geodesy/local_enu.hpp"
+#include "pipeline/io/output_paths.hpp"
 
 namespace rangecal {
 namespace {
@@ -18,9 +19,7 @@ namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 std::string mm(double m) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.1f mm", m * 1e3);
-  return b;
+  return format_number("%.1f", m * 1e3) + " mm";
 }
 
 }  // namespace
@@ -95,10 +94,8 @@ GnssStageResult compute_lamp_track(const GnssStageInputs& in) {
     rep.warnings.push_back(std::to_string(rep.dropped_no_attitude) +
                            " GNSS epochs lie outside the attitude coverage and were dropped");
   if (rep.vertical_form_max_error_m > kVerticalFormWarnM) {
-    char b[64];
-    std::snprintf(b, sizeof b, "%.1f", max_tilt_deg);
     rep.warnings.push_back("vertical lever-arm form is wrong by up to " + mm(rep.vertical_form_max_error_m) +
-                           " (tilt up to " + b + " deg; " +
+                           " (tilt up to " + format_number("%.1f", max_tilt_deg) + " deg; " +
                            std::to_string(rep.vertical_form_epochs_over_5mm) +
                            " epochs over 5 mm): configure lever_arm.body_frd_m to use the attitude");
   }
@@ -181,12 +178,7 @@ nlohmann::json gnss_stage_counts(const GnssStageReport& rep, const std::vector<P
   return j;
 }
 
-std::string lamp_track_path(const MissionConfig& cfg) {
-  return (std::filesystem::path(cfg.output_dir) / "gnss" / "lamp_track.csv").string();
-}
-
 StageLog run_gnss_stage(const MissionConfig& cfg) {
-  const auto t0 = std::chrono::steady_clock::now();
   GnssStageInputs in;
   if (cfg.gnss.pos_files.empty())
     throw_config_error(cfg.config_path, "gnss.pos_files", "at least one .pos file is needed");
@@ -207,7 +199,6 @@ StageLog run_gnss_stage(const MissionConfig& cfg) {
   log.stage = "gnss";
   log.counts = gnss_stage_counts(res.report, in.pos_files, in.lever);
   log.warnings = res.report.warnings;
-  log.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return log;
 }
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "config/mission_config.hpp"
+#include "pipeline/config/mission_config.hpp"
 #include "gnss/track/attitude.hpp"
 #include "gnss/track/epoch_filter.hpp"
 #include "gnss/track/lamp_track.hpp"
@@ -76,7 +76,5 @@ nlohmann::json gnss_stage_counts(const GnssStageReport& report, const std::vecto
 /// warnings). The caller merges the log into run.json (update_run_log).
 StageLog run_gnss_stage(const MissionConfig& cfg);
 
-/// Path of the track file for a config: `<output_dir>/gnss/lamp_track.csv`.
-std::string lamp_track_path(const MissionConfig& cfg);
 
 }  // namespace rangecal

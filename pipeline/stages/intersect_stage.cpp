@@ -1,6 +1,5 @@
 #include "pipeline/stages/intersect_stage.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -54,7 +53,6 @@ void require_intersect_inputs(const MissionConfig& cfg) {
 }
 
 StageLog run_intersect_stage(const MissionConfig& cfg) {
-  const auto t0 = std::chrono::steady_clock::now();
   StageLog log;
   log.stage = "intersect";
   if (cfg.poles_file.empty() || !any_camera_has_picks(cfg)) {
@@ -62,7 +60,6 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
     log.warnings.push_back("no poles: intersection skipped");
     log.counts["skipped"] =
         cfg.poles_file.empty() ? "no \"poles\" in the config" : "no camera has \"pole_observations\"";
-    log.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return log;
   }
 
@@ -125,7 +122,6 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
   log.counts["check"] = means_json(result.check);
   log.counts["control"] = means_json(result.control);
   log.counts["warnings"] = log.warnings.size();
-  log.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return log;
 }
 

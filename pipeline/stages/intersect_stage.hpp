@@ -2,7 +2,7 @@
 // The intersect stage (SPEC §4.5, §5): each camera's `<out>/<cam>/calibration.json` and its
 // `pole_observations` picks, with the pole survey, → `<out>/intersection.csv` (check poles; seed
 // 002 Table 4) and counts in run.json. Behaviour and warnings: docs/intersection.md.
-#include "config/mission_config.hpp"
+#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/run_log.hpp"
 
 namespace rangecal {

@@ -1,7 +1,11 @@
 #include "pipeline/stages/mission_runner.hpp"
 
+#include <chrono>
+
+#include "config/error.hpp"
+#include "pipeline/stages/align_stage.hpp"
 #include "pipeline/stages/calibrate_stage.hpp"
-#include "pipeline/stages/camera_stages.hpp"
+#include "pipeline/stages/detect_stage.hpp"
 #include "pipeline/stages/gnss_stage.hpp"
 #include "pipeline/stages/intersect_stage.hpp"
 #include "pipeline/stages/report_stage.hpp"
@@ -16,12 +20,24 @@ const std::vector<NamedStage>& mission_stages() {
   return stages;
 }
 
+StageLog run_stage(const std::string& name, const MissionConfig& cfg) {
+  for (const NamedStage& s : mission_stages()) {
+    if (s.name != name) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    StageLog log = s.run(cfg);
+    log.stage = name;
+    log.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    update_run_log(cfg, log);
+    return log;
+  }
+  throw Error(ErrorKind::usage, "", 0, "stage", "unknown stage '" + name + "'");
+}
+
 std::vector<StageLog> run_mission(const MissionConfig& cfg,
                                   const std::function<void(const StageLog&)>& on_stage_done) {
   std::vector<StageLog> logs;
   for (const NamedStage& s : mission_stages()) {
-    StageLog log = s.run(cfg);
-    update_run_log(cfg, log);
+    StageLog log = run_stage(s.name, cfg);
     if (on_stage_done) on_stage_done(log);
     logs.push_back(std::move(log));
   }

@@ -1,11 +1,12 @@
 #pragma once
-// `rangecal run CONFIG` (SPEC §6): every stage in order, each writing the files the next one reads
-// (so any stage can be rerun alone), each merged into run.json as it finishes.
+// `rangecal run CONFIG` and `rangecal STAGE CONFIG` (SPEC §6): the stages in order, each writing the
+// files the next one reads (so any stage can be rerun alone), each timed here — the stages do not
+// time themselves — and merged into run.json as it finishes.
 #include <functional>
 #include <string>
 #include <vector>
 
-#include "config/mission_config.hpp"
+#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/run_log.hpp"
 
 namespace rangecal {
@@ -15,11 +16,16 @@ struct NamedStage {
   std::function<StageLog(const MissionConfig&)> run;
 };
 
-/// The stages of a full run, in order.
+/// The stages of a full run, in order: gnss, align, detect, calibrate, intersect, report.
 const std::vector<NamedStage>& mission_stages();
 
-/// Runs all stages; `on_stage_done` (may be empty) is called after each with its log. Stops at
-/// the first stage that throws (its error propagates; the files of the stages before stay valid).
+/// Runs the stage called `name` (one of mission_stages), sets its wall time and merges its log
+/// into run.json. Throws what the stage throws (run.json keeps the other stages' sections).
+StageLog run_stage(const std::string& name, const MissionConfig& cfg);
+
+/// Runs all stages in order; `on_stage_done` (may be empty) is called after each with its log.
+/// Stops at the first stage that throws (its error propagates; the files of the stages before
+/// stay valid).
 std::vector<StageLog> run_mission(const MissionConfig& cfg,
                                   const std::function<void(const StageLog&)>& on_stage_done = {});
 

@@ -1,6 +1,5 @@
 #include "pipeline/stages/report_stage.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include "config/atomic_file.hpp"
@@ -53,7 +52,6 @@ std::string format_summary_json(const ReportData& data) {
 }
 
 StageLog run_report_stage(const MissionConfig& cfg) {
-  const auto t0 = std::chrono::steady_clock::now();
   StageLog log;
   log.stage = "report";
   std::vector<std::string> ids;
@@ -72,12 +70,11 @@ StageLog run_report_stage(const MissionConfig& cfg) {
       log.warnings.push_back(c.id + ": no calibration.json; the report shows the camera as not calibrated");
   }
   if (!data.intersection) log.warnings.push_back("no intersection.csv; the report has no intersection table");
-  write_file_atomic(mission_output(cfg, "report.html"), render_report_html(data));
-  write_file_atomic(mission_output(cfg, "summary.json"), format_summary_json(data));
+  write_file_atomic(mission_output(cfg, kReportHtml), render_report_html(data));
+  write_file_atomic(mission_output(cfg, kSummaryJson), format_summary_json(data));
   log.counts["cameras"] = data.cameras.size();
   log.counts["calibrated"] = calibrated;
   log.counts["intersection_poles"] = data.intersection ? data.intersection->size() : 0;
-  log.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return log;
 }
 

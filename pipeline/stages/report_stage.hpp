@@ -4,7 +4,7 @@
 // `<output_dir>/summary.json`. Runs alone; a camera without calibration is reported, not an error.
 #include <string>
 
-#include "config/mission_config.hpp"
+#include "pipeline/config/mission_config.hpp"
 #include "pipeline/report/report_data.hpp"
 #include "pipeline/io/run_log.hpp"
 

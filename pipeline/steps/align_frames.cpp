@@ -5,9 +5,8 @@
 #include <cstdio>
 #include <limits>
 
-#include "config/atomic_file.hpp"
-#include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "gnss/track/hermite_interpolation.hpp"
 
 namespace rangecal {
@@ -44,12 +43,6 @@ nlohmann::json to_json(const AlignReport& r) {
 }
 
 namespace {
-
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
 
 std::string frame_label(std::size_t i, const FrameStamp& f) {
   return "frame " + std::to_string(f.frame) + " (item " + std::to_string(i + 1) + ", " +
@@ -137,8 +130,8 @@ AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& 
     const double dt_s = static_cast<double>(picked_dt[k]) * 1e-9;
     RejectedFrame rej{f.frame, f.utc, dt_s, FrameRejection::offset_exceeded, ""};
     if (std::llabs(picked_dt[k]) > max_off_ns) {
-      rej.detail = "nearest lamp-track epoch is " + fmt("%.6f", std::fabs(dt_s)) +
-                   " s away (max_frame_offset_s " + fmt("%g", opt.max_frame_offset_s) + ")";
+      rej.detail = "nearest lamp-track epoch is " + format_number("%.6f", std::fabs(dt_s)) +
+                   " s away (max_frame_offset_s " + format_number("%g", opt.max_frame_offset_s) + ")";
       ++rep.rejected_offset;
       res.rejected.push_back(std::move(rej));
       continue;
@@ -146,10 +139,10 @@ AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& 
     const TrackSample s = ht.sample(f.utc);
     if (s.status == TrackSampleStatus::in_gap) {
       rej.reason = FrameRejection::in_gap;
-      rej.detail = "frame lies in a " + fmt("%.3f", s.interval_s) + " s gap of the lamp track between " +
+      rej.detail = "frame lies in a " + format_number("%.3f", s.interval_s) + " s gap of the lamp track between " +
                    format_iso8601_utc(ht.epoch_time(s.segment)) + " and " +
                    format_iso8601_utc(ht.epoch_time(s.segment + 1)) + " (max_gap_s " +
-                   fmt("%g", opt.max_gap_s) + "): not interpolated across a gap";
+                   format_number("%g", opt.max_gap_s) + "): not interpolated across a gap";
       ++rep.rejected_gap;
       res.rejected.push_back(std::move(rej));
       continue;
@@ -180,66 +173,6 @@ AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& 
     rep.mean_abs_dt_s = sum_abs_dt / static_cast<double>(rep.frames_aligned);
   }
   return res;
-}
-
-std::string format_aligned_csv(const std::vector<AlignedFrame>& rows) {
-  std::string out = "frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU\n";
-  out.reserve(out.size() + rows.size() * 160);
-  char buf[400];
-  for (const AlignedFrame& r : rows) {
-    std::snprintf(buf, sizeof buf, "%lld,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.9f,%.4f,%.4f,%.4f\n",
-                  static_cast<long long>(r.frame), format_iso8601_utc(r.utc, 9).c_str(), r.enu.x(), r.enu.y(),
-                  r.enu.z(), r.sd_enu.x(), r.sd_enu.y(), r.sd_enu.z(), r.dt_s, r.vel_enu.x(), r.vel_enu.y(),
-                  r.vel_enu.z());
-    out += buf;
-  }
-  return out;
-}
-
-void write_aligned_csv(const std::string& path, const std::vector<AlignedFrame>& rows) {
-  write_file_atomic(path, format_aligned_csv(rows));
-}
-
-std::vector<AlignedFrame> parse_aligned_csv(const std::string& text, const std::string& path) {
-  const CsvTable t = parse_csv(text, path);
-  const std::size_t c_frame = t.column("frame"), c_utc = t.column("utc");
-  const std::size_t c_pos[3] = {t.column("E"), t.column("N"), t.column("U")};
-  const std::size_t c_sd[3] = {t.column("sdE"), t.column("sdN"), t.column("sdU")};
-  const std::size_t c_dt = t.column("dt_s");
-  const std::size_t c_vel[3] = {t.column("vE"), t.column("vN"), t.column("vU")};
-  std::vector<AlignedFrame> rows;
-  rows.reserve(t.records.size());
-  for (const CsvRecord& rec : t.records) {
-    AlignedFrame a;
-    a.frame = t.integer(rec, c_frame);
-    std::string why;
-    const auto utc = parse_iso8601_utc(t.text(rec, c_utc), &why);
-    if (!utc) throw_input_error(path, rec.line, "utc", "not an ISO 8601 UTC time: " + why);
-    a.utc = *utc;
-    for (int k = 0; k < 3; ++k) {
-      a.enu[k] = t.number(rec, c_pos[k]);
-      a.sd_enu[k] = t.number(rec, c_sd[k]);
-      if (a.sd_enu[k] < 0)
-        throw_input_error(path, rec.line, t.header[c_sd[k]], "a standard deviation cannot be negative");
-    }
-    a.dt_s = t.number(rec, c_dt);
-    for (int k = 0; k < 3; ++k) a.vel_enu[k] = t.number(rec, c_vel[k]);
-    if (!rows.empty() && !(a.frame > rows.back().frame)) {
-      throw_input_error(path, rec.line, "frame",
-                        "frame " + std::to_string(a.frame) + " does not follow frame " +
-                            std::to_string(rows.back().frame) + ": rows must be in frame order");
-    }
-    if (!rows.empty() && !(a.utc > rows.back().utc)) {
-      throw_input_error(path, rec.line, "utc",
-                        "time is not after the previous row's: rows must be in time order");
-    }
-    rows.push_back(a);
-  }
-  return rows;
-}
-
-std::vector<AlignedFrame> read_aligned_csv(const std::string& path) {
-  return parse_aligned_csv(read_file_text(path), path);
 }
 
 }  // namespace rangecal

@@ -10,14 +10,11 @@
 namespace rangecal {
 
 CameraCovariance camera_covariance(const CalibrationResult& r, bool* usable) {
-  const auto n = static_cast<Eigen::Index>(r.parameter_names.size());
-  bool ok = n > 0 && r.covariance.rows() == n && r.covariance.cols() == n && r.covariance.allFinite();
-  for (const std::string& name : r.parameter_names)
-    ok = ok && std::find(kTriangulationParameterNames.begin(), kTriangulationParameterNames.end(), name) !=
-                   kTriangulationParameterNames.end();
+  const auto n = static_cast<Eigen::Index>(r.parameters.size());
+  const bool ok = n > 0 && r.covariance.rows() == n && r.covariance.cols() == n && r.covariance.allFinite();
   if (usable) *usable = ok;
   if (!ok) return {};
-  return {r.parameter_names, r.covariance};
+  return {r.parameters, r.covariance};
 }
 
 namespace {

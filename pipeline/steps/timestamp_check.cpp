@@ -1,6 +1,7 @@
 #include "pipeline/steps/timestamp_check.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <optional>
 
 #include "config/error.hpp"
@@ -69,6 +70,18 @@ TimestampOffsetCheck check_timestamp_offset(const std::vector<std::pair<UtcTime,
   r.offset_detected = r.best_offset_s != 0 && r.rms_at_best_px * 1.5 < r.rms_at_zero_px &&
                       r.rms_at_zero_px - r.rms_at_best_px > 2.0;
   return r;
+}
+
+std::string describe_timestamp_offset(const TimestampOffsetCheck& tc) {
+  char b[400];
+  std::snprintf(b, sizeof b,
+                "frame time stamps look off by %+.0f s: the lamp pairs fit one pinhole camera with rms "
+                "%.2f px when the track is taken %+.0f s from each stamp, against %.1f px as stamped — a "
+                "%s; correct the time stamps (the calibration of this camera will be wrong)",
+                -tc.best_offset_s, tc.rms_at_best_px, tc.best_offset_s, tc.rms_at_zero_px,
+                std::abs(std::abs(tc.best_offset_s) - 18) <= 1 ? "GPST/UTC leap-second mix-up"
+                                                               : "whole-second clock error");
+  return b;
 }
 
 }  // namespace rangecal

@@ -1,5 +1,5 @@
 #pragma once
-// Whole-second and leap-second errors in a camera's frame time stamps (issue 6 item 3).
+// Whole-second and leap-second errors in a camera's frame time stamps.
 //
 // Frames are paired with the lamp track by UTC (seed 002 §2.2). A frame clock that is off by a
 // whole number of seconds — GPST written as UTC (18 s since 2017), a missed PPS edge (1 s) —
@@ -9,6 +9,7 @@
 // pairs: if a non-zero δ explains the pairs far better than δ = 0, the stamps are off by −δ.
 #include <Eigen/Core>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -35,5 +36,9 @@ const std::vector<double>& default_timestamp_offsets_s();
 TimestampOffsetCheck check_timestamp_offset(
     const std::vector<std::pair<UtcTime, Eigen::Vector2d>>& pixels, const HermiteTrack& track,
     const std::vector<double>& candidates_s = default_timestamp_offsets_s());
+
+/// The warning for a detected offset: by how much the stamps look off, both rms figures, and the
+/// likely cause (±18 s ± 1: a GPST/UTC leap-second mix-up; otherwise a whole-second clock error).
+std::string describe_timestamp_offset(const TimestampOffsetCheck& check);
 
 }  // namespace rangecal

@@ -68,9 +68,9 @@ BENCHMARK(BM_MonteCarlo)
 
 void BM_Plan(benchmark::State& state) {
   const Scenario s = example(state.range(0) ? "plan_mixed_routes.json" : "demo_scenario.json");
-  FlightPlanAnalysis a;
+  RoutePlanAnalysis a;
   for (auto _ : state) {
-    a = analyse_flight_plan(s, "candidate");
+    a = analyse_route_plan(s, "candidate");
     benchmark::DoNotOptimize(a.free_sets.size());
   }
   state.counters["points_cam1"] = a.free_sets[0].cameras[0].n_points;

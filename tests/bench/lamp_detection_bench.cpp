@@ -33,7 +33,7 @@ const Scene& scene() {
     st.read_noise = 2.5;
     st.gain = 8;
     st.hot_pixels = random_hot_pixels(st.width, st.height, 10, 60, 200, 1);
-    RenderRng rng(2024);
+    RenderRandom rng(2024);
     for (int i = 0; i < 64; ++i) {
       PsfSpot p{40 + rng.uniform() * 1200, 40 + rng.uniform() * 720, 0.8 + 1.2 * rng.uniform(),
                 (20 + 20 * rng.uniform()) * 2.7};

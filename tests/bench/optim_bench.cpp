@@ -10,7 +10,7 @@
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/search/lm_qn.hpp"
 #include "optim/search/sparrow_search.hpp"
-#include "optim/search/tsai_sassa.hpp"
+#include "optim/methods/tsai_sassa.hpp"
 #include "support/bundle_synthetic.hpp"
 #include "support/synthetic_camera.hpp"
 
@@ -58,7 +58,7 @@ void BM_Bundle1000Points(benchmark::State& state) {
   }
   state.counters["iterations"] = r.iterations;
   state.counters["f_err_mm"] = r.calibration.camera.intr.f_mm - truth.intr.f_mm;
-  state.counters["sigma_f_mm"] = r.calibration.sigma("f");
+  state.counters["sigma_f_mm"] = r.calibration.sigma(CameraParameter::f);
   if (clock) state.counters["clock_err_ms"] = (r.calibration.clock_offset_s - 0.002) * 1e3;
 }
 BENCHMARK(BM_Bundle1000Points)

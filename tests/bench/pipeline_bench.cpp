@@ -6,8 +6,9 @@
 
 #include <filesystem>
 
-#include "config/mission_config.hpp"
-#include "pipeline/stages/camera_stages.hpp"
+#include "pipeline/config/mission_config.hpp"
+#include "pipeline/stages/align_stage.hpp"
+#include "pipeline/stages/detect_stage.hpp"
 #include "pipeline/demo/demo.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
 #include "pipeline/stages/gnss_stage.hpp"

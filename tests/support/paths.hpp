@@ -1,5 +1,5 @@
 #pragma once
-// Paths the tests need: the shared real data, the test data folder, the built CLI, scratch dirs.
+// Paths the tests need: the shared real data, the source tree, the built CLI, scratch dirs.
 #include <filesystem>
 #include <string>
 
@@ -12,10 +12,6 @@ inline std::filesystem::path shared_dir() {
 /// ../shared/external/<rel>
 inline std::filesystem::path external(const std::string& rel) {
   return shared_dir() / "external" / rel;
-}
-/// tests/data/<rel>
-inline std::filesystem::path test_data(const std::string& rel) {
-  return std::filesystem::path(RANGECAL_TEST_DATA_DIR) / rel;
 }
 /// The repository root (for config/examples/ and the like).
 inline std::filesystem::path source_dir() {

@@ -1,5 +1,7 @@
 #include "support/synthetic_camera.hpp"
 
+#include <stdexcept>
+
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -8,6 +10,16 @@
 #include "config/deterministic_random.hpp"
 
 namespace rangecal::test {
+
+std::vector<CameraParameter> parameters(const std::vector<std::string>& names) {
+  std::vector<CameraParameter> out;
+  for (const std::string& n : names) {
+    const auto p = parameter_from_name(n);
+    if (!p) throw std::invalid_argument("no camera parameter '" + n + "'");
+    out.push_back(*p);
+  }
+  return out;
+}
 
 CameraPose look_at_pose(const Eigen::Vector3d& center, const Eigen::Vector3d& target) {
   const Eigen::Vector3d z = (target - center).normalized();  // optical axis

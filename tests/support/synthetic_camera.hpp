@@ -13,9 +13,14 @@
 #include <vector>
 
 #include "vision/camera/camera_model.hpp"
+#include "vision/camera/camera_parameters.hpp"
 #include "vision/calibration/point_correspondence.hpp"
 
 namespace rangecal::test {
+
+/// The camera parameters of `names` (vision/camera/camera_parameters.hpp); throws
+/// std::invalid_argument for a name that is none, so a typo in a test fails loudly.
+std::vector<CameraParameter> parameters(const std::vector<std::string>& names);
 
 /// A camera whose optical axis points from `center` at `target` (world ENU), image x axis kept
 /// horizontal (camera x = forward × up, normalised), i.e. no roll; looking straight up or down,

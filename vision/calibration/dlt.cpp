@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "config/deterministic_random.hpp"
 #include "config/error.hpp"
 #include "vision/calibration/calibration_input_checks.hpp"
 #include "vision/calibration/rq_decomposition.hpp"
@@ -16,27 +17,6 @@ namespace {
 
 const char* const kMethod = "dlt";
 
-// splitmix64: a tiny fully specified generator, so RANSAC samples are identical on every platform.
-class SampleRandom {
- public:
-  explicit SampleRandom(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-  }
-  std::size_t below(std::size_t k) {  // unbiased by rejection
-    const std::uint64_t limit = UINT64_MAX - UINT64_MAX % k;
-    std::uint64_t x;
-    do x = next();
-    while (x >= limit);
-    return static_cast<std::size_t>(x % k);
-  }
-
- private:
-  std::uint64_t state_;
-};
 
 // Hartley normalisation: similarity moving the centroid to 0 and the mean distance to √dim.
 template <int D>

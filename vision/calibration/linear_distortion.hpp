@@ -11,7 +11,7 @@
 
 namespace rangecal {
 
-/// Which of the 7 distortion terms (kDistortionNames order: k1 k2 k3 p1 p2 a1 a2) to estimate.
+/// Which of the 7 distortion terms (Distortion::as_array() order: k1 k2 k3 p1 p2 a1 a2) to estimate.
 using DistortionTerms = std::array<bool, 7>;
 inline constexpr DistortionTerms kRadialK1{true, false, false, false, false, false, false};
 inline constexpr DistortionTerms kRadialK1K2{true, true, false, false, false, false, false};

@@ -4,16 +4,10 @@
 // details. One value type for every method, written to `<cam>/calibration.json` by
 // pipeline/io/calibration_json.hpp.
 //
-// Parameter names and units (the rows/columns of `covariance`, in `parameter_names` order; a
-// method lists only the parameters it estimated):
-//   f   focal length, mm            u0, v0  principal point, px       sx  scale factor (1)
-//   k1  mm⁻²   k2 mm⁻⁴   k3 mm⁻⁶    p1, p2  mm⁻¹                      a1, a2  (1)
-//   wx, wy, wz  rotation perturbation, rad: R = exp([w]×)·R̂ (left, in camera axes)
-//   Tx, Ty, Tz  translation, m (Xc = R·Xw + T)
-//   CE, CN, CU  camera centre in ENU, m (for methods that estimate the centre instead of T)
-//   clock_offset  camera clock − GNSS time, s (frame stamp − true exposure time; bundle only)
-// The camera centre's covariance is always given separately (`center_covariance_m2`), propagated
-// from whichever pose parameters the method used (see center_covariance_from_pose).
+// The estimated parameters are named by vision/camera/camera_parameters.hpp (a method lists only
+// those it estimated; `covariance` rows and columns follow `parameters`). The camera centre's
+// covariance is always given separately (`center_covariance_m2`), propagated from whichever pose
+// parameters the method used (see center_covariance_from_pose).
 #include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
@@ -23,6 +17,7 @@
 #include <vector>
 
 #include "vision/camera/camera_model.hpp"
+#include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
 
@@ -44,8 +39,8 @@ struct CalibrationResult {
   /// lamp pixels of this camera were seen at stamp − clock_offset_s (optim/bundle/bundle_adjustment.hpp).
   double clock_offset_s = 0;
 
-  /// Names of the estimated parameters (see the table above), in covariance order.
-  std::vector<std::string> parameter_names;
+  /// The estimated parameters, in covariance order.
+  std::vector<CameraParameter> parameters;
   /// Covariance of those parameters in their units; empty (0×0) when not computed.
   Eigen::MatrixXd covariance;
   /// Covariance of the camera centre C = −Rᵀ·T in ENU (m²); NaN when not computed.
@@ -62,22 +57,22 @@ struct CalibrationResult {
   /// Wall time of the method (s), for methods.csv; not written to calibration.json.
   double wall_time_s = 0;
 
-  /// Index of `name` in parameter_names, or -1.
-  int parameter_index(const std::string& name) const {
-    for (std::size_t i = 0; i < parameter_names.size(); ++i)
-      if (parameter_names[i] == name) return static_cast<int>(i);
+  /// Index of `p` in parameters, or -1.
+  int parameter_index(CameraParameter p) const {
+    for (std::size_t i = 0; i < parameters.size(); ++i)
+      if (parameters[i] == p) return static_cast<int>(i);
     return -1;
   }
-  /// 1σ of parameter `name` in its units; NaN when it was not estimated or no covariance exists.
-  double sigma(const std::string& name) const {
-    const int i = parameter_index(name);
-    if (i < 0 || covariance.rows() != static_cast<Eigen::Index>(parameter_names.size()) ||
+  /// 1σ of parameter `p` in its unit; NaN when it was not estimated or no covariance exists.
+  double sigma(CameraParameter p) const {
+    const int i = parameter_index(p);
+    if (i < 0 || covariance.rows() != static_cast<Eigen::Index>(parameters.size()) ||
         covariance.cols() != covariance.rows())
       return std::numeric_limits<double>::quiet_NaN();
     return std::sqrt(covariance(i, i));
   }
   /// Correlation of two estimated parameters; NaN when either is unavailable.
-  double correlation(const std::string& a, const std::string& b) const {
+  double correlation(CameraParameter a, CameraParameter b) const {
     const int i = parameter_index(a), j = parameter_index(b);
     const double si = sigma(a), sj = sigma(b);
     if (i < 0 || j < 0 || !(si > 0) || !(sj > 0)) return std::numeric_limits<double>::quiet_NaN();

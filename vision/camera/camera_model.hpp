@@ -27,13 +27,13 @@
 namespace rangecal {
 
 /// Distortion coefficients, distorted → undistorted, sensor mm (k1 in mm⁻², k2 mm⁻⁴, k3 mm⁻⁶,
-/// p1 p2 in mm⁻¹, a1 a2 dimensionless). Array order is kDistortionNames.
+/// p1 p2 in mm⁻¹, a1 a2 dimensionless). Array order is kDistortionParameters's
+/// (vision/camera/camera_parameters.hpp).
 struct Distortion {
   double k1 = 0, k2 = 0, k3 = 0, p1 = 0, p2 = 0, a1 = 0, a2 = 0;
   std::array<double, 7> as_array() const { return {k1, k2, k3, p1, p2, a1, a2}; }
   static Distortion from_array(const double* a) { return {a[0], a[1], a[2], a[3], a[4], a[5], a[6]}; }
 };
-inline constexpr std::array<const char*, 7> kDistortionNames = {"k1", "k2", "k3", "p1", "p2", "a1", "a2"};
 
 /// Intrinsic parameters. f in mm, principal point in px, pixel pitch in mm.
 struct CameraIntrinsics {

@@ -19,12 +19,6 @@
 
 namespace rangecal {
 
-LampDetectorOptions lamp_detector_options(const DetectConfig& config) {
-  LampDetectorOptions o;
-  o.min_snr = config.min_snr;
-  return o;
-}
-
 namespace {
 
 constexpr int kBlock = 16;         // coarse block size (px)

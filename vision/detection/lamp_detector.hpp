@@ -21,7 +21,6 @@
 #include <string>
 #include <vector>
 
-#include "config/mission_config.hpp"
 #include "vision/detection/detections_csv.hpp"
 #include "vision/frames/image_frame.hpp"
 
@@ -47,9 +46,6 @@ struct LampDetectorOptions {
   double motion_gate_px = 8.0;       ///< max distance from the motion prediction for ok_by_motion
   double motion_max_gap_s = 2.0;     ///< neighbours farther in time than this do not predict
 };
-
-/// Options from the mission config's `detect` section (min_snr); the rest at their defaults.
-LampDetectorOptions lamp_detector_options(const DetectConfig& config);
 
 enum class CandidateKind { lamp, hot_pixel, extended, edge, low_snr };
 

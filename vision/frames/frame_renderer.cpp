@@ -9,52 +9,6 @@
 
 namespace rangecal {
 
-namespace {
-std::uint64_t splitmix64(std::uint64_t& x) {
-  std::uint64_t z = (x += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-inline std::uint64_t rotl(std::uint64_t x, int k) {
-  return (x << k) | (x >> (64 - k));
-}
-}  // namespace
-
-RenderRng::RenderRng(std::uint64_t seed) {
-  for (auto& s : s_) s = splitmix64(seed);
-}
-
-std::uint64_t RenderRng::next() {
-  const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-  const std::uint64_t t = s_[1] << 17;
-  s_[2] ^= s_[0];
-  s_[3] ^= s_[1];
-  s_[1] ^= s_[2];
-  s_[0] ^= s_[3];
-  s_[2] ^= t;
-  s_[3] = rotl(s_[3], 45);
-  return result;
-}
-
-double RenderRng::uniform() {
-  return static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0);
-}
-
-double RenderRng::normal() {
-  if (has_cached_) {
-    has_cached_ = false;
-    return cached_;
-  }
-  const double u1 = 1.0 - uniform();  // (0, 1]
-  const double u2 = uniform();
-  const double r = std::sqrt(-2.0 * std::log(u1));
-  const double a = 6.283185307179586 * u2;
-  cached_ = r * std::sin(a);
-  has_cached_ = true;
-  return r * std::cos(a);
-}
-
 void add_psf_spot(cv::Mat& img, const PsfSpot& s) {
   CV_Assert(img.type() == CV_64FC1);
   const double sig = s.sigma_px;
@@ -93,7 +47,7 @@ cv::Mat render_frame(const FrameRenderSettings& st, const std::vector<PsfSpot>& 
 
   const double max_value = std::ldexp(1.0, st.bits) - 1.0;
   cv::Mat out(st.height, st.width, st.bits == 8 ? CV_8UC1 : CV_16UC1);
-  RenderRng rng(seed);
+  RenderRandom rng(seed);
   const double rn2 = st.read_noise * st.read_noise;
   const double inv_gain = st.gain > 0 ? 1.0 / st.gain : 0.0;
   for (int v = 0; v < st.height; ++v) {
@@ -113,7 +67,7 @@ cv::Mat render_frame(const FrameRenderSettings& st, const std::vector<PsfSpot>& 
 
 std::vector<HotPixel> random_hot_pixels(int width, int height, int n, double lo, double hi,
                                         std::uint64_t seed) {
-  RenderRng rng(seed);
+  RenderRandom rng(seed);
   std::vector<HotPixel> out;
   for (int i = 0; i < n; ++i) {
     HotPixel h;

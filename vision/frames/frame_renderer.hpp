@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "config/deterministic_random.hpp"
+
 namespace rangecal {
 
 /// A Gaussian spot: the lamp or a distractor light. `peak` is the amplitude of the continuous
@@ -53,20 +55,5 @@ std::vector<HotPixel> random_hot_pixels(int width, int height, int n, double lo,
 
 /// Writes a frame as PNG or TIFF (by extension). Throws rangecal::Error (input) on failure.
 void write_frame_image(const std::string& path, const cv::Mat& image);
-
-/// A small, portable random generator (xoshiro256** seeded through splitmix64) so rendered frames
-/// are the same on every platform and standard library.
-class RenderRng {
- public:
-  explicit RenderRng(std::uint64_t seed);
-  std::uint64_t next();
-  double uniform();  ///< [0, 1)
-  double normal();   ///< N(0, 1), Box–Muller (pairs cached)
-
- private:
-  std::uint64_t s_[4];
-  double cached_ = 0;
-  bool has_cached_ = false;
-};
 
 }  // namespace rangecal

@@ -63,14 +63,13 @@ FrameSource::FrameSource(FrameSource&&) noexcept = default;
 FrameSource& FrameSource::operator=(FrameSource&&) noexcept = default;
 FrameSource::~FrameSource() = default;
 
-FrameSource FrameSource::from_timestamps_csv(const std::string& csv_path, const SensorConfig& sensor,
-                                             bool allow_missing) {
+FrameSource FrameSource::from_timestamps_csv(const std::string& csv_path, const FrameSourceOptions& options) {
   FrameSource s;
   s.origin_ = csv_path;
   s.entries_ = read_frame_timestamps(csv_path).entries;
-  s.sensor_w_ = sensor.width_px;
-  s.sensor_h_ = sensor.height_px;
-  s.allow_missing_ = allow_missing;
+  s.sensor_w_ = options.width_px;
+  s.sensor_h_ = options.height_px;
+  s.allow_missing_ = options.allow_missing;
   for (const FrameTimestamp& e : s.entries_) {
     const FrameFileKind kind = frame_file_kind(e.file);
     if (kind == FrameFileKind::unknown)
@@ -97,14 +96,14 @@ FrameSource FrameSource::from_timestamps_csv(const std::string& csv_path, const 
       }
     }
     if (!problem.empty()) {
-      if (!allow_missing) throw_input_error(csv_path, e.line, "file", problem);
+      if (!options.allow_missing) throw_input_error(csv_path, e.line, "file", problem);
       s.container_errors_[e.file] = problem;
       continue;
     }
     std::int64_t n = -1;
     if (kind == FrameFileKind::cine) n = static_cast<std::int64_t>(s.cines_.at(e.file)->frame_count());
     if (kind == FrameFileKind::video) n = s.videos_.at(e.file)->frame_count;
-    if (n >= 0 && e.frame >= n && !allow_missing)
+    if (n >= 0 && e.frame >= n && !options.allow_missing)
       throw_input_error(csv_path, e.line, "frame",
                         "frame " + std::to_string(e.frame) + " is beyond the end of '" + e.file + "' (" +
                             std::to_string(n) + " frames)");
@@ -112,11 +111,11 @@ FrameSource FrameSource::from_timestamps_csv(const std::string& csv_path, const 
   return s;
 }
 
-FrameSource FrameSource::from_cine(const std::string& cine_path, const SensorConfig& sensor) {
+FrameSource FrameSource::from_cine(const std::string& cine_path, const FrameSourceOptions& options) {
   FrameSource s;
   s.origin_ = cine_path;
-  s.sensor_w_ = sensor.width_px;
-  s.sensor_h_ = sensor.height_px;
+  s.sensor_w_ = options.width_px;
+  s.sensor_h_ = options.height_px;
   auto reader = std::make_shared<CineReader>(cine_path);
   if (!reader->has_times())
     throw_input_error(cine_path, 0, "tagged block 1002 (TimeOnly)",
@@ -134,12 +133,6 @@ FrameSource FrameSource::from_cine(const std::string& cine_path, const SensorCon
   }
   s.cines_[cine_path] = std::move(reader);
   return s;
-}
-
-FrameSource FrameSource::from_config(const FramesConfig& frames, const SensorConfig& sensor) {
-  if (!frames.timestamps.empty()) return from_timestamps_csv(frames.timestamps, sensor, frames.allow_missing);
-  if (!frames.cine.empty()) return from_cine(frames.cine, sensor);
-  throw_config_error("", "frames", "neither `timestamps` nor `cine` is set");
 }
 
 std::optional<ImageFrame> FrameSource::load(std::size_t i, std::string* skip_reason) const {

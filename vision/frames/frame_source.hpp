@@ -15,7 +15,6 @@
 #include <string>
 #include <vector>
 
-#include "config/mission_config.hpp"
 #include "vision/frames/frame_timestamps_reader.hpp"
 #include "vision/frames/image_frame.hpp"
 
@@ -24,19 +23,22 @@ namespace rangecal {
 class CineReader;
 struct VideoHandle;
 
+struct FrameSourceOptions {
+  int width_px = 0;   ///< required frame width (px); 0 = any
+  int height_px = 0;  ///< required frame height (px); 0 = any
+  /// A missing or undecodable frame is skipped (load returns nullopt with the reason) instead of
+  /// throwing.
+  bool allow_missing = false;
+};
+
 class FrameSource {
  public:
-  /// From a timestamps CSV. `sensor` width/height (when > 0) is the required frame size.
-  /// `allow_missing`: a missing or undecodable frame is skipped (load returns nullopt with the
-  /// reason) instead of throwing. Containers (.cine, videos) named by the CSV are opened here;
-  /// a missing container, or a `frame` beyond a container's length, throws naming the CSV line
-  /// unless allow_missing.
-  static FrameSource from_timestamps_csv(const std::string& csv_path, const SensorConfig& sensor,
-                                         bool allow_missing);
+  /// From a timestamps CSV. Containers (.cine, videos) named by the CSV are opened here; a missing
+  /// container, or a `frame` beyond a container's length, throws naming the CSV line unless
+  /// options.allow_missing.
+  static FrameSource from_timestamps_csv(const std::string& csv_path, const FrameSourceOptions& options);
   /// From a .cine alone, with its per-image TIME64 stamps (frame = 0-based image index).
-  static FrameSource from_cine(const std::string& cine_path, const SensorConfig& sensor);
-  /// From a camera's `frames` config (exactly one of timestamps / cine set).
-  static FrameSource from_config(const FramesConfig& frames, const SensorConfig& sensor);
+  static FrameSource from_cine(const std::string& cine_path, const FrameSourceOptions& options);
 
   FrameSource(FrameSource&&) noexcept;
   FrameSource& operator=(FrameSource&&) noexcept;

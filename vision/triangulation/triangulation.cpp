@@ -9,35 +9,28 @@
 #include <cstdio>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 
 namespace {
 
-constexpr int kNumParams = static_cast<int>(kTriangulationParameterNames.size());
-constexpr int kW = 11, kT = 14, kC = 17;  // first index of wx, Tx, CE in the name table
+constexpr int kNumParams = kCameraParameterCount;
+constexpr int kF = index_of(CameraParameter::f), kSx = index_of(CameraParameter::sx),
+              kU0 = index_of(CameraParameter::u0), kV0 = index_of(CameraParameter::v0),
+              kK1 = index_of(CameraParameter::k1), kW = index_of(CameraParameter::wx),
+              kT = index_of(CameraParameter::Tx), kC = index_of(CameraParameter::CE);
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
-
-/// Parameter indices of `names` in kTriangulationParameterNames; sets *center_mode unless the
-/// names use T. Throws for an unknown name or T mixed with C.
-std::vector<int> parameter_indices(const std::vector<std::string>& names, const std::string& cam_id,
+/// Indices of `parameters` in the canonical order; sets *center_mode unless they use T. Throws
+/// for T mixed with C.
+std::vector<int> parameter_indices(const std::vector<CameraParameter>& parameters, const std::string& cam_id,
                                    bool* center_mode) {
   std::vector<int> idx;
   bool has_t = false, has_c = false;
-  for (const std::string& n : names) {
-    int k = -1;
-    for (int j = 0; j < kNumParams; ++j)
-      if (n == kTriangulationParameterNames[j]) k = j;
-    if (k < 0)
-      throw_calibration_error("camera " + cam_id + " covariance", "unknown parameter name '" + n + "'");
-    has_t = has_t || (k >= kT && k < kT + 3);
-    has_c = has_c || (k >= kC && k < kC + 3);
-    idx.push_back(k);
+  for (CameraParameter p : parameters) {
+    has_t = has_t || is_translation(p);
+    has_c = has_c || is_center(p);
+    idx.push_back(index_of(p));
   }
   if (has_t && has_c) {
     throw_calibration_error(
@@ -48,7 +41,7 @@ std::vector<int> parameter_indices(const std::vector<std::string>& names, const 
   return idx;
 }
 
-/// Pixel of world point X through `cam` perturbed by q (kNumParams values, names table order).
+/// Pixel of world point X through `cam` perturbed by q (kNumParams values, canonical order).
 /// Centre mode: Xc = exp([w]×)·R̂·(X − Ĉ − δC); translation mode: Xc = exp([w]×)·R̂·X + T̂ + δT.
 template <typename T>
 bool project_perturbed(const Camera& cam, bool center_mode, const T* X, const T* q, T* uv, T* depth) {
@@ -66,10 +59,10 @@ bool project_perturbed(const Camera& cam, bool center_mode, const T* X, const T*
   }
   *depth = xc[2];
   const CameraIntrinsics& in = cam.intr;
-  const T intr[4] = {in.f_mm + q[0], in.sx + q[1], in.u0_px + q[2], in.v0_px + q[3]};
+  const T intr[4] = {in.f_mm + q[kF], in.sx + q[kSx], in.u0_px + q[kU0], in.v0_px + q[kV0]};
   const auto d0 = in.dist.as_array();
   T d[7];
-  for (int k = 0; k < 7; ++k) d[k] = d0[k] + q[4 + k];
+  for (int k = 0; k < 7; ++k) d[k] = d0[k] + q[kK1 + k];
   return project_camera_point(intr, d, in.dx_mm, in.dy_mm, xc, &uv[0], &uv[1]);
 }
 
@@ -115,18 +108,18 @@ ProjectionDerivatives differentiate(const Camera& cam, bool center_mode, const E
 
 [[noreturn]] void behind_camera(const std::string& what, const Camera& cam, double depth) {
   throw_calibration_error(what, "the triangulated point lies behind camera " + cam.id + " (depth " +
-                                    fmt("%.3f", depth) +
+                                    format_number("%.3f", depth) +
                                     " m): the rays do not meet in front of every camera — check the picks "
                                     "and the calibrations");
 }
 
 }  // namespace
 
-Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera, const std::vector<std::string>& names,
+Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera, const std::vector<CameraParameter>& parameters,
                                               const Eigen::Vector3d& X,
                                               Eigen::Matrix<double, 2, 3>* d_point) {
   bool center_mode = true;
-  const std::vector<int> idx = parameter_indices(names, camera.id, &center_mode);
+  const std::vector<int> idx = parameter_indices(parameters, camera.id, &center_mode);
   const ProjectionDerivatives pd = differentiate(camera, center_mode, X, true);
   if (!(pd.depth > 0)) behind_camera("camera " + camera.id + " Jacobian", camera, pd.depth);
   Eigen::MatrixXd J(2, static_cast<Eigen::Index>(idx.size()));
@@ -151,16 +144,16 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
     if (!(std::isfinite(v.pick_sigma_px) && v.pick_sigma_px > 0))
       throw_input_error(
           "", 0, "pick_sigma_px",
-          what + ": camera " + v.camera.id + " pick σ must be positive, got " + fmt("%g", v.pick_sigma_px));
+          what + ": camera " + v.camera.id + " pick σ must be positive, got " + format_number("%g", v.pick_sigma_px));
     bool cm = true;
-    param_idx[i] = parameter_indices(v.calibration.parameter_names, v.camera.id, &cm);
+    param_idx[i] = parameter_indices(v.calibration.parameters, v.camera.id, &cm);
     center_mode[i] = cm;
     const auto m = static_cast<Eigen::Index>(param_idx[i].size());
     const Eigen::MatrixXd& S = v.calibration.covariance;
     if (S.rows() != m || S.cols() != m)
       throw_calibration_error("camera " + v.camera.id + " covariance",
                               "is " + std::to_string(S.rows()) + "×" + std::to_string(S.cols()) + " for " +
-                                  std::to_string(m) + " parameter names");
+                                  std::to_string(m) + " parameters");
     if (m > 0 && !S.allFinite())
       throw_calibration_error("camera " + v.camera.id + " covariance", "has non-finite entries");
   }
@@ -183,7 +176,7 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
   res.max_ray_angle_deg = max_angle * 57.295779513082320876;  // 180/π
   if (!(max_angle >= 1e-4)) {
     throw_calibration_error(what, "the viewing rays are parallel (largest angle between them " +
-                                      fmt("%.2e", max_angle) +
+                                      format_number("%.2e", max_angle) +
                                       " rad): no intersection; the cameras see the "
                                       "point from the same direction");
   }

@@ -19,27 +19,20 @@
 #include <vector>
 
 #include "vision/camera/camera_model.hpp"
+#include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
 
-/// Parameter names a camera covariance may use (vision/camera/calibration_result.hpp naming):
-///   f (mm), sx, u0 v0 (px), k1 k2 k3 p1 p2 a1 a2 (sensor mm units),
-///   wx wy wz (rad): rotation perturbation R = exp([w]×)·R̂ (left, camera axes),
-///   Tx Ty Tz (m): translation (Xc = R·Xw + T), or CE CN CU (m): camera centre (Xc = R·(Xw − C)).
-///   clock_offset (s): the camera clock offset of the bundle; a static point's pixel does not
-///   depend on it (zero column), so it acts only through its correlations with the others, which
-///   the covariance already carries.
-/// T and C parameters cannot be mixed in one covariance; with C (or neither) a rotation
-/// perturbation turns the camera about its centre, with T about the world origin.
-inline constexpr std::array<const char*, 21> kTriangulationParameterNames = {
-    "f",  "sx", "u0", "v0", "k1", "k2", "k3", "p1", "p2", "a1",          "a2",
-    "wx", "wy", "wz", "Tx", "Ty", "Tz", "CE", "CN", "CU", "clock_offset"};
-
-/// The calibration uncertainty of one camera: covariance over any subset of the names above, in
-/// their units (e.g. CalibrationResult::parameter_names / covariance). Empty = exactly known.
+/// The calibration uncertainty of one camera: covariance over any subset of the camera
+/// parameters (vision/camera/camera_parameters.hpp), in their units (e.g. a CalibrationResult's
+/// parameters / covariance). Empty = exactly known. The translation (Tx Ty Tz) and the centre
+/// (CE CN CU) cannot be mixed in one covariance: with the centre (or neither) a rotation
+/// perturbation turns the camera about its centre, with the translation about the world origin. A
+/// clock_offset entry is allowed: a static point's pixel does not depend on it (zero column), so it
+/// acts only through its correlations with the others, which the covariance already carries.
 struct CameraCovariance {
-  std::vector<std::string> parameter_names;
-  Eigen::MatrixXd covariance;  ///< n×n, n = parameter_names.size()
+  std::vector<CameraParameter> parameters;
+  Eigen::MatrixXd covariance;  ///< n×n, n = parameters.size()
 };
 
 /// One camera's view of the point.
@@ -66,15 +59,15 @@ struct TriangulationResult {
 /// Triangulates one point seen by views.size() ≥ 2 cameras. `what` names the point in messages
 /// (e.g. "pole A3"). Throws rangecal::Error (calibration) when fewer than two views are given,
 /// the rays are (nearly) parallel (largest angle between them < 1e-4 rad), the point lies behind
-/// a camera, the solution does not converge, or a covariance is malformed (size, unknown name,
-/// T mixed with C, non-finite); (input) when a pick σ is not positive or a pixel is not finite.
+/// a camera, the solution does not converge, or a covariance is malformed (size, T mixed with C,
+/// non-finite); (input) when a pick σ is not positive or a pixel is not finite.
 TriangulationResult triangulate_point(const std::vector<TriangulationView>& views,
                                       const std::string& what = "point");
 
-/// ∂pixel/∂θ (2×n) of `camera` at world point X for the named parameters (perturbation model as
-/// above), and ∂pixel/∂X (2×3) in `d_point` when non-null. Throws like triangulate_point for a
-/// bad name or a point behind the camera. Exposed for tests and planning tools.
-Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera, const std::vector<std::string>& names,
+/// ∂pixel/∂θ (2×n) of `camera` at world point X for `parameters` (perturbation model as above),
+/// and ∂pixel/∂X (2×3) in `d_point` when non-null. Throws like triangulate_point for T mixed with C
+/// or a point behind the camera. Exposed for tests and planning tools.
+Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera, const std::vector<CameraParameter>& parameters,
                                               const Eigen::Vector3d& X,
                                               Eigen::Matrix<double, 2, 3>* d_point = nullptr);
 

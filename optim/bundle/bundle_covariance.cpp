@@ -1,0 +1,113 @@
+#include "optim/bundle/bundle_covariance.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "config/error.hpp"
+
+namespace rangecal {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+WhitenedSystem whitened_system(const BundleParameterBlocks& st, const Camera& base,
+                               const std::vector<BundleObservation>& obs, const std::vector<char>& used,
+                               const std::vector<Eigen::Matrix2d>& W, const BundleSetup& setup,
+                               const BundleOptions& opt) {
+  using ReprojectionCost = ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsicsBlockSize,
+                                                       kDistortionBlockSize, kPoseBlockSize, kClockBlockSize>;
+  constexpr int kPose0 = index_of(CameraParameter::wx);
+  int rows = 0;
+  for (char u : used) rows += u ? 2 : 0;
+  rows += (setup.principal_point_prior ? 2 : 0) + (setup.center_prior ? 3 : 0);
+  MatrixXd Jall = MatrixXd::Zero(rows, kBundleParameterCount);  // every bundle parameter's column
+  WhitenedSystem sys;
+  sys.r.setZero(rows);
+  const double* params[4] = {st.intr, st.dist, st.pose, st.clock};
+  int row = 0;
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    if (!used[i]) continue;
+    ReprojectionCost cost(new ReprojectionResidual{obs[i].world, obs[i].velocity, obs[i].pixel, W[i], st.R0,
+                                                   base.intr.dx_mm, base.intr.dy_mm});
+    Eigen::Matrix<double, 2, kIntrinsicsBlockSize, Eigen::RowMajor> j0;
+    Eigen::Matrix<double, 2, kDistortionBlockSize, Eigen::RowMajor> j1;
+    Eigen::Matrix<double, 2, kPoseBlockSize, Eigen::RowMajor> j2;
+    Eigen::Matrix<double, 2, kClockBlockSize> j3;  // one column: row-major is not allowed (and the same)
+    double* jac[4] = {j0.data(), j1.data(), j2.data(), j3.data()};
+    double res[2];
+    if (!cost.Evaluate(params, res, jac))
+      throw_calibration_error("bundle",
+                              "observation " + std::to_string(i) + " cannot be projected at the solution");
+    Jall.block(row, 0, 2, kIntrinsicsBlockSize) = j0;
+    Jall.block(row, kIntrinsicsBlockSize, 2, kDistortionBlockSize) = j1;
+    Jall.block(row, kPose0, 2, kPoseBlockSize) = j2;
+    Jall.block(row, index_of(CameraParameter::clock_offset), 2, kClockBlockSize) = j3;
+    sys.r[row] = res[0], sys.r[row + 1] = res[1];
+    row += 2;
+  }
+  if (setup.principal_point_prior) {
+    const double s = opt.priors.principal_point_sigma_px;
+    Jall(row, index_of(CameraParameter::u0)) = 1 / s, Jall(row + 1, index_of(CameraParameter::v0)) = 1 / s;
+    sys.r[row] = (st.intr[2] - opt.priors.principal_point_px.x()) / s;
+    sys.r[row + 1] = (st.intr[3] - opt.priors.principal_point_px.y()) / s;
+    row += 2;
+  }
+  if (setup.center_prior) {
+    for (int a = 0; a < 3; ++a) {
+      const double s = opt.priors.center_sigma_m[a];
+      Jall(row + a, index_of(CameraParameter::CE) + a) = 1 / s;
+      sys.r[row + a] = (st.pose[3 + a] - opt.priors.center_enu_m[a]) / s;
+    }
+  }
+  const std::vector<CameraParameter> free = setup.free_parameters();
+  sys.J.resize(rows, static_cast<Eigen::Index>(free.size()));
+  for (std::size_t k = 0; k < free.size(); ++k) sys.J.col(static_cast<Eigen::Index>(k)) = Jall.col(index_of(free[k]));
+  return sys;
+}
+
+CovarianceEstimate estimate_covariance(const MatrixXd& J, const std::vector<CameraParameter>& free,
+                                       const Camera& cam, double scene_distance_m, double max_speed_mps,
+                                       double rank_tolerance) {
+  CovarianceEstimate out;
+  const int p = static_cast<int>(free.size());
+  const MatrixXd N = J.transpose() * J;
+  VectorXd scale(p);
+  std::string undetermined;
+  for (int k = 0; k < p; ++k) {
+    scale[k] = N(k, k) > 0 ? 1 / std::sqrt(N(k, k)) : 0;
+    if (!(N(k, k) > 0)) undetermined += (undetermined.empty() ? "" : ", ") + std::string(parameter_name(free[k]));
+  }
+  if (!undetermined.empty()) {
+    out.rank_deficient = true;
+    out.warnings.push_back("covariance is rank-deficient: the data do not depend on " + undetermined +
+                           " at all (fix it or add observations that do)");
+    return out;
+  }
+  // Rank test on columns scaled by each parameter's physical range, so a parameter whose column is
+  // only rounding noise is not rescued by Jacobi scaling; and on the Jacobi-scaled matrix itself.
+  VectorXd tscale(p);
+  for (int k = 0; k < p; ++k) tscale[k] = parameter_range(free[k], cam.intr, scene_distance_m, max_speed_mps);
+  Eigen::SelfAdjointEigenSolver<MatrixXd> et(tscale.asDiagonal() * N * tscale.asDiagonal());
+  const VectorXd lt = et.eigenvalues();
+  const MatrixXd Ns = scale.asDiagonal() * N * scale.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<MatrixXd> es(Ns);
+  const VectorXd lam = es.eigenvalues();
+  const bool physical_ok = lt[0] > rank_tolerance * lt[p - 1];
+  if (!physical_ok || !(lam[0] > rank_tolerance * lam[p - 1])) {
+    out.rank_deficient = true;
+    const VectorXd nullv = !physical_ok ? VectorXd(et.eigenvectors().col(0)) : VectorXd(es.eigenvectors().col(0));
+    std::string list;
+    for (int k = 0; k < p; ++k)
+      if (std::abs(nullv[k]) > 0.2) list += (list.empty() ? "" : ", ") + std::string(parameter_name(free[k]));
+    out.warnings.push_back("covariance is rank-deficient: " + list +
+                           " cannot be determined from these data; fix some of them or add a prior");
+    return out;
+  }
+  const MatrixXd Nsi = es.eigenvectors() * lam.cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
+  out.covariance = scale.asDiagonal() * Nsi * scale.asDiagonal();
+  return out;
+}
+
+}  // namespace rangecal

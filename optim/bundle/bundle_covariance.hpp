@@ -1,0 +1,43 @@
+#pragma once
+// The bundle's covariance (docs/optimisation.md "Covariance"): from the whitened Jacobian J of
+// every used residual and prior at the solution (columns: the free parameters), N = JᵀJ and
+// Σ = N⁻¹, computed on Jacobi-scaled columns. Before inverting, two rank tests:
+//   - a parameter whose column is zero is not in the data at all;
+//   - the smallest eigenvalue of N with columns scaled by each parameter's full physical range
+//     (parameter_range, vision/camera/camera_parameters.hpp) or by Jacobi scaling is below
+//     rank_tolerance × the largest: the parameters with a large share in that eigenvector cannot be
+//     determined from these data.
+// Either way the covariance is left empty and a warning names the parameters.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/bundle/bundle_parameters.hpp"
+
+namespace rangecal {
+
+/// The whitened residuals r and Jacobian J (free columns only, canonical order) of the used
+/// observations, then the priors in use, at `blocks` (whose rotation is re-based: w = 0).
+struct WhitenedSystem {
+  Eigen::MatrixXd J;
+  Eigen::VectorXd r;
+};
+WhitenedSystem whitened_system(const BundleParameterBlocks& blocks, const Camera& base,
+                               const std::vector<BundleObservation>& observations, const std::vector<char>& used,
+                               const std::vector<Eigen::Matrix2d>& W, const BundleSetup& setup,
+                               const BundleOptions& options);
+
+struct CovarianceEstimate {
+  Eigen::MatrixXd covariance;  ///< a-priori (unscaled); empty when rank-deficient
+  bool rank_deficient = false;
+  std::vector<std::string> warnings;  ///< the rank-deficiency message, naming the parameters
+};
+
+/// Σ = (JᵀJ)⁻¹ for the free parameters `free` of `cam`, with the rank tests above. `scene_distance_m`
+/// and `max_speed_mps` set the physical ranges of the pose and the clock offset.
+CovarianceEstimate estimate_covariance(const Eigen::MatrixXd& J, const std::vector<CameraParameter>& free,
+                                       const Camera& cam, double scene_distance_m, double max_speed_mps,
+                                       double rank_tolerance);
+
+}  // namespace rangecal

@@ -1,0 +1,26 @@
+#pragma once
+// One observation of a camera calibration (SPEC §4.4): a world point with its covariance and the
+// pixel where the camera saw it, with its σ — a lamp position from the PPK track, or a surveyed
+// control pole. The bundle, the LM-QN method, the Monte Carlo and the route planner all take these.
+#include <Eigen/Core>
+
+namespace rangecal {
+
+struct BundleObservation {
+  Eigen::Vector3d world = Eigen::Vector3d::Zero();      ///< ENU, m
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();      ///< (u, v), px
+  Eigen::Matrix3d world_cov = Eigen::Matrix3d::Zero();  ///< Σ_X, m² (e.g. diag(sdE², sdN², sdU²))
+  double pixel_sigma_px = 0;  ///< σ_px of this pixel; ≤ 0 → the method's default
+  /// Lamp velocity (ENU, m/s) at the observation's time stamp (Hermite derivative of the track);
+  /// zero for static points such as poles. Used only when the clock offset is free (or nonzero).
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+};
+
+/// The world point the camera saw: Xw − v·δ for a camera clock offset δ (s). The world point was
+/// interpolated at the frame's stamp, so the lamp really stood at X(stamp − δ) ≈ Xw − v·δ
+/// (docs/optimisation.md "Clock offset").
+inline Eigen::Vector3d observed_world_point(const BundleObservation& o, double clock_offset_s) {
+  return o.world - o.velocity * clock_offset_s;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,373 @@
+#include "pipeline/config/mission_config.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "config/csv_table.hpp"
+#include "config/error.hpp"
+#include "config/json_view.hpp"
+#include "config/sha256.hpp"
+#include "pipeline/steps/calibration_methods.hpp"
+#include "vision/camera/camera_parameters.hpp"
+
+namespace rangecal {
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::vector<std::string>& kMethods = calibration_method_names();
+const std::vector<std::string>& kFreeNames = free_parameter_choices();
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + v[i];
+  return s;
+}
+
+// Everything the loader needs while walking the document.
+struct Loader {
+  std::string file;  // the config path, for messages
+  fs::path dir;      // its folder: relative paths resolve here
+  bool check_files;
+
+  // A path-valued key: non-empty string, resolved against the config's folder, and (when checking)
+  // an existing regular file. A missing file is a config error naming the key.
+  std::string input_file(const JsonView& v, const std::string& expected) const {
+    const std::string s = v.nonempty_string(expected);
+    fs::path p(s);
+    if (p.is_relative()) p = dir / p;
+    p = p.lexically_normal();
+    if (check_files) {
+      std::error_code ec;
+      if (!fs::exists(p, ec))
+        v.fail("file not found: " + p.string() + " (relative paths resolve against " + dir.string() + ")");
+      if (fs::is_directory(p, ec)) v.fail("expected a file, but " + p.string() + " is a folder");
+    }
+    return p.string();
+  }
+
+  static double positive(const JsonView& v, const std::string& expected) {
+    const double x = v.number(expected);
+    if (!(x > 0)) v.fail_expected(expected);
+    return x;
+  }
+
+  static double in_range(const JsonView& v, double lo, double hi, const std::string& expected) {
+    const double x = v.number(expected);
+    if (x < lo || x > hi) v.fail_expected(expected);
+    return x;
+  }
+};
+
+GeodeticOrigin parse_site(const JsonView& site) {
+  site.require_object("an object {\"origin\": {\"lat\", \"lon\", \"h\"}}");
+  site.check_keys({"origin"});
+  const JsonView o = site.at("origin", "an object {\"lat\": deg, \"lon\": deg, \"h\": m}");
+  o.require_object("an object {\"lat\": deg, \"lon\": deg, \"h\": m}");
+  o.check_keys({"lat", "lon", "h"});
+  GeodeticOrigin g;
+  g.lat_deg = Loader::in_range(o.at("lat", "a latitude in degrees in [-90, 90]"), -90, 90,
+                               "a latitude in degrees in [-90, 90]");
+  g.lon_deg = Loader::in_range(o.at("lon", "a longitude in degrees in [-180, 180]"), -180, 180,
+                               "a longitude in degrees in [-180, 180]");
+  // Ellipsoidal height of a place on the ground: the geoid stays within ±110 m of the ellipsoid.
+  g.h_m = Loader::in_range(o.at("h", "an ellipsoidal height in metres in [-1000, 10000]"), -1000, 10000,
+                           "an ellipsoidal height in metres in [-1000, 10000]");
+  return g;
+}
+
+GnssConfig parse_gnss(const Loader& L, const JsonView& g) {
+  g.require_object("an object {\"pos_files\": [...], ...}");
+  g.check_keys({"pos_files", "accept_quality", "max_sd_m", "max_gap_s"});
+  GnssConfig c;
+  const std::string files_form = "a non-empty array of RTKLIB .pos file paths";
+  const JsonView pf = g.at("pos_files", files_form);
+  const std::size_t n = pf.require_array(files_form, 1);
+  for (std::size_t i = 0; i < n; ++i) c.pos_files.push_back(L.input_file(pf.element(i), "a .pos file path"));
+  if (auto q = g.find("accept_quality")) {
+    const std::string form =
+        "a non-empty array of distinct RTKLIB Q values, integers 1-6 (1 fix, 2 float, "
+        "3 sbas, 4 dgps, 5 single, 6 ppp)";
+    const std::size_t m = q->require_array(form, 1, 6);
+    c.accept_quality.clear();
+    for (std::size_t i = 0; i < m; ++i) {
+      const JsonView e = q->element(i);
+      const std::int64_t v = e.integer(form);
+      if (v < 1 || v > 6) e.fail_expected("an RTKLIB Q value, an integer 1-6");
+      if (std::find(c.accept_quality.begin(), c.accept_quality.end(), v) != c.accept_quality.end())
+        e.fail("Q value " + std::to_string(v) + " is listed twice; expected " + form);
+      c.accept_quality.push_back(static_cast<int>(v));
+    }
+  }
+  if (auto v = g.find("max_sd_m"))
+    c.max_sd_m = Loader::positive(*v, "a positive standard deviation in metres");
+  if (auto v = g.find("max_gap_s")) c.max_gap_s = Loader::positive(*v, "a positive duration in seconds");
+  return c;
+}
+
+LeverArmConfig parse_lever_arm(const Loader& L, const JsonView& v, bool have_attitude) {
+  const std::string form =
+      "an object with exactly one of {\"body_frd_m\": [x, y, z]} (needs attitude), {\"vertical_m\": d} or "
+      "{\"total_station\": \"file.csv\"}";
+  v.require_object(form);
+  v.check_keys({"body_frd_m", "vertical_m", "total_station"});
+  if (v.json().size() != 1) v.fail_expected(form);
+  LeverArmConfig c;
+  // A lever arm on a multirotor is at most a few metres; more is a unit mistake (mm given as m).
+  if (auto b = v.find("body_frd_m")) {
+    const std::string bform = "an array of 3 numbers, metres in the body FRD frame, each within ±10 m";
+    const auto x = b->numbers(3, bform);
+    for (double e : x)
+      if (std::abs(e) > 10) b->fail_expected(bform);
+    if (!have_attitude)
+      b->fail(
+          "the full lever arm needs the UAV attitude: add \"attitude\": {\"file\": ...}, or use "
+          "{\"vertical_m\": d} (lamp d metres below the antenna)");
+    c.kind = LeverArmConfig::Kind::body_frd;
+    c.body_frd_m = Eigen::Vector3d(x[0], x[1], x[2]);
+  } else if (auto d = v.find("vertical_m")) {
+    c.kind = LeverArmConfig::Kind::vertical;
+    c.vertical_m = Loader::in_range(*d, -10, 10, "a number of metres (lamp below the antenna) within ±10 m");
+  } else {
+    c.kind = LeverArmConfig::Kind::total_station;
+    c.total_station_file =
+        L.input_file(v.at("total_station", "a file path"), "a total-station CSV path (session,target,E,N,U)");
+  }
+  return c;
+}
+
+bool valid_id(const std::string& id) {
+  if (id.empty()) return false;
+  for (char ch : id)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-')) return false;
+  return true;
+}
+
+CameraConfig parse_camera(const Loader& L, const JsonView& c) {
+  c.require_object("a camera object {\"id\", \"frames\", \"sensor\", \"lens\", ...}");
+  c.check_keys({"id", "frames", "sensor", "lens", "pole_observations", "priors"});
+  CameraConfig cam;
+  const std::string id_form = "a camera id of letters, digits, '_' or '-' (it names the output folder)";
+  const JsonView idv = c.at("id", id_form);
+  cam.id = idv.string(id_form);
+  if (!valid_id(cam.id)) idv.fail_expected(id_form);
+
+  if (auto f = c.find("frames")) {
+    const std::string form =
+        "an object with one of {\"timestamps\": \"frame,file,utc CSV\"} or {\"cine\": \"file.cine\"}, and "
+        "optionally \"allow_missing\": true|false";
+    f->require_object(form);
+    f->check_keys({"timestamps", "cine", "allow_missing"});
+    const bool has_ts = f->has("timestamps"), has_cine = f->has("cine");
+    if (has_ts == has_cine)
+      f->fail(std::string(has_ts ? "both 'timestamps' and 'cine' are given" : "no frames given") +
+              "; expected " + form);
+    if (has_ts) cam.frames.timestamps = L.input_file(*f->find("timestamps"), "a timestamps CSV path");
+    if (has_cine) cam.frames.cine = L.input_file(*f->find("cine"), "a Phantom .cine path");
+    if (auto a = f->find("allow_missing")) cam.frames.allow_missing = a->boolean("true or false");
+  }
+
+  const std::string sform = "an object {\"width_px\", \"height_px\", \"pixel_size_um\": [x, y]}";
+  const JsonView s = c.at("sensor", sform);
+  s.require_object(sform);
+  s.check_keys({"width_px", "height_px", "pixel_size_um"});
+  const std::string wform = "a positive integer number of pixels (at most 100000)";
+  for (const char* key : {"width_px", "height_px"}) {
+    const JsonView v = s.at(key, wform);
+    const std::int64_t n = v.integer(wform);
+    if (n < 1 || n > 100000) v.fail_expected(wform);
+    (std::string(key) == "width_px" ? cam.sensor.width_px : cam.sensor.height_px) = static_cast<int>(n);
+  }
+  const std::string pform = "an array of 2 positive numbers (µm), each at most 1000";
+  const JsonView ps = s.at("pixel_size_um", pform);
+  const auto pp = ps.numbers(2, pform);
+  for (int i = 0; i < 2; ++i) {
+    if (!(pp[i] > 0) || pp[i] > 1000) ps.fail_expected(pform);
+    cam.sensor.pixel_size_um[i] = pp[i];
+  }
+
+  const std::string lform = "an object {\"nominal_focal_mm\": f}";
+  const JsonView lens = c.at("lens", lform);
+  lens.require_object(lform);
+  lens.check_keys({"nominal_focal_mm"});
+  const std::string fform = "a positive focal length in millimetres (at most 10000)";
+  const JsonView fv = lens.at("nominal_focal_mm", fform);
+  cam.nominal_focal_mm = Loader::positive(fv, fform);
+  if (cam.nominal_focal_mm > 10000) fv.fail_expected(fform);
+
+  if (auto p = c.find("pole_observations"))
+    cam.pole_observations = L.input_file(*p, "a pole-pixel CSV path (id,u,v)");
+
+  if (auto pr = c.find("priors")) {
+    pr->require_object("an object of priors");
+    pr->check_keys({"principal_point_px", "principal_point_sigma_px", "center_enu_m", "center_sigma_m"});
+    if (auto pp2 = pr->find("principal_point_px")) {
+      const std::string form = "an array of 2 numbers [u0, v0] in pixels, inside the image";
+      const auto x = pp2->numbers(2, form);
+      // Pixel centres run 0 … width−1; the image area extends half a pixel beyond them.
+      if (x[0] < -0.5 || x[0] > cam.sensor.width_px - 0.5 || x[1] < -0.5 || x[1] > cam.sensor.height_px - 0.5)
+        pp2->fail("principal point (" + pp2->json().dump() + ") lies outside the " +
+                  std::to_string(cam.sensor.width_px) + "x" + std::to_string(cam.sensor.height_px) +
+                  " image; expected " + form);
+      cam.priors.principal_point_px = Eigen::Vector2d(x[0], x[1]);
+    }
+    if (auto v = pr->find("principal_point_sigma_px"))
+      cam.priors.principal_point_sigma_px = Loader::positive(*v, "a positive standard deviation in pixels");
+    if (auto v = pr->find("center_enu_m")) {
+      const auto x = v->numbers(3, "an array of 3 numbers [E, N, U] in metres");
+      cam.priors.center_enu_m = Eigen::Vector3d(x[0], x[1], x[2]);
+    }
+    if (auto v = pr->find("center_sigma_m"))
+      cam.priors.center_sigma_m = Loader::positive(*v, "a positive standard deviation in metres");
+  }
+  return cam;
+}
+
+// A method name (pipeline/steps/calibration_methods.hpp); unknown names suggest the nearest.
+std::string method_name(const JsonView& v) {
+  const std::string form = "one of " + join(kMethods);
+  const std::string m = v.string("a method name, " + form);
+  if (std::find(kMethods.begin(), kMethods.end(), m) == kMethods.end())
+    v.fail("unknown method '" + m + "'" + did_you_mean(m, kMethods) + "; expected " + form);
+  return m;
+}
+
+CalibrateConfig parse_calibrate(const JsonView& c) {
+  c.require_object("an object {\"method\", \"free\", \"compare\", \"use_control_poles\", \"seed\"}");
+  c.check_keys({"method", "free", "compare", "use_control_poles", "seed"});
+  CalibrateConfig cal;
+  if (auto m = c.find("method")) cal.method = method_name(*m);
+  if (auto f = c.find("free")) {
+    const std::string form = "a non-empty array of distinct parameter names from " + join(kFreeNames);
+    const std::size_t n = f->require_array(form, 1);
+    cal.free.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const JsonView e = f->element(i);
+      const std::string name = e.string("a parameter name, one of " + join(kFreeNames));
+      if (std::find(kFreeNames.begin(), kFreeNames.end(), name) == kFreeNames.end())
+        e.fail("unknown parameter '" + name + "'" + did_you_mean(name, kFreeNames) + "; expected one of " +
+               join(kFreeNames));
+      if (std::find(cal.free.begin(), cal.free.end(), name) != cal.free.end())
+        e.fail("parameter '" + name + "' is listed twice");
+      cal.free.push_back(name);
+    }
+  }
+  if (auto cmp = c.find("compare")) {
+    const std::size_t n = cmp->require_array("an array of method names (" + join(kMethods) + ")");
+    for (std::size_t i = 0; i < n; ++i) {
+      const JsonView e = cmp->element(i);
+      const std::string m = method_name(e);
+      if (std::find(cal.compare.begin(), cal.compare.end(), m) != cal.compare.end())
+        e.fail("method '" + m + "' is listed twice");
+      cal.compare.push_back(m);
+    }
+  }
+  if (auto u = c.find("use_control_poles")) cal.use_control_poles = u->boolean("true or false");
+  if (auto s = c.find("seed")) cal.seed = s->unsigned_integer("a non-negative integer seed");
+  return cal;
+}
+
+}  // namespace
+
+MissionConfig parse_mission_config(const std::string& json_text, const std::string& path, bool check_files) {
+  MissionConfig cfg;
+  std::error_code ec;
+  fs::path abs = fs::absolute(fs::path(path), ec);
+  if (ec) abs = fs::path(path);
+  abs = abs.lexically_normal();
+  cfg.config_path = abs.string();
+  cfg.config_dir = abs.parent_path().string();
+  cfg.config_sha256 = sha256_hex(json_text);
+
+  const nlohmann::json doc = parse_json_text(json_text, path, ErrorKind::usage);
+  const JsonView root(doc, path, "", ErrorKind::usage);
+  root.require_object("a mission config object (SPEC §3.1)");
+  root.check_keys({"mission", "site", "gnss", "attitude", "lever_arm", "poles", "cameras", "align", "detect",
+                   "calibrate", "intersect", "output_dir"});
+  const Loader L{path, abs.parent_path(), check_files};
+
+  if (auto m = root.find("mission")) cfg.mission = m->string("a free-text string");
+  cfg.origin = parse_site(root.at("site", "an object {\"origin\": {\"lat\", \"lon\", \"h\"}}"));
+  cfg.gnss = parse_gnss(L, root.at("gnss", "an object {\"pos_files\": [...], ...}"));
+  if (auto a = root.find("attitude")) {
+    a->require_object("an object {\"file\": \"attitude.csv\"}");
+    a->check_keys({"file"});
+    cfg.attitude_file = L.input_file(a->at("file", "an attitude CSV path (utc,roll_deg,pitch_deg,yaw_deg)"),
+                                     "an attitude CSV path (utc,roll_deg,pitch_deg,yaw_deg)");
+  }
+  cfg.lever_arm = parse_lever_arm(
+      L,
+      root.at("lever_arm",
+              "one of {\"body_frd_m\": [x,y,z]}, {\"vertical_m\": d}, {\"total_station\": file}"),
+      !cfg.attitude_file.empty());
+  if (auto p = root.find("poles")) cfg.poles_file = L.input_file(*p, "a pole survey CSV path");
+
+  // An empty camera list is allowed: a gnss-only run (the lamp track alone) is a real use; the
+  // camera stages refuse a config without cameras.
+  const std::string cams_form = "an array of camera objects (empty for a gnss-only run)";
+  const JsonView cams = root.at("cameras", cams_form);
+  const std::size_t nc = cams.require_array(cams_form, 0);
+  for (std::size_t i = 0; i < nc; ++i) {
+    const JsonView cv = cams.element(i);
+    CameraConfig cam = parse_camera(L, cv);
+    for (std::size_t k = 0; k < cfg.cameras.size(); ++k)
+      if (cfg.cameras[k].id == cam.id)
+        cv.at("id", "").fail("duplicate camera id '" + cam.id + "' (also cameras[" + std::to_string(k) +
+                             "].id); ids must be unique, they name the output folders");
+    cfg.cameras.push_back(std::move(cam));
+  }
+
+  if (auto a = root.find("align")) {
+    a->require_object("an object {\"max_frame_offset_s\"}");
+    a->check_keys({"max_frame_offset_s"});
+    if (auto v = a->find("max_frame_offset_s"))
+      cfg.align.max_frame_offset_s = Loader::positive(*v, "a positive duration in seconds");
+  }
+  if (auto d = root.find("detect")) {
+    d->require_object("an object {\"min_snr\", \"threads\"}");
+    d->check_keys({"min_snr", "threads"});
+    if (auto v = d->find("min_snr"))
+      cfg.detect.min_snr = Loader::positive(*v, "a positive signal-to-noise ratio");
+    if (auto v = d->find("threads")) {
+      const std::string form = "a non-negative integer (0 = all hardware threads), at most 1024";
+      const std::int64_t n = v->integer(form);
+      if (n < 0 || n > 1024) v->fail_expected(form);
+      cfg.detect.threads = static_cast<int>(n);
+    }
+  }
+  if (auto c = root.find("calibrate")) {
+    cfg.calibrate = parse_calibrate(*c);
+    if (cfg.calibrate.use_control_poles && cfg.poles_file.empty())
+      c->at("use_control_poles", "").fail("control poles are asked for but the config has no \"poles\" file");
+  }
+  if (auto x = root.find("intersect")) {
+    x->require_object("an object {\"pick_sigma_px\"}");
+    x->check_keys({"pick_sigma_px"});
+    if (auto v = x->find("pick_sigma_px"))
+      cfg.intersect.pick_sigma_px = Loader::positive(*v, "a positive pixel standard deviation");
+  }
+  fs::path out = "out";
+  if (auto o = root.find("output_dir")) out = o->nonempty_string("a folder path");
+  if (out.is_relative()) out = abs.parent_path() / out;
+  cfg.output_dir = out.lexically_normal().string();
+  return cfg;
+}
+
+MissionConfig load_mission_config(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error(ErrorKind::usage, path, 0, "", "mission config file not found");
+  if (fs::is_directory(path, ec))
+    throw Error(ErrorKind::usage, path, 0, "", "expected a mission config JSON file, got a folder");
+  std::string text;
+  try {
+    text = read_file_text(path);
+  } catch (const Error& e) {
+    throw Error(ErrorKind::usage, path, 0, "", e.reason());
+  }
+  return parse_mission_config(text, path, true);
+}
+
+}  // namespace rangecal

@@ -1,0 +1,107 @@
+#pragma once
+// The mission config (SPEC §3.1), loaded and validated. All paths are absolute after loading
+// (relative ones resolve against the config file's folder). Defaults are documented at each
+// field and in docs/config.md.
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gnss/geodesy/geodetic_origin.hpp"
+
+namespace rangecal {
+
+struct GnssConfig {
+  std::vector<std::string> pos_files;  ///< RTKLIB .pos files (≥ 1), absolute paths
+  std::vector<int> accept_quality{1};  ///< Q values kept (1 fix … 6 ppp); default [1]
+  double max_sd_m = 0.05;              ///< epochs with any of sdn/sde/sdu above this are dropped
+  double max_gap_s = 0.5;              ///< never interpolate across a gap longer than this
+};
+
+struct LeverArmConfig {
+  enum class Kind { body_frd, vertical, total_station };
+  Kind kind = Kind::vertical;
+  Eigen::Vector3d body_frd_m = Eigen::Vector3d::Zero();  ///< antenna → lamp, body FRD (m); kind body_frd
+  double vertical_m = 0;           ///< lamp is this far below the antenna; kind vertical
+  std::string total_station_file;  ///< `session,target,E,N,U`; kind total_station
+};
+
+struct SensorConfig {
+  int width_px = 0;
+  int height_px = 0;
+  double pixel_size_um[2] = {0, 0};  ///< (x, y) pixel pitch in micrometres
+};
+
+struct FramesConfig {
+  std::string timestamps;      ///< `frame,file,utc` CSV (files may be images, a video or a .cine); or empty
+  std::string cine;            ///< a Phantom .cine alone, with its own time stamps; or empty
+  bool allow_missing = false;  ///< a missing/unreadable frame is skipped (and reported) instead of failing
+};
+
+struct CameraPriors {
+  std::optional<Eigen::Vector2d> principal_point_px;
+  double principal_point_sigma_px = 30;  ///< default 30 px
+  std::optional<Eigen::Vector3d> center_enu_m;
+  double center_sigma_m = 0.05;  ///< default 5 cm
+};
+
+struct CameraConfig {
+  std::string id;  ///< unique, [A-Za-z0-9_-]+, used as the output folder name
+  FramesConfig frames;
+  SensorConfig sensor;
+  double nominal_focal_mm = 0;
+  std::string pole_observations;  ///< `id,u,v` CSV, or empty
+  CameraPriors priors;
+};
+
+struct AlignConfig {
+  double max_frame_offset_s = 0.005;  ///< a frame farther than this from every epoch is not used
+};
+
+struct DetectConfig {
+  double min_snr = 10;  ///< peak SNR below which a candidate is not the lamp
+  int threads = 0;      ///< 0 = all hardware threads
+};
+
+struct CalibrateConfig {
+  std::string method = "bundle";                     ///< tsai | tsai_sassa | dlt_lmqn | bundle | planar
+  std::vector<std::string> free{"f", "k1", "pose"};  ///< bundle free parameters
+  std::vector<std::string> compare;                  ///< extra methods for methods.csv
+  bool use_control_poles = false;                    ///< add `control` poles as calibration points
+  std::uint64_t seed = 1;                            ///< seed of every random search (RANSAC, SSA)
+};
+
+struct IntersectConfig {
+  double pick_sigma_px = 0.5;  ///< 1σ per axis of a hand-picked pole-top pixel (px)
+};
+
+struct MissionConfig {
+  std::string config_path;    ///< absolute path of the config file
+  std::string config_dir;     ///< its folder (relative paths resolve here)
+  std::string config_sha256;  ///< hash of the file bytes, for run.json
+  std::string mission;        ///< free text
+  GeodeticOrigin origin;
+  GnssConfig gnss;
+  std::string attitude_file;  ///< empty when absent
+  LeverArmConfig lever_arm;
+  std::string poles_file;  ///< empty when absent
+  std::vector<CameraConfig> cameras;
+  AlignConfig align;
+  DetectConfig detect;
+  CalibrateConfig calibrate;
+  IntersectConfig intersect;
+  std::string output_dir;  ///< absolute; default "<config_dir>/out"
+};
+
+/// Loads and validates a mission config. Throws rangecal::Error (kind usage → exit 2) naming the
+/// config file and the JSON path (e.g. `cameras[1].sensor.pixel_size_um`), the problem and the
+/// expected form. Unknown keys are errors. Referenced input files must exist (named by key).
+MissionConfig load_mission_config(const std::string& path);
+
+/// As load_mission_config, from JSON text already read; `path` is used for messages and to
+/// resolve relative paths. `check_files` = false skips the existence checks (for unit tests).
+MissionConfig parse_mission_config(const std::string& json_text, const std::string& path,
+                                   bool check_files = true);
+
+}  // namespace rangecal

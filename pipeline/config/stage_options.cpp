@@ -1,0 +1,29 @@
+#include "pipeline/config/stage_options.hpp"
+
+#include "config/error.hpp"
+
+namespace rangecal {
+
+FrameSourceOptions frame_source_options(const CameraConfig& camera) {
+  FrameSourceOptions o;
+  o.width_px = camera.sensor.width_px;
+  o.height_px = camera.sensor.height_px;
+  o.allow_missing = camera.frames.allow_missing;
+  return o;
+}
+
+FrameSource open_camera_frames(const MissionConfig& cfg, const CameraConfig& camera) {
+  const FrameSourceOptions o = frame_source_options(camera);
+  if (!camera.frames.timestamps.empty()) return FrameSource::from_timestamps_csv(camera.frames.timestamps, o);
+  if (!camera.frames.cine.empty()) return FrameSource::from_cine(camera.frames.cine, o);
+  throw_config_error(cfg.config_path, "cameras[" + camera.id + "].frames",
+                     "neither `timestamps` nor `cine` is set");
+}
+
+LampDetectorOptions lamp_detector_options(const DetectConfig& detect) {
+  LampDetectorOptions o;
+  o.min_snr = detect.min_snr;
+  return o;
+}
+
+}  // namespace rangecal

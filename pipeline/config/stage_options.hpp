@@ -1,0 +1,21 @@
+#pragma once
+// The mission config mapped onto the option structs of the layers below (gnss, vision, optim take
+// their own options and never the config): the one place that knows which config key feeds which
+// option. Defaults of keys the config leaves out are the options' own.
+#include "pipeline/config/mission_config.hpp"
+#include "vision/detection/lamp_detector.hpp"
+#include "vision/frames/frame_source.hpp"
+
+namespace rangecal {
+
+/// `cameras[i].sensor` (required frame size) and `cameras[i].frames.allow_missing`.
+FrameSourceOptions frame_source_options(const CameraConfig& camera);
+
+/// The camera's frames: its `frames.timestamps` CSV, or its `frames.cine` alone. Throws
+/// rangecal::Error (usage) naming `cameras[].frames` when neither is set.
+FrameSource open_camera_frames(const MissionConfig& cfg, const CameraConfig& camera);
+
+/// `detect.min_snr`; the other detector options at their defaults.
+LampDetectorOptions lamp_detector_options(const DetectConfig& detect);
+
+}  // namespace rangecal

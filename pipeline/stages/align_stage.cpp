@@ -1,0 +1,48 @@
+#include "pipeline/stages/align_stage.hpp"
+
+#include "config/error.hpp"
+#include "gnss/formats/lamp_track_csv.hpp"
+#include "pipeline/config/stage_options.hpp"
+#include "pipeline/io/aligned_csv.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/stages/stage_inputs.hpp"
+#include "pipeline/steps/align_frames.hpp"
+
+namespace rangecal {
+
+StageLog run_align_stage(const MissionConfig& cfg) {
+  StageLog log;
+  log.stage = "align";
+  const std::string track_path = lamp_track_path(cfg);
+  require_stage_output(track_path, "gnss");
+  const LampTrack track = read_lamp_track_csv(track_path);
+  if (cfg.cameras.empty()) throw_config_error(cfg.config_path, "cameras", "no cameras to align");
+  std::size_t total = 0;
+  std::vector<AlignResult> results;
+  for (const CameraConfig& cam : cfg.cameras) {
+    const FrameSource source = open_camera_frames(cfg, cam);
+    std::vector<FrameStamp> stamps;
+    stamps.reserve(source.size());
+    for (const auto& e : source.entries()) stamps.push_back({e.frame, e.utc});
+    AlignOptions opt;
+    opt.max_frame_offset_s = cfg.align.max_frame_offset_s;
+    opt.max_gap_s = cfg.gnss.max_gap_s;
+    opt.track_source = track_path;
+    opt.frames_source = source.origin();
+    results.push_back(align_frames(track, stamps, opt));
+    const AlignResult& r = results.back();
+    log.counts[cam.id] = to_json(r.report);
+    total += r.aligned.size();
+    if (r.aligned.empty())
+      log.warnings.push_back(
+          cam.id + ": no frame lies within " + std::to_string(cfg.align.max_frame_offset_s) +
+          " s of a usable lamp-track epoch (check the frame time stamps and the track span)");
+  }
+  if (total == 0)
+    throw_input_error(track_path, 0, "", "no camera has a frame that aligns with the lamp track");
+  for (std::size_t c = 0; c < cfg.cameras.size(); ++c)
+    write_aligned_csv(camera_output(cfg, cfg.cameras[c].id, kAlignedCsv), results[c].aligned);
+  return log;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,92 @@
+#include "pipeline/stages/detect_stage.hpp"
+
+#include <map>
+#include <unordered_map>
+
+#include "config/error.hpp"
+#include "gnss/formats/lamp_track_csv.hpp"
+#include "gnss/track/hermite_interpolation.hpp"
+#include "pipeline/config/stage_options.hpp"
+#include "pipeline/io/aligned_csv.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/progress_bar.hpp"
+#include "pipeline/stages/stage_inputs.hpp"
+#include "pipeline/steps/lamp_pairs.hpp"
+#include "pipeline/steps/timestamp_check.hpp"
+#include "vision/detection/detections_csv.hpp"
+#include "vision/detection/lamp_detector.hpp"
+#include "vision/frames/frame_source.hpp"
+
+namespace rangecal {
+
+StageLog run_detect_stage(const MissionConfig& cfg) {
+  StageLog log;
+  log.stage = "detect";
+  const LampDetectorOptions options = lamp_detector_options(cfg.detect);
+  const std::string track_path = lamp_track_path(cfg);
+  require_stage_output(track_path, "gnss");
+  const HermiteTrack track(read_lamp_track_csv(track_path), cfg.gnss.max_gap_s, track_path);
+  struct CameraDetections {
+    std::vector<LampDetection> detections;
+    std::vector<Correspondence> pairs;
+  };
+  std::vector<CameraDetections> out;
+  std::size_t total_pairs = 0;
+  for (const CameraConfig& cam : cfg.cameras) {
+    const std::string aligned_path = camera_output(cfg, cam.id, kAlignedCsv);
+    require_stage_output(aligned_path, "align");
+    const std::vector<AlignedFrame> aligned = read_aligned_csv(aligned_path);
+    const FrameSource source = open_camera_frames(cfg, cam);
+    std::unordered_map<std::int64_t, std::size_t> index_of_frame;
+    for (std::size_t i = 0; i < source.size(); ++i) index_of_frame.emplace(source.entry(i).frame, i);
+    std::vector<std::size_t> indices;
+    indices.reserve(aligned.size());
+    for (const AlignedFrame& a : aligned) {
+      const auto it = index_of_frame.find(a.frame);
+      if (it == index_of_frame.end())
+        throw_input_error(aligned_path, 0, "frame",
+                          "frame " + std::to_string(a.frame) + " is not in " + source.origin() +
+                              " (aligned.csv is from another frame list; rerun the align stage)");
+      indices.push_back(it->second);
+    }
+    CameraDetections cd;
+    {
+      ProgressBar bar("detect " + cam.id, indices.size());
+      cd.detections = detect_lamp(source, indices, options, cfg.detect.threads, [&bar] { bar.tick(); });
+    }
+    cd.pairs = lamp_pairs(aligned, cd.detections);
+    std::map<std::string, int> by_status;
+    for (const LampDetection& d : cd.detections) ++by_status[d.status];
+    nlohmann::json counts;
+    counts["frames_examined"] = cd.detections.size();
+    counts["by_status"] = by_status;
+    counts["correspondences"] = cd.pairs.size();
+    // A whole-second or leap-second error in the frame stamps: pairs that no pinhole camera
+    // explains unless the track is shifted by δ (pipeline/steps/timestamp_check.hpp).
+    std::vector<std::pair<UtcTime, Eigen::Vector2d>> stamped;
+    for (const Correspondence& c : cd.pairs) stamped.emplace_back(c.utc, c.uv);
+    const TimestampOffsetCheck tc = check_timestamp_offset(stamped, track);
+    if (tc.n_points > 0)
+      counts["timestamp_check"] = {{"best_offset_s", tc.best_offset_s},
+                                   {"rms_at_zero_px", tc.rms_at_zero_px},
+                                   {"rms_at_best_px", tc.rms_at_best_px}};
+    if (tc.offset_detected) log.warnings.push_back(cam.id + ": " + describe_timestamp_offset(tc));
+    log.counts[cam.id] = counts;
+    total_pairs += cd.pairs.size();
+    if (cd.pairs.empty())
+      log.warnings.push_back(cam.id + ": the lamp was not found in any of its " +
+                             std::to_string(cd.detections.size()) + " aligned frames (see " +
+                             camera_output(cfg, cam.id, kDetectionsCsv) + ")");
+    out.push_back(std::move(cd));
+  }
+  if (total_pairs == 0 && !cfg.cameras.empty())
+    throw_input_error(cfg.output_dir, 0, "", "the lamp was found in no camera's frames");
+  for (std::size_t c = 0; c < cfg.cameras.size(); ++c) {
+    write_detections_csv(camera_output(cfg, cfg.cameras[c].id, kDetectionsCsv), out[c].detections);
+    write_correspondences_csv(camera_output(cfg, cfg.cameras[c].id, kCorrespondencesCsv), out[c].pairs);
+  }
+  return log;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,60 @@
+#include "pipeline/steps/calibration_problem.hpp"
+
+#include <map>
+
+#include "config/error.hpp"
+
+namespace rangecal {
+
+ControlPoleViews read_control_pole_views(const MissionConfig& cfg, const CameraConfig& camera) {
+  ControlPoleViews v;
+  if (!cfg.calibrate.use_control_poles || cfg.poles_file.empty() || camera.pole_observations.empty()) return v;
+  v.survey = read_pole_survey(cfg.poles_file, cfg.origin);
+  v.picks = read_pole_picks(camera.pole_observations);
+  v.survey_file = cfg.poles_file;
+  v.picks_file = camera.pole_observations;
+  return v;
+}
+
+CalibrationProblem make_calibration_problem(const CameraConfig& cam, const CalibrateConfig& calibrate,
+                                            const std::vector<Correspondence>& pairs,
+                                            const ControlPoleViews& poles) {
+  CalibrationProblem p;
+  p.camera_id = cam.id;
+  p.sensor.width_px = cam.sensor.width_px;
+  p.sensor.height_px = cam.sensor.height_px;
+  p.sensor.dx_mm = cam.sensor.pixel_size_um[0] * 1e-3;
+  p.sensor.dy_mm = cam.sensor.pixel_size_um[1] * 1e-3;
+  p.nominal_focal_mm = cam.nominal_focal_mm;
+  p.priors = cam.priors;
+  p.free = calibrate.free;
+  p.pixel_sigma_px = kDefaultPixelSigmaPx;
+  p.seed = calibrate.seed;
+  for (const Correspondence& c : pairs) {
+    BundleObservation o;
+    o.world = c.enu;
+    o.pixel = c.uv;
+    const Eigen::Vector3d sd = c.sd_enu ? *c.sd_enu : Eigen::Vector3d::Constant(kDefaultWorldSigmaM);
+    o.world_cov = sd.cwiseProduct(sd).asDiagonal();
+    if (c.vel_enu) o.velocity = *c.vel_enu;
+    p.observations.push_back(o);
+  }
+  std::map<std::string, const SurveyedPole*> by_id;
+  for (const auto& pole : poles.survey) by_id[pole.id] = &pole;
+  for (const PolePick& pick : poles.picks) {
+    const auto it = by_id.find(pick.id);
+    if (it == by_id.end())
+      throw_input_error(poles.picks_file, pick.line, "id", "pole '" + pick.id + "' is not in the survey " + poles.survey_file);
+    if (it->second->role != PoleRole::control) continue;  // check poles never calibrate
+    BundleObservation o;
+    o.world = it->second->enu;
+    o.pixel = pick.uv;
+    o.world_cov = Eigen::Matrix3d::Identity() * kControlPoleSigmaM * kControlPoleSigmaM;
+    o.pixel_sigma_px = kPolePickSigmaPx;
+    p.observations.push_back(o);
+    p.control_pole_ids.push_back(pick.id);
+  }
+  return p;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,377 @@
+// Mission config loader (SPEC §3.1): the full example, defaults, path resolution, and one test per
+// error class, each asserting the message names the config file and the JSON path.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "config/error.hpp"
+#include "pipeline/config/mission_config.hpp"
+#include "config/sha256.hpp"
+#include "support/paths.hpp"
+
+namespace rangecal {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kExample = (test::source_dir() / "config/examples/mission_full.json").string();
+
+std::string example_text() {
+  return test::read_text(kExample);
+}
+
+// A minimal valid config (required keys only).
+nlohmann::json minimal() {
+  return nlohmann::json::parse(R"({
+    "site": {"origin": {"lat": 45.6, "lon": 122.8, "h": 150.0}},
+    "gnss": {"pos_files": ["gnss/rover.pos"]},
+    "lever_arm": {"vertical_m": 0.25},
+    "cameras": [{"id": "cam1", "sensor": {"width_px": 1280, "height_px": 800, "pixel_size_um": [20, 20]},
+                 "lens": {"nominal_focal_mm": 135}}]
+  })");
+}
+
+const std::string kPath = "/missions/m1/mission.json";
+
+// Parses `j` (no file checks) and expects a usage error whose field starts with `json_path` and
+// whose message contains `words`.
+void expect_error(const nlohmann::json& j, const std::string& json_path, const std::string& words) {
+  try {
+    parse_mission_config(j.dump(), kPath, false);
+    FAIL() << "expected an error at " << json_path;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::usage);
+    EXPECT_EQ(e.exit_code(), 2);
+    EXPECT_EQ(e.file(), kPath);
+    EXPECT_EQ(e.field().rfind(json_path, 0), 0u) << "field '" << e.field() << "' vs " << json_path;
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(kPath), std::string::npos) << msg;
+    EXPECT_NE(msg.find(json_path), std::string::npos) << msg;
+    EXPECT_NE(msg.find(words), std::string::npos) << msg;
+  }
+}
+
+TEST(MissionConfig, FullExampleParses) {
+  const MissionConfig c = parse_mission_config(example_text(), kExample, false);
+  const fs::path dir = fs::path(kExample).lexically_normal().parent_path();
+  EXPECT_EQ(c.config_dir, dir.string());
+  EXPECT_EQ(c.config_sha256, sha256_hex(example_text()));
+  EXPECT_NE(c.mission.find("Range 3"), std::string::npos);
+  EXPECT_DOUBLE_EQ(c.origin.lat_deg, 45.6);
+  EXPECT_DOUBLE_EQ(c.origin.lon_deg, 122.8);
+  EXPECT_DOUBLE_EQ(c.origin.h_m, 150.0);
+  ASSERT_EQ(c.gnss.pos_files.size(), 2u);
+  EXPECT_EQ(c.gnss.pos_files[0], (dir / "gnss/rover.pos").string());
+  EXPECT_EQ(c.gnss.accept_quality, (std::vector<int>{1, 2}));
+  EXPECT_DOUBLE_EQ(c.gnss.max_sd_m, 0.05);
+  EXPECT_DOUBLE_EQ(c.gnss.max_gap_s, 0.5);
+  EXPECT_EQ(c.attitude_file, (dir / "gnss/attitude.csv").string());
+  EXPECT_EQ(c.lever_arm.kind, LeverArmConfig::Kind::body_frd);
+  EXPECT_EQ(c.lever_arm.body_frd_m, Eigen::Vector3d(0, 0, 0.25));
+  EXPECT_EQ(c.poles_file, (dir / "survey/poles.csv").string());
+  ASSERT_EQ(c.cameras.size(), 2u);
+  const CameraConfig& a = c.cameras[0];
+  EXPECT_EQ(a.id, "cam1");
+  EXPECT_EQ(a.frames.timestamps, (dir / "cam1/timestamps.csv").string());
+  EXPECT_TRUE(a.frames.allow_missing);
+  EXPECT_EQ(a.sensor.width_px, 1280);
+  EXPECT_EQ(a.sensor.height_px, 800);
+  EXPECT_DOUBLE_EQ(a.sensor.pixel_size_um[0], 20.0);
+  EXPECT_DOUBLE_EQ(a.nominal_focal_mm, 135.0);
+  EXPECT_EQ(a.pole_observations, (dir / "cam1/poles_px.csv").string());
+  ASSERT_TRUE(a.priors.principal_point_px.has_value());
+  EXPECT_EQ(*a.priors.principal_point_px, Eigen::Vector2d(640, 400));
+  EXPECT_EQ(*a.priors.center_enu_m, Eigen::Vector3d(0, 0, 1.5));
+  EXPECT_DOUBLE_EQ(a.priors.center_sigma_m, 0.05);
+  EXPECT_EQ(c.cameras[1].frames.cine, (dir / "cam2/run42.cine").string());
+  EXPECT_TRUE(c.cameras[1].frames.timestamps.empty());
+  EXPECT_FALSE(c.cameras[1].priors.principal_point_px.has_value());
+  EXPECT_DOUBLE_EQ(c.align.max_frame_offset_s, 0.005);
+  EXPECT_DOUBLE_EQ(c.detect.min_snr, 12);
+  EXPECT_EQ(c.detect.threads, 2);
+  EXPECT_EQ(c.calibrate.method, "bundle");
+  EXPECT_EQ(c.calibrate.free, (std::vector<std::string>{"f", "k1", "pose"}));
+  EXPECT_EQ(c.calibrate.compare, (std::vector<std::string>{"tsai", "tsai_sassa", "dlt_lmqn"}));
+  EXPECT_TRUE(c.calibrate.use_control_poles);
+  EXPECT_EQ(c.calibrate.seed, 7u);
+  EXPECT_EQ(c.output_dir, (dir / "out").string());
+}
+
+TEST(MissionConfig, DefaultsOfOptionalKeys) {
+  const MissionConfig c = parse_mission_config(minimal().dump(), kPath, false);
+  EXPECT_EQ(c.mission, "");
+  EXPECT_EQ(c.gnss.accept_quality, std::vector<int>{1});
+  EXPECT_DOUBLE_EQ(c.gnss.max_sd_m, 0.05);
+  EXPECT_DOUBLE_EQ(c.gnss.max_gap_s, 0.5);
+  EXPECT_TRUE(c.attitude_file.empty());
+  EXPECT_EQ(c.lever_arm.kind, LeverArmConfig::Kind::vertical);
+  EXPECT_DOUBLE_EQ(c.lever_arm.vertical_m, 0.25);
+  EXPECT_TRUE(c.poles_file.empty());
+  EXPECT_TRUE(c.cameras[0].frames.timestamps.empty());
+  EXPECT_FALSE(c.cameras[0].frames.allow_missing);
+  EXPECT_DOUBLE_EQ(c.cameras[0].priors.principal_point_sigma_px, 30);
+  EXPECT_DOUBLE_EQ(c.align.max_frame_offset_s, 0.005);
+  EXPECT_DOUBLE_EQ(c.detect.min_snr, 10);
+  EXPECT_EQ(c.detect.threads, 0);
+  EXPECT_EQ(c.calibrate.method, "bundle");
+  EXPECT_EQ(c.calibrate.free, (std::vector<std::string>{"f", "k1", "pose"}));
+  EXPECT_TRUE(c.calibrate.compare.empty());
+  EXPECT_FALSE(c.calibrate.use_control_poles);
+  EXPECT_EQ(c.calibrate.seed, 1u);
+  EXPECT_EQ(c.output_dir, "/missions/m1/out");
+}
+
+TEST(MissionConfig, AbsolutePathsAreUsedAsGiven) {
+  auto j = minimal();
+  j["gnss"]["pos_files"] = {"/data/ppk/a.pos"};
+  j["output_dir"] = "/results/run7";
+  const MissionConfig c = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_EQ(c.gnss.pos_files[0], "/data/ppk/a.pos");
+  EXPECT_EQ(c.output_dir, "/results/run7");
+}
+
+TEST(MissionConfig, LoadsFromDiskWithFilesPresentAndRelativeToConfigFolder) {
+  const fs::path dir = test::scratch_dir("mission_config_load");
+  test::write_text(dir / "m/gnss/rover.pos", "% empty\n");
+  const std::string text = minimal().dump();
+  test::write_text(dir / "m/mission.json", text);
+  const MissionConfig c = load_mission_config((dir / "m/mission.json").string());
+  EXPECT_EQ(c.gnss.pos_files[0], (dir / "m/gnss/rover.pos").string());
+  EXPECT_EQ(c.config_sha256, sha256_hex(text));
+}
+
+// ---- error classes -------------------------------------------------------------------------
+
+TEST(MissionConfigErrors, InvalidJsonNamesLine) {
+  try {
+    parse_mission_config("{\n \"mission\": \"x\",\n \"site\": }\n", kPath, false);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::usage);
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find(kPath + ":3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MissionConfigErrors, UnknownTopLevelKeySuggests) {
+  auto j = minimal();
+  j["calibrat"] = nlohmann::json::object();
+  expect_error(j, "calibrat", "did you mean 'calibrate'?");
+}
+
+TEST(MissionConfigErrors, UnknownNestedKeySuggests) {
+  auto j = minimal();
+  j["cameras"][0]["sensor"]["pixel_size_mu"] = {20, 20};
+  expect_error(j, "cameras[0].sensor.pixel_size_mu", "did you mean 'pixel_size_um'?");
+}
+
+TEST(MissionConfigErrors, UnknownKeyFarFromAnyHasNoSuggestion) {
+  auto j = minimal();
+  j["gnss"]["zzzzzz"] = 1;
+  try {
+    parse_mission_config(j.dump(), kPath, false);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "gnss.zzzzzz");
+    EXPECT_EQ(std::string(e.what()).find("did you mean"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("'max_gap_s'"), std::string::npos);  // lists what is allowed
+  }
+}
+
+TEST(MissionConfigErrors, WrongTypeNamesExpectedForm) {
+  auto j = minimal();
+  j["cameras"].push_back(j["cameras"][0]);
+  j["cameras"][1]["id"] = "cam2";
+  j["cameras"][1]["sensor"]["pixel_size_um"] = "20";
+  expect_error(j, "cameras[1].sensor.pixel_size_um", "expected an array of 2 positive numbers (µm)");
+}
+
+TEST(MissionConfigErrors, WrongArrayLength) {
+  auto j = minimal();
+  j["cameras"][0]["sensor"]["pixel_size_um"] = {20, 20, 20};
+  expect_error(j, "cameras[0].sensor.pixel_size_um", "got an array of 3 elements");
+}
+
+TEST(MissionConfigErrors, MissingRequiredKey) {
+  auto j = minimal();
+  j["cameras"][0]["sensor"].erase("height_px");
+  expect_error(j, "cameras[0].sensor.height_px", "missing required key");
+  auto k = minimal();
+  k.erase("site");
+  expect_error(k, "site", "missing required key");
+}
+
+TEST(MissionConfigErrors, LatitudeOutOfRange) {
+  auto j = minimal();
+  j["site"]["origin"]["lat"] = 95.0;
+  expect_error(j, "site.origin.lat", "[-90, 90]");
+}
+
+TEST(MissionConfigErrors, NegativePixelSize) {
+  auto j = minimal();
+  j["cameras"][0]["sensor"]["pixel_size_um"] = {20, -20};
+  expect_error(j, "cameras[0].sensor.pixel_size_um", "positive");
+}
+
+TEST(MissionConfigErrors, NonPositiveImageWidth) {
+  auto j = minimal();
+  j["cameras"][0]["sensor"]["width_px"] = 0;
+  expect_error(j, "cameras[0].sensor.width_px", "positive integer");
+  j["cameras"][0]["sensor"]["width_px"] = 1280.5;
+  expect_error(j, "cameras[0].sensor.width_px", "positive integer");
+}
+
+TEST(MissionConfigErrors, AcceptQualityOutsideOneToSix) {
+  auto j = minimal();
+  j["gnss"]["accept_quality"] = {1, 7};
+  expect_error(j, "gnss.accept_quality[1]", "1-6");
+}
+
+TEST(MissionConfigErrors, DuplicateCameraIds) {
+  auto j = minimal();
+  j["cameras"].push_back(j["cameras"][0]);
+  expect_error(j, "cameras[1].id", "duplicate camera id 'cam1'");
+}
+
+TEST(MissionConfigErrors, BadCameraIdCharacters) {
+  auto j = minimal();
+  j["cameras"][0]["id"] = "cam 1/x";
+  expect_error(j, "cameras[0].id", "letters, digits");
+}
+
+TEST(MissionConfigErrors, UnknownMethodSuggests) {
+  auto j = minimal();
+  j["calibrate"] = {{"method", "bundel"}};
+  expect_error(j, "calibrate.method", "did you mean 'bundle'?");
+}
+
+TEST(MissionConfigErrors, UnknownCompareMethod) {
+  auto j = minimal();
+  j["calibrate"] = {{"compare", {"tsai", "zhang"}}};
+  expect_error(j, "calibrate.compare[1]", "unknown method 'zhang'");
+}
+
+TEST(MissionConfigErrors, UnknownFreeParameterSuggests) {
+  auto j = minimal();
+  j["calibrate"] = {{"free", {"f", "kl"}}};
+  expect_error(j, "calibrate.free[1]", "did you mean 'k1'?");
+  j["calibrate"] = {{"free", {"f", "clock_ofset"}}};
+  expect_error(j, "calibrate.free[1]", "did you mean 'clock_offset'?");
+}
+
+TEST(MissionConfig, ClockOffsetIsAFreeParameter) {
+  auto j = minimal();
+  j["calibrate"] = {{"free", {"f", "k1", "pose", "clock_offset"}}};
+  const MissionConfig cfg = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_EQ(cfg.calibrate.free.back(), "clock_offset");
+}
+
+TEST(MissionConfigErrors, EmptyPosFiles) {
+  auto j = minimal();
+  j["gnss"]["pos_files"] = nlohmann::json::array();
+  expect_error(j, "gnss.pos_files", "non-empty array");
+}
+
+TEST(MissionConfigErrors, LeverArmBodyWithoutAttitude) {
+  auto j = minimal();
+  j["lever_arm"] = {{"body_frd_m", {0, 0, 0.25}}};
+  expect_error(j, "lever_arm.body_frd_m", "needs the UAV attitude");
+}
+
+TEST(MissionConfigErrors, LeverArmTwoForms) {
+  auto j = minimal();
+  j["lever_arm"] = {{"vertical_m", 0.25}, {"total_station", "lever.csv"}};
+  expect_error(j, "lever_arm", "exactly one of");
+}
+
+TEST(MissionConfigErrors, FramesBothTimestampsAndCine) {
+  auto j = minimal();
+  j["cameras"][0]["frames"] = {{"timestamps", "t.csv"}, {"cine", "a.cine"}};
+  expect_error(j, "cameras[0].frames", "both 'timestamps' and 'cine'");
+}
+
+TEST(MissionConfigErrors, PrincipalPointPriorOutsideImage) {
+  auto j = minimal();
+  j["cameras"][0]["priors"] = {{"principal_point_px", {1500, 400}}};
+  expect_error(j, "cameras[0].priors.principal_point_px", "outside the 1280x800 image");
+}
+
+TEST(MissionConfigErrors, ControlPolesWithoutPolesFile) {
+  auto j = minimal();
+  j["calibrate"] = {{"use_control_poles", true}};
+  expect_error(j, "calibrate.use_control_poles", "no \"poles\" file");
+}
+
+TEST(MissionConfigErrors, MissingReferencedFileNamesKey) {
+  const fs::path dir = test::scratch_dir("mission_config_missing_file");
+  auto j = minimal();
+  test::write_text(dir / "gnss/rover.pos", "% x\n");
+  j["attitude"] = {{"file", "gnss/attitude.csv"}};
+  const std::string path = (dir / "mission.json").string();
+  test::write_text(path, j.dump());
+  try {
+    load_mission_config(path);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::usage);
+    EXPECT_EQ(e.field(), "attitude.file");
+    EXPECT_NE(std::string(e.what()).find((dir / "gnss/attitude.csv").string()), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("file not found"), std::string::npos);
+  }
+}
+
+TEST(MissionConfigErrors, MissingConfigFile) {
+  try {
+    load_mission_config("/nonexistent/mission.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::usage);
+    EXPECT_EQ(e.file(), "/nonexistent/mission.json");
+  }
+}
+
+TEST(MissionConfigErrors, TopLevelNotAnObject) {
+  try {
+    parse_mission_config("[1, 2]", kPath, false);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("expected a mission config object"), std::string::npos) << e.what();
+  }
+}
+
+// ---- SHA-256 (FIPS 180-4 / NIST example vectors) ----------------------------------------------
+
+TEST(Sha256, KnownVectors) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(
+      sha256_hex("abcdefghbcdefghicdefghijdefghijkefghijklfghijklmghijklmnhijklmnoijklmnopjklmnopqklmnopqr"
+                 "lmnopqrsmnopqrstnopqrstu"),
+      "cf5b16a778af8380036ce59e7b0492370b249b11e8f07a51afac45037afee9d1");
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+TEST(Sha256, IncrementalEqualsOneShotAcrossBlockBoundaries) {
+  std::string s;
+  for (int i = 0; i < 300; ++i) s += static_cast<char>(i * 7 + 3);
+  for (std::size_t split : {0u, 1u, 55u, 56u, 63u, 64u, 65u, 128u, 299u}) {
+    Sha256 h;
+    h.update(s.substr(0, split));
+    h.update(s.substr(split));
+    const auto d = h.digest();
+    std::string hex;
+    for (auto b : d) {
+      char buf[3];
+      std::snprintf(buf, sizeof buf, "%02x", b);
+      hex += buf;
+    }
+    EXPECT_EQ(hex, sha256_hex(s)) << split;
+  }
+}
+
+}  // namespace
+}  // namespace rangecal

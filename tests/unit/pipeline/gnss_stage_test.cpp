@@ -1,0 +1,278 @@
+// The gnss stage on the real PPK data: filtering counts (SOURCE.md), gaps, merging, lever arm
+// forms and warnings, the lamp_track.csv round trip and run_gnss_stage end to end.
+#include "pipeline/stages/gnss_stage.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "config/error.hpp"
+#include "gnss/formats/lamp_track_csv.hpp"
+#include "gnss/geodesy/local_enu.hpp"
+#include "support/paths.hpp"
+#include "pipeline/io/output_paths.hpp"
+
+namespace rangecal {
+namespace {
+
+std::string pos_path(const std::string& name) {
+  return test::external("gnss/pos/" + name).string();
+}
+const GeodeticOrigin kOrigin{53.282695790, -8.982135671, 87.4012};
+
+const PosFile& llh() {
+  static const PosFile f = read_rtklib_pos(pos_path("rover20181009_kin_llh_gpst.pos"));
+  return f;
+}
+
+GnssStageInputs base_inputs(std::vector<int> accept, double max_sd = 1e9, double max_gap = 1.5) {
+  GnssStageInputs in;
+  in.pos_files = {llh()};
+  in.origin = kOrigin;
+  in.filter.accept_quality = std::move(accept);
+  in.filter.max_sd_m = max_sd;
+  in.filter.max_gap_s = max_gap;
+  in.lever.form = ResolvedLeverArm::Form::vertical;
+  in.lever.vertical_m = 0.25;
+  return in;
+}
+
+TEST(GnssStage, QualityCountsOnRealData) {
+  const GnssStageResult r = compute_lamp_track(base_inputs({1}));
+  // SOURCE.md §5: 1878 epochs, Q=1: 444, Q=2: 1434.
+  EXPECT_EQ(r.report.filter.read, 1878u);
+  EXPECT_EQ(r.report.filter.kept, 444u);
+  EXPECT_EQ(r.report.filter.dropped_quality, 1434u);
+  EXPECT_EQ(r.report.filter.dropped_by_quality.at(2), 1434u);
+  EXPECT_EQ(r.report.filter.read_by_quality.at(1), 444u);
+  EXPECT_EQ(r.track.epochs.size(), 444u);
+  for (const LampEpoch& e : r.track.epochs) EXPECT_EQ(e.quality, 1);
+  EXPECT_EQ(compute_lamp_track(base_inputs({1, 2})).track.epochs.size(), 1878u);
+}
+
+TEST(GnssStage, SdFilterCountsAgreeWithTheFileAndAcrossFormats) {
+  // Independent count straight from the printed sdn/sde/sdu columns of the Q=1|2 epochs.
+  std::size_t over = 0;
+  for (const PosEpoch& e : llh().epochs)
+    if (e.covariance.diagonal().cwiseSqrt().maxCoeff() > 0.05) ++over;
+  const GnssStageResult r = compute_lamp_track(base_inputs({1, 2}, 0.05));
+  EXPECT_EQ(r.report.filter.dropped_sd, over);
+  EXPECT_GT(over, 0u);
+  EXPECT_EQ(r.report.filter.kept, 1878u - over);
+  // The ECEF file: its covariance rotated to the local ENU gives the same decisions.
+  GnssStageInputs x = base_inputs({1, 2}, 0.05);
+  x.pos_files = {read_rtklib_pos(pos_path("rover20181009_kin_xyz_gpst.pos"))};
+  const GnssStageResult rx = compute_lamp_track(x);
+  EXPECT_NEAR(static_cast<double>(rx.report.filter.dropped_sd), static_cast<double>(over), 2.0);
+}
+
+TEST(GnssStage, GapsOfTheRealData) {
+  // SOURCE.md §5: nominal 1 Hz with 14 gaps of 2–24 s.
+  const GnssStageResult r = compute_lamp_track(base_inputs({1, 2}, 1e9, 1.5));
+  ASSERT_EQ(r.report.gaps.size(), 14u);
+  for (const TimeGap& g : r.report.gaps) {
+    EXPECT_GE(g.duration_s(), 2.0 - 1e-9);
+    EXPECT_LE(g.duration_s(), 24.0 + 1e-9);
+  }
+  EXPECT_EQ(r.report.track_start, utc_from_civil(2018, 10, 9, 12, 21, 53, 0));
+  // Last line of the file: 12:54:44.000 GPST = 12:54:26.000 UTC.
+  EXPECT_EQ(r.report.track_end, utc_from_civil(2018, 10, 9, 12, 54, 26, 0));
+}
+
+TEST(GnssStage, VerticalLeverLowersTheLampAndAddsTheSurveySd) {
+  GnssStageInputs in = base_inputs({1, 2});
+  in.lever.vertical_sd_m = 0.003;
+  const GnssStageResult r = compute_lamp_track(in);
+  const LocalEnu site(kOrigin);
+  for (std::size_t i = 0; i < llh().epochs.size(); i += 97) {
+    const EnuFix a = to_site_enu(llh(), llh().epochs[i], site);
+    const LampEpoch& e = r.track.epochs[i];
+    EXPECT_LT((e.enu - (a.enu - Eigen::Vector3d(0, 0, 0.25))).norm(), 1e-12);
+    EXPECT_NEAR(e.sd_enu[0], std::sqrt(a.cov_enu(0, 0)), 1e-12);
+    EXPECT_NEAR(e.sd_enu[2], std::sqrt(a.cov_enu(2, 2) + 0.003 * 0.003), 1e-12);
+  }
+}
+
+TEST(GnssStage, SplitFilesMergeToTheSameTrackAndOverlapIsAnError) {
+  const PosFile& f = llh();
+  PosFile a = f, b = f;
+  a.path = "a.pos";
+  b.path = "b.pos";
+  a.epochs.assign(f.epochs.begin(), f.epochs.begin() + 900);
+  b.epochs.assign(f.epochs.begin() + 900, f.epochs.end());
+  GnssStageInputs in = base_inputs({1, 2});
+  in.pos_files = {b, a};  // order of the files does not matter
+  const GnssStageResult merged = compute_lamp_track(in);
+  const GnssStageResult whole = compute_lamp_track(base_inputs({1, 2}));
+  ASSERT_EQ(merged.track.epochs.size(), whole.track.epochs.size());
+  for (std::size_t i = 0; i < whole.track.epochs.size(); ++i) {
+    ASSERT_EQ(merged.track.epochs[i].utc, whole.track.epochs[i].utc);
+    ASSERT_EQ(merged.track.epochs[i].enu, whole.track.epochs[i].enu);
+  }
+  b.epochs.insert(b.epochs.begin(), f.epochs[899]);
+  in.pos_files = {a, b};
+  try {
+    compute_lamp_track(in);
+    FAIL() << "overlap accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::input);
+    EXPECT_EQ(e.file(), "b.pos");
+    EXPECT_NE(std::string(e.what()).find("a.pos"), std::string::npos);
+  }
+}
+
+// Attitude at 10 Hz from 12:30:00 to 12:40:00 UTC with constant roll/pitch/yaw.
+AttitudeSeries constant_attitude(double roll, double pitch, double yaw) {
+  AttitudeSeries s;
+  s.path = "att.csv";
+  const UtcTime t0 = utc_from_civil(2018, 10, 9, 12, 30, 0, 0);
+  for (int i = 0; i <= 6000; ++i)
+    s.samples.push_back({UtcTime{t0.ns + i * 100'000'000LL}, {roll, pitch, yaw}, i + 2});
+  return s;
+}
+
+TEST(GnssStage, BodyLeverDropsEpochsOutsideTheAttitudeAndRotatesTheLever) {
+  GnssStageInputs in = base_inputs({1, 2});
+  in.lever.form = ResolvedLeverArm::Form::body_frd;
+  in.lever.body_frd_m = Eigen::Vector3d(0.1, 0, 0.25);
+  in.attitude = constant_attitude(0, 0, 90);
+  const GnssStageResult r = compute_lamp_track(in);
+  const UtcTime t0 = utc_from_civil(2018, 10, 9, 12, 30, 0, 0),
+                t1 = utc_from_civil(2018, 10, 9, 12, 40, 0, 0);
+  std::size_t inside = 0;
+  for (const PosEpoch& e : llh().epochs) inside += (e.utc >= t0 && e.utc <= t1);
+  EXPECT_EQ(r.track.epochs.size(), inside);
+  EXPECT_EQ(r.report.dropped_no_attitude, 1878u - inside);
+  ASSERT_FALSE(r.report.warnings.empty());
+  // Yaw 90°: forward 0.1 m goes east; 0.25 m down.
+  const LocalEnu site(kOrigin);
+  for (const LampEpoch& e : r.track.epochs) {
+    if (e.utc != utc_from_civil(2018, 10, 9, 12, 35, 0, 0)) continue;
+    for (const PosEpoch& p : llh().epochs)
+      if (p.utc == e.utc) {
+        const Eigen::Vector3d a = to_site_enu(llh(), p, site).enu;
+        EXPECT_LT((e.enu - a - Eigen::Vector3d(0.1, 0, -0.25)).norm(), 1e-12);
+      }
+  }
+  in.attitude.reset();
+  try {
+    compute_lamp_track(in);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::usage);
+    EXPECT_EQ(e.field(), "lever_arm.body_frd_m");
+  }
+}
+
+TEST(GnssStage, WarnsWhenTiltMakesTheVerticalFormWrongByMoreThan5mm) {
+  GnssStageInputs in = base_inputs({1, 2});
+  in.attitude = constant_attitude(10, 0, 0);  // 0.25·2·sin 5° = 43.6 mm
+  GnssStageResult r = compute_lamp_track(in);
+  EXPECT_NEAR(r.report.vertical_form_max_error_m, 0.0436, 1e-4);
+  EXPECT_GT(r.report.vertical_form_epochs_over_5mm, 0u);
+  ASSERT_EQ(r.report.warnings.size(), 1u);
+  EXPECT_NE(r.report.warnings[0].find("vertical lever-arm form"), std::string::npos);
+  EXPECT_EQ(r.track.epochs.size(), 1878u);     // the vertical form does not need attitude: nothing dropped
+  in.attitude = constant_attitude(1, 0.5, 0);  // 0.25·tilt(1.118°) = 4.9 mm
+  r = compute_lamp_track(in);
+  EXPECT_LT(r.report.vertical_form_max_error_m, 0.005);
+  EXPECT_TRUE(r.report.warnings.empty());
+}
+
+TEST(GnssStage, NothingLeftIsAnInputError) {
+  GnssStageInputs in = base_inputs({1}, 0.001);
+  try {
+    compute_lamp_track(in);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::input);
+    EXPECT_NE(std::string(e.what()).find("444"), std::string::npos);  // says what was read/dropped
+  }
+}
+
+TEST(LampTrackCsv, RoundTripKeepsNanosecondsAndTenthMm) {
+  LampTrack t;
+  t.epochs.push_back(
+      {UtcTime{1539087713LL * kNsPerSecond + 123456789}, {1.23456, -2.5, 3.00004}, {0.01, 0.02, 0.03}, 1});
+  t.epochs.push_back({UtcTime{1539087714LL * kNsPerSecond + 1}, {-1000.00005, 0, 1e-5}, {0, 0, 0}, 2});
+  const std::string text = format_lamp_track_csv(t);
+  EXPECT_EQ(text.substr(0, text.find('\n')), "utc,E,N,U,sdE,sdN,sdU,quality");
+  EXPECT_NE(text.find("2018-10-09T12:21:53.123456789Z,1.2346,-2.5000,3.0000,0.0100,0.0200,0.0300,1"),
+            std::string::npos);
+  const LampTrack back = parse_lamp_track_csv(text, "t.csv");
+  ASSERT_EQ(back.epochs.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(back.epochs[i].utc, t.epochs[i].utc);
+    EXPECT_LE((back.epochs[i].enu - t.epochs[i].enu).cwiseAbs().maxCoeff(), 0.5e-4 + 1e-12);
+    EXPECT_EQ(back.epochs[i].quality, t.epochs[i].quality);
+    EXPECT_TRUE(std::isnan(back.epochs[i].vel_enu[0]));
+  }
+}
+
+void expect_bad_track(const std::string& body, long line, const std::string& field) {
+  try {
+    parse_lamp_track_csv("utc,E,N,U,sdE,sdN,sdU,quality\n" + body, "t.csv");
+    ADD_FAILURE() << body;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::input);
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(e.field(), field) << e.what();
+  }
+}
+
+TEST(LampTrackCsv, BadInput) {
+  const std::string ok = "2018-10-09T12:21:53.000000000Z,1,2,3,0.01,0.01,0.02,1\n";
+  expect_bad_track(ok + "2018-10-09T12:21:53.000000000Z,1,2,3,0.01,0.01,0.02,1\n", 3, "utc");
+  expect_bad_track(ok + "2018-10-09T12:21:54.000000000Z,1,x,3,0.01,0.01,0.02,1\n", 3, "N");
+  expect_bad_track(ok + "2018-10-09T12:21:54.000000000Z,1,2,3,0.01,-0.01,0.02,1\n", 3, "sdN");
+  expect_bad_track(ok + "2018-10-09T12:21:54.000000000Z,1,2,3,0.01,0.01,0.02,9\n", 3, "quality");
+  expect_bad_track("", 1, "utc");
+}
+
+TEST(GnssStage, RunWritesTheTrackAndItsCounts) {
+  const auto dir = test::scratch_dir("gnss_stage_run");
+  test::write_text(dir / "lever.csv",
+                   "session,target,E,N,U\n1,antenna,0,0,1.250\n1,lamp,0,0,1.000\n2,antenna,0,0,2.254\n"
+                   "2,lamp,0,0,2.000\n");
+  MissionConfig cfg;
+  cfg.config_path = (dir / "mission.json").string();
+  cfg.config_dir = dir.string();
+  cfg.origin = kOrigin;
+  cfg.gnss.pos_files = {pos_path("rover20181009_kin_llh_gpst.pos")};
+  cfg.gnss.accept_quality = {1};
+  cfg.gnss.max_sd_m = 0.05;
+  cfg.gnss.max_gap_s = 1.5;
+  cfg.lever_arm.kind = LeverArmConfig::Kind::total_station;
+  cfg.lever_arm.total_station_file = (dir / "lever.csv").string();
+  cfg.output_dir = (dir / "out").string();
+  const StageLog log = run_gnss_stage(cfg);
+  EXPECT_EQ(log.stage, "gnss");
+  EXPECT_EQ(log.counts["epochs_read"], 1878);
+  EXPECT_EQ(log.counts["dropped_quality"], 1434);
+  EXPECT_EQ(log.counts["lever_arm"]["source"], "total_station");
+  EXPECT_NEAR(log.counts["lever_arm"]["vertical_m"].get<double>(), 0.252, 1e-12);
+  EXPECT_NEAR(log.counts["lever_arm"]["vertical_sd_m"].get<double>(), 0.002 * std::sqrt(2.0), 1e-12);
+  const LampTrack t = read_lamp_track_csv(lamp_track_path(cfg));
+  EXPECT_EQ(static_cast<long>(t.epochs.size()), log.counts["epochs_kept"].get<long>());
+  // Compare with the pure computation.
+  GnssStageInputs in = base_inputs({1}, 0.05, 1.5);
+  in.lever.vertical_m = 0.252;
+  const GnssStageResult r = compute_lamp_track(in);
+  ASSERT_EQ(t.epochs.size(), r.track.epochs.size());
+  for (std::size_t i = 0; i < t.epochs.size(); ++i) {
+    ASSERT_EQ(t.epochs[i].utc, r.track.epochs[i].utc);
+    ASSERT_LE((t.epochs[i].enu - r.track.epochs[i].enu).cwiseAbs().maxCoeff(), 0.5e-4 + 1e-9);
+  }
+  // A bad .pos path is an input error naming it.
+  cfg.gnss.pos_files = {(dir / "missing.pos").string()};
+  try {
+    run_gnss_stage(cfg);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exit_code(), 3);
+    EXPECT_EQ(e.file(), (dir / "missing.pos").string());
+  }
+}
+
+}  // namespace
+}  // namespace rangecal
