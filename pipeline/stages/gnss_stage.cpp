@@ -8,6 +8,7 @@
 
 #include "config/error.hpp"
 #include "gnss/track/antenna_epochs.hpp"
+#include "gnss/formats/attitude_csv.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
 #include "gnss/track/lever_arm.hpp"
 #include "gnss/geodesy/local_enu.hpp"
