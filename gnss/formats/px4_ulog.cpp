@@ -216,11 +216,8 @@ class Parser {
            "the file is " + std::to_string(b.size()) + " bytes, shorter than the 16-byte ULog header");
     if (!is_ulog(b))
       fail("header", 0, "not a ULog file: the first 7 bytes are not the magic 'ULog' 01 12 35");
+    // "Requirements for Parsers": future versions are parsed as well (the summary reports it).
     log_.summary.version = static_cast<unsigned char>(b[7]);
-    if (log_.summary.version > 1)
-      fail("header", 7,
-           "ULog version " + std::to_string(log_.summary.version) +
-               " is not supported (this reader knows versions 0 and 1)");
     log_.summary.header_timestamp_us = load_u64(ptr(8));
   }
 

@@ -4,11 +4,14 @@
 // messages, each a 3-byte header (uint16 size of the body, uint8 type) and a body:
 //   B flag bits (version 1, first message only), F format, I info, M multi-info, P parameter,
 //   Q default parameter, A add subscription, R remove subscription, D data, L / C logged string
-//   (plain / tagged), S sync, O dropout. Unknown message types are skipped and counted, as the
-//   document asks of readers ("Data Section").
+//   (plain / tagged), S sync, O dropout. As "Requirements for Parsers" asks: unknown message
+//   types are skipped (and counted), versions other than 1 are parsed as well (and reported),
+//   unknown incompatible flag bits make the log unreadable (an error), and a log ending inside a
+//   message is read up to that message.
 // Formats ("Format Message") are `name:type field;type field;…` with the C types of "Data
-// Types", fixed arrays `type[n]`, and nested formats by name; fields named `_padding…` are
-// alignment only, and trailing padding of a top-level format is not written in its D messages.
+// Types", fixed arrays `type[n]`, and nested formats by name (possibly defined after their use);
+// fields named `_padding…` are alignment only, and trailing padding of a top-level format is not
+// written in its D messages.
 // Little-endian throughout. Data appended after a crash (incompat flag DATA_APPENDED, "Flag Bits
 // Message") is read from each appended offset.
 //
@@ -114,9 +117,9 @@ struct UlogTopicCount {
 struct UlogSummary {
   std::string path;
   std::size_t file_bytes = 0;
-  int version = 0;                                ///< header version byte (0 or 1)
-  std::uint64_t header_timestamp_us = 0;          ///< header: logging start, boot µs
-  std::vector<UlogInfo> info;                     ///< I messages in file order
+  int version = 0;                        ///< header version byte (1 today; other versions are read as well)
+  std::uint64_t header_timestamp_us = 0;  ///< header: logging start, boot µs
+  std::vector<UlogInfo> info;             ///< I messages in file order
   std::map<std::string, std::size_t> multi_info;  ///< M keys → values (continuations joined)
   std::size_t parameters = 0;                     ///< P messages
   std::size_t default_parameters = 0;             ///< Q messages

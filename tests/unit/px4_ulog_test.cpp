@@ -402,6 +402,9 @@ TEST(Px4UlogSynthetic, NestedFormatsArraysAndPadding) {
   u.fmt("inner:uint16_t a;int8_t[3] b;uint8_t[3] _padding0;");
   // outer: 8 + 2·8 + 8 + 4 + 4 (trailing padding, not logged) = 40 bytes, 36 logged.
   u.fmt("outer:uint64_t timestamp;inner[2] c;double x;float y;uint8_t[4] _padding0;");
+  // "Format Message": a type may be used before it is defined.
+  u.fmt("early:uint64_t timestamp;late[2] x;");
+  u.fmt("late:uint8_t v;");
   u.add(0, 9, "outer");
   std::string p;
   put(p, 777, 8);
@@ -415,7 +418,8 @@ TEST(Px4UlogSynthetic, NestedFormatsArraysAndPadding) {
   u.data(9, p);
   u.data(9, p + std::string(4, '\0'));  // padding written after all: accepted
   const UlogLog log = parse_ulog(u.b, "nested.ulg");
-  ASSERT_EQ(log.formats.size(), 2u);
+  ASSERT_EQ(log.formats.size(), 4u);
+  EXPECT_EQ(log.formats[2].size, 10u);
   const UlogFormat& outer = log.formats[1];
   EXPECT_EQ(outer.size, 40u);
   EXPECT_EQ(outer.logged_size, 36u);
@@ -501,7 +505,7 @@ void expect_input_error(const std::string& bytes, const std::string& field_part,
   }
 }
 
-TEST(Px4UlogBadInput, HeaderMagicAndVersion) {
+TEST(Px4UlogBadInput, HeaderAndMagic) {
   const std::string ok = UlogBuilder().b;
   expect_input_error(ok.substr(0, 10), "header", "16-byte");
   expect_input_error("", "header", "0 bytes");
@@ -509,7 +513,8 @@ TEST(Px4UlogBadInput, HeaderMagicAndVersion) {
   magic[6] = 0x36;
   expect_input_error(magic, "header", "magic");
   expect_input_error("PK\x03\x04 this is a zip, not a log", "header", "magic");
-  expect_input_error(UlogBuilder(2).b, "header", "version 2");
+  // "Requirements for Parsers": a future version is parsed as well, and reported.
+  EXPECT_EQ(parse_ulog(UlogBuilder(2).b, "v2.ulg").summary.version, 2);
 }
 
 TEST(Px4UlogBadInput, Formats) {
