@@ -3,54 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "config/csv_table.hpp"
-#include "config/error.hpp"
-
 namespace rangecal {
 namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
-}
-
-AttitudeSeries parse_attitude_csv(const std::string& text, const std::string& path) {
-  const CsvTable t = parse_csv(text, path);
-  const std::size_t cu = t.column("utc"), cr = t.column("roll_deg"), cp = t.column("pitch_deg"),
-                    cy = t.column("yaw_deg");
-  AttitudeSeries s;
-  s.path = path;
-  s.samples.reserve(t.records.size());
-  for (const CsvRecord& r : t.records) {
-    AttitudeSample a;
-    a.line = r.line;
-    std::string why;
-    const auto utc = parse_iso8601_utc(t.text(r, cu), &why);
-    if (!utc) throw_input_error(path, r.line, "utc", "'" + t.text(r, cu) + "': " + why);
-    a.utc = *utc;
-    a.att.roll_deg = t.number(r, cr);
-    a.att.pitch_deg = t.number(r, cp);
-    a.att.yaw_deg = t.number(r, cy);
-    if (std::abs(a.att.roll_deg) > 180)
-      throw_input_error(path, r.line, "roll_deg",
-                        "roll " + t.text(r, cr) + " is outside [-180, 180] degrees");
-    if (std::abs(a.att.pitch_deg) > 90)
-      throw_input_error(path, r.line, "pitch_deg",
-                        "pitch " + t.text(r, cp) + " is outside [-90, 90] degrees");
-    if (std::abs(a.att.yaw_deg) > 360)
-      throw_input_error(path, r.line, "yaw_deg", "yaw " + t.text(r, cy) + " is outside [-360, 360] degrees");
-    if (!s.samples.empty() && a.utc <= s.samples.back().utc)
-      throw_input_error(path, r.line, "utc",
-                        "time " + t.text(r, cu) + " is not after the previous sample's (line " +
-                            std::to_string(s.samples.back().line) + "); samples must be strictly increasing");
-    s.samples.push_back(a);
-  }
-  if (s.samples.size() < 2)
-    throw_input_error(
-        path, t.records.empty() ? 1 : t.records.back().line, "utc",
-        "at least 2 attitude samples are needed to interpolate, found " + std::to_string(s.samples.size()));
-  return s;
-}
-
-AttitudeSeries read_attitude_csv(const std::string& path) {
-  return parse_attitude_csv(read_file_text(path), path);
 }
 
 double wrap_deg_180(double a) {
@@ -94,6 +49,25 @@ Eigen::Matrix3d rotation_nb(const Attitude& a) {
   Ry << cp, 0, sp, 0, 1, 0, -sp, 0, cp;
   Rx << 1, 0, 0, 0, cr, -sr, 0, sr, cr;
   return Rz * Ry * Rx;  // SPEC §2; seed 002 eq. 3 with φ = yaw, θ = pitch, ψ = roll
+}
+
+Attitude attitude_from_quaternion(double w, double x, double y, double z) {
+  const double n = std::sqrt(w * w + x * x + y * y + z * z);
+  if (!(n > 0)) return Attitude{};
+  w /= n, x /= n, y /= n, z /= n;
+  // The body → NED rotation matrix of a unit Hamilton quaternion has
+  //   R00 = 1 − 2(y² + z²), R10 = 2(xy + wz), R20 = 2(xz − wy), R21 = 2(yz + wx), R22 = 1 − 2(x² + y²),
+  // and Rz(yaw)·Ry(pitch)·Rx(roll) has R00 = cos yaw cos pitch, R10 = sin yaw cos pitch,
+  // R20 = −sin pitch, R21 = cos pitch sin roll, R22 = cos pitch cos roll. Hence
+  //   roll = atan2(R21, R22), pitch = asin(−R20), yaw = atan2(R10, R00),
+  // the 3-2-1 (yaw-pitch-roll) conversion of Wikipedia, "Conversion between quaternions and Euler
+  // angles", section "Quaternion to Euler angles (in 3-2-1 sequence) conversion". asin's argument
+  // is clamped against rounding past ±1.
+  Attitude a;
+  a.roll_deg = std::atan2(2 * (y * z + w * x), 1 - 2 * (x * x + y * y)) / kDeg;
+  a.pitch_deg = std::asin(std::clamp(2 * (w * y - x * z), -1.0, 1.0)) / kDeg;
+  a.yaw_deg = wrap_deg_180(std::atan2(2 * (x * y + w * z), 1 - 2 * (y * y + z * z)) / kDeg);
+  return a;
 }
 
 }  // namespace rangecal

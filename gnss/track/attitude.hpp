@@ -1,9 +1,10 @@
 #pragma once
 // UAV attitude (SPEC §2, §3.3): roll, pitch, yaw in degrees as flight controllers log them —
 // body frame FRD (x forward, y right, z down), navigation frame NED, yaw clockwise from north —
-// read from `utc,roll_deg,pitch_deg,yaw_deg` (utc ISO 8601 with `Z`, up to 9 fraction digits),
-// interpolated to GNSS epochs, and turned into R_nb = Rz(yaw)·Ry(pitch)·Rx(roll) (seed 002
-// eq. 3–4 with the angle names put right: φ is the yaw, θ the pitch, ψ the roll; seeds/NOTES.md).
+// on the UTC axis, interpolated to GNSS epochs, and turned into R_nb = Rz(yaw)·Ry(pitch)·Rx(roll)
+// (seed 002 eq. 3–4 with the angle names put right: φ is the yaw, θ the pitch, ψ the roll;
+// seeds/NOTES.md). The readers are in gnss/formats/ (attitude_file.hpp chooses by content: the
+// CSV `utc,roll_deg,pitch_deg,yaw_deg`, a PX4 ULog or an ArduPilot DataFlash log).
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -22,7 +23,7 @@ struct Attitude {
 struct AttitudeSample {
   UtcTime utc;
   Attitude att;
-  long line = 0;  ///< 1-based line in the CSV
+  long line = 0;  ///< 1-based line in the CSV; 0 for samples from a binary log
 };
 
 /// Samples strictly increasing in time (≥ 2 to interpolate).
@@ -30,13 +31,6 @@ struct AttitudeSeries {
   std::string path;
   std::vector<AttitudeSample> samples;
 };
-
-/// Reads the attitude CSV. Throws rangecal::Error (input) naming file, line and column for a
-/// missing file or column, a bad time or number, an angle out of range, times not strictly
-/// increasing, or fewer than 2 samples.
-AttitudeSeries read_attitude_csv(const std::string& path);
-/// As read_attitude_csv, from text in memory; `path` is for messages.
-AttitudeSeries parse_attitude_csv(const std::string& text, const std::string& path);
 
 /// Wraps an angle in degrees into (-180, 180].
 double wrap_deg_180(double a);
@@ -49,5 +43,11 @@ std::optional<Attitude> interpolate_attitude(const AttitudeSeries& s, UtcTime t,
 
 /// R_nb = Rz(yaw)·Ry(pitch)·Rx(roll) (SPEC §2): v_NED = R_nb · v_FRD.
 Eigen::Matrix3d rotation_nb(const Attitude& a);
+
+/// Roll, pitch, yaw (degrees, yaw in (-180, 180]) of the unit Hamilton quaternion q = [w, x, y, z]
+/// that rotates body FRD vectors into NED (PX4's vehicle_attitude.q), so that rotation_nb of the
+/// result is the quaternion's rotation matrix. `q` need not be exactly unit: it is normalised
+/// first (a logged float quaternion is unit to ~1e-7); a zero quaternion gives all angles 0.
+Attitude attitude_from_quaternion(double w, double x, double y, double z);
 
 }  // namespace rangecal

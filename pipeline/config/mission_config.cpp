@@ -295,8 +295,9 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
   if (auto a = root.find("attitude")) {
     a->require_object("an object {\"file\": \"attitude.csv\"}");
     a->check_keys({"file"});
-    cfg.attitude_file = L.input_file(a->at("file", "an attitude CSV path (utc,roll_deg,pitch_deg,yaw_deg)"),
-                                     "an attitude CSV path (utc,roll_deg,pitch_deg,yaw_deg)");
+    const char* expected =
+        "an attitude file path (CSV utc,roll_deg,pitch_deg,yaw_deg, PX4 ULog or ArduPilot DataFlash)";
+    cfg.attitude_file = L.input_file(a->at("file", expected), expected);
   }
   cfg.lever_arm = parse_lever_arm(
       L,

@@ -22,6 +22,24 @@ std::string mm(double m) {
   return format_number("%.1f", m * 1e3) + " mm";
 }
 
+// The attitude must cover some of the GNSS epochs: a log of another flight (or one whose boot
+// time was mapped to UTC wrongly) would otherwise only show as every epoch dropped, or silently
+// unused in the vertical form.
+void check_attitude_overlaps(const AttitudeSeries& att, const std::vector<AntennaEpoch>& epochs,
+                             const std::vector<PosFile>& pos_files) {
+  if (att.samples.empty() || epochs.empty()) return;
+  const UtcTime a0 = att.samples.front().utc, a1 = att.samples.back().utc;
+  const UtcTime g0 = epochs.front().utc, g1 = epochs.back().utc;
+  if (a0 <= g1 && g0 <= a1) return;
+  std::string files;
+  for (const PosFile& f : pos_files) files += (files.empty() ? "" : ", ") + f.path;
+  throw_input_error(att.path, 0, "utc",
+                    "the attitude " + format_iso8601_utc(a0, 3) + " … " + format_iso8601_utc(a1, 3) +
+                        " does not overlap the GNSS epochs " + format_iso8601_utc(g0, 3) + " … " +
+                        format_iso8601_utc(g1, 3) + " of " + files +
+                        ": the attitude log is of another flight, or its time is wrong");
+}
+
 }  // namespace
 
 GnssStageResult compute_lamp_track(const GnssStageInputs& in) {
@@ -34,6 +52,7 @@ GnssStageResult compute_lamp_track(const GnssStageInputs& in) {
   const LocalEnu site(in.origin);
   const std::vector<AntennaEpoch> kept =
       filter_epochs(merge_antenna_epochs(in.pos_files, site), in.filter, &rep.filter);
+  if (in.attitude) check_attitude_overlaps(*in.attitude, kept, in.pos_files);
 
   res.track.epochs.reserve(kept.size());
   double max_tilt_deg = 0;
@@ -178,12 +197,47 @@ nlohmann::json gnss_stage_counts(const GnssStageReport& rep, const std::vector<P
   return j;
 }
 
+nlohmann::json attitude_file_counts(const AttitudeFileReport& rep, const std::string& path) {
+  using nlohmann::json;
+  json j = {{"path", path},
+            {"format", to_string(rep.kind)},
+            {"samples", rep.samples},
+            {"utc_start", format_iso8601_utc(rep.utc_start, 9)},
+            {"utc_end", format_iso8601_utc(rep.utc_end, 9)}};
+  if (!rep.log) return j;
+  const AutopilotAttitudeReport& r = *rep.log;
+  const BootTimeFit& f = r.fit;
+  j["file_bytes"] = r.file_bytes;
+  j["truncated_bytes"] = r.truncated_bytes;
+  j["attitude_message"] = r.attitude_message;
+  j["attitude_time_field"] = r.attitude_time_field;
+  j["attitude_messages"] = r.attitude_messages;
+  j["attitude_invalid"] = r.attitude_invalid;
+  j["attitude_not_increasing"] = r.attitude_not_increasing;
+  j["gps_message"] = r.gps_message;
+  j["gps_messages"] = r.gps_messages;
+  j["gps_skipped"] = r.gps_skipped;
+  j["gps_used"] = f.used;
+  j["gps_rejected"] = f.rejected;
+  j["gps_span_s"] = static_cast<double>(f.last_boot_us - f.first_boot_us) * 1e-6;
+  j["boot_zero_utc"] = format_iso8601_utc(f.to_utc(0), 9);
+  j["offset_ns"] = f.offset_ns;
+  j["offset_ref_boot_us"] = f.ref_boot_us;
+  j["drift_fitted"] = f.drift_fitted;
+  j["drift_ppm"] = f.drift_ppm;
+  j["residual_rms_us"] = f.residual_rms_us;
+  j["residual_max_us"] = f.residual_max_us;
+  j["reject_threshold_us"] = f.reject_threshold_us;
+  return j;
+}
+
 StageLog run_gnss_stage(const MissionConfig& cfg) {
   GnssStageInputs in;
   if (cfg.gnss.pos_files.empty())
     throw_config_error(cfg.config_path, "gnss.pos_files", "at least one .pos file is needed");
   for (const std::string& p : cfg.gnss.pos_files) in.pos_files.push_back(read_rtklib_pos(p));
-  if (!cfg.attitude_file.empty()) in.attitude = read_attitude_csv(cfg.attitude_file);
+  AttitudeFileReport attitude_report;
+  if (!cfg.attitude_file.empty()) in.attitude = read_attitude_file(cfg.attitude_file, &attitude_report);
   if (cfg.lever_arm.kind == LeverArmConfig::Kind::body_frd && !in.attitude)
     throw_config_error(cfg.config_path, "lever_arm.body_frd_m",
                        "a body-frame lever arm needs attitude.file (or use lever_arm.vertical_m)");
@@ -198,6 +252,7 @@ StageLog run_gnss_stage(const MissionConfig& cfg) {
   StageLog log;
   log.stage = "gnss";
   log.counts = gnss_stage_counts(res.report, in.pos_files, in.lever);
+  if (in.attitude) log.counts["attitude"] = attitude_file_counts(attitude_report, cfg.attitude_file);
   log.warnings = res.report.warnings;
   return log;
 }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "gnss/formats/attitude_file.hpp"
 #include "pipeline/config/mission_config.hpp"
 #include "gnss/track/attitude.hpp"
 #include "gnss/track/epoch_filter.hpp"
@@ -61,7 +62,8 @@ struct GnssStageResult {
 constexpr double kVerticalFormWarnM = 0.005;
 
 /// The pure stage. Throws rangecal::Error: usage when the body_frd form has no attitude; input for
-/// overlapping .pos files or when no epoch survives filtering.
+/// overlapping .pos files, when no epoch survives filtering, or when the attitude's time span does
+/// not overlap the filtered GNSS epochs' (the message names both files and both spans).
 GnssStageResult compute_lamp_track(const GnssStageInputs& in);
 
 /// Resolves cfg.lever_arm (reads the total-station file when configured).
@@ -71,9 +73,13 @@ ResolvedLeverArm resolve_lever_arm(const LeverArmConfig& cfg);
 nlohmann::json gnss_stage_counts(const GnssStageReport& report, const std::vector<PosFile>& files,
                                  const ResolvedLeverArm& lever);
 
-/// Reads cfg's .pos files, attitude and lever arm, computes the track, writes
-/// `<output_dir>/gnss/lamp_track.csv` atomically, and returns the stage log (wall time, counts,
-/// warnings). The caller merges the log into run.json (update_run_log).
+/// The run.json counts of the attitude file (key "attitude"): path, reader, samples, UTC span, and
+/// for an autopilot log the message counts and the boot-time → UTC fit (docs/gnss.md).
+nlohmann::json attitude_file_counts(const AttitudeFileReport& report, const std::string& path);
+
+/// Reads cfg's .pos files, attitude (CSV, PX4 ULog or ArduPilot DataFlash, by content) and lever
+/// arm, computes the track, writes `<output_dir>/gnss/lamp_track.csv` atomically, and returns the
+/// stage log (wall time, counts, warnings). The caller merges the log into run.json (update_run_log).
 StageLog run_gnss_stage(const MissionConfig& cfg);
 
 

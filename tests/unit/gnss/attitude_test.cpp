@@ -3,11 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <cmath>
 #include <random>
 
 #include "config/error.hpp"
+#include "gnss/formats/attitude_csv.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {
@@ -87,6 +89,33 @@ TEST(Attitude, RotationIsSeed002Eq4WithAnglesPutRight) {
     EXPECT_LT((R.transpose() * R - Eigen::Matrix3d::Identity()).norm(), 1e-12);
     EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
   }
+}
+
+TEST(Attitude, FromQuaternionInvertsRotationNb) {
+  // A quaternion built by Eigen from R_nb of known angles must give those angles back.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 500; ++i) {
+    const Attitude a{u(rng) * 180, u(rng) * 89, u(rng) * 180};
+    const Eigen::Quaterniond q(rotation_nb(a));
+    for (double scale : {1.0, 1.0 + 1e-4}) {  // not exactly unit, as a logged float quaternion
+      const Attitude b = attitude_from_quaternion(scale * q.w(), scale * q.x(), scale * q.y(), scale * q.z());
+      EXPECT_NEAR(b.roll_deg, a.roll_deg, 1e-9);
+      EXPECT_NEAR(b.pitch_deg, a.pitch_deg, 1e-9);
+      EXPECT_NEAR(b.yaw_deg, a.yaw_deg, 1e-9);
+    }
+    // −q is the same rotation.
+    const Attitude c = attitude_from_quaternion(-q.w(), -q.x(), -q.y(), -q.z());
+    EXPECT_NEAR(c.yaw_deg, a.yaw_deg, 1e-9);
+  }
+  // Yaw 180° about NED z: q = [0, 0, 0, 1]; the result is +180, never −180.
+  EXPECT_EQ(attitude_from_quaternion(0, 0, 0, 1).yaw_deg, 180);
+  EXPECT_EQ(attitude_from_quaternion(0, 0, 0, -1).yaw_deg, 180);
+  // Roll +90° (right wing down): q = [cos 45°, sin 45°, 0, 0].
+  EXPECT_NEAR(attitude_from_quaternion(std::sqrt(0.5), std::sqrt(0.5), 0, 0).roll_deg, 90, 1e-12);
+  const Attitude zero = attitude_from_quaternion(0, 0, 0, 0);
+  EXPECT_EQ(zero.roll_deg, 0);
+  EXPECT_EQ(zero.yaw_deg, 0);
 }
 
 TEST(Attitude, WrapDeg) {

@@ -9,6 +9,7 @@
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
 #include "gnss/geodesy/local_enu.hpp"
+#include "support/dataflash_writer.hpp"
 #include "support/paths.hpp"
 #include "pipeline/io/output_paths.hpp"
 
@@ -272,6 +273,100 @@ TEST(GnssStage, RunWritesTheTrackAndItsCounts) {
     EXPECT_EQ(e.exit_code(), 3);
     EXPECT_EQ(e.file(), (dir / "missing.pos").string());
   }
+}
+
+TEST(GnssStage, AttitudeNotOverlappingTheEpochsIsAnInputErrorNamingBothSpans) {
+  // The real PX4 log flew on 2021-04-21; the real PPK data is of 2018-10-09.
+  const std::string ulg = test::external("px4-ulog/sample_log_small.ulg").string();
+  for (auto form : {ResolvedLeverArm::Form::vertical, ResolvedLeverArm::Form::body_frd}) {
+    GnssStageInputs in = base_inputs({1, 2});
+    in.lever.form = form;
+    in.attitude = read_attitude_file(ulg);
+    try {
+      compute_lamp_track(in);
+      FAIL() << "no overlap accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::input);
+      EXPECT_EQ(e.exit_code(), 3);
+      EXPECT_EQ(e.file(), ulg);
+      const std::string m = e.what();
+      EXPECT_NE(m.find("2021-04-21T06:30:58.467Z … 2021-04-21T06:31:04.963Z"), std::string::npos) << m;
+      EXPECT_NE(m.find("2018-10-09T12:21:53.000Z … 2018-10-09T12:54:26.000Z"), std::string::npos) << m;
+      EXPECT_NE(m.find(pos_path("rover20181009_kin_llh_gpst.pos")), std::string::npos) << m;
+      EXPECT_NE(m.find("does not overlap"), std::string::npos) << m;
+    }
+  }
+  // Touching spans overlap: an attitude ending exactly on the first epoch is accepted.
+  GnssStageInputs in = base_inputs({1, 2});
+  AttitudeSeries a;
+  a.path = "att.csv";
+  const UtcTime first = utc_from_civil(2018, 10, 9, 12, 21, 53, 0);
+  a.samples = {{UtcTime{first.ns - kNsPerSecond}, {}, 2}, {first, {}, 3}};
+  in.attitude = a;
+  EXPECT_NO_THROW(compute_lamp_track(in));
+}
+
+// A DataFlash log (built from the format's layout: no real one exists) over 12:30–12:40 UTC.
+std::string dataflash_over_the_real_flight() {
+  test::DataflashWriter w;
+  w.define_att_and_gps();
+  // 2018-10-09T12:30:00 UTC = GPS week 2022, 217,818 s (2 days + 12:30:18 GPST); boot 100 s then.
+  const std::uint64_t boot0 = 100'000'000;
+  for (int i = 0; i <= 3000; ++i) {
+    const std::uint64_t t = boot0 + 200'000ULL * static_cast<std::uint64_t>(i);
+    w.gps(t, 6, 2022, static_cast<std::uint32_t>(217'818'000 + (t - boot0) / 1000));
+  }
+  for (int i = 0; i <= 6000; ++i) w.att(boot0 + 100'000ULL * static_cast<std::uint64_t>(i), 0, 0, 90);
+  return w.bytes();
+}
+
+TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
+  const auto dir = test::scratch_dir("gnss_stage_autopilot");
+  test::write_text(dir / "flight.bin", dataflash_over_the_real_flight());
+  MissionConfig cfg;
+  cfg.config_path = (dir / "mission.json").string();
+  cfg.config_dir = dir.string();
+  cfg.origin = kOrigin;
+  cfg.gnss.pos_files = {pos_path("rover20181009_kin_llh_gpst.pos")};
+  cfg.gnss.accept_quality = {1, 2};
+  cfg.gnss.max_sd_m = 1e9;
+  cfg.gnss.max_gap_s = 1.5;
+  cfg.lever_arm.kind = LeverArmConfig::Kind::body_frd;
+  cfg.lever_arm.body_frd_m = Eigen::Vector3d(0.1, 0, 0.25);
+  cfg.attitude_file = (dir / "flight.bin").string();
+  cfg.output_dir = (dir / "out").string();
+  const StageLog log = run_gnss_stage(cfg);
+  const nlohmann::json& a = log.counts.at("attitude");
+  EXPECT_EQ(a.at("format"), "ardupilot_dataflash");
+  EXPECT_EQ(a.at("path"), cfg.attitude_file);
+  EXPECT_EQ(a.at("samples"), 6001);
+  EXPECT_EQ(a.at("utc_start"), "2018-10-09T12:30:00.000000000Z");
+  EXPECT_EQ(a.at("utc_end"), "2018-10-09T12:40:00.000000000Z");
+  EXPECT_EQ(a.at("gps_messages"), 3001);
+  EXPECT_EQ(a.at("gps_used"), 3001);
+  EXPECT_EQ(a.at("gps_rejected"), 0);
+  EXPECT_EQ(a.at("gps_skipped"), 0);
+  EXPECT_EQ(a.at("drift_fitted"), true);  // 600 s of GPS
+  EXPECT_EQ(a.at("drift_ppm"), 0.0);
+  EXPECT_EQ(a.at("residual_rms_us"), 0.0);
+  EXPECT_EQ(a.at("boot_zero_utc"), "2018-10-09T12:28:20.000000000Z");
+  EXPECT_EQ(a.at("truncated_bytes"), 0);
+  // The same track as the body-frame lever arm on the epochs inside 12:30–12:40 (yaw 90°).
+  GnssStageInputs in = base_inputs({1, 2});
+  in.lever.form = ResolvedLeverArm::Form::body_frd;
+  in.lever.body_frd_m = Eigen::Vector3d(0.1, 0, 0.25);
+  in.attitude = constant_attitude(0, 0, 90);
+  EXPECT_EQ(log.counts.at("epochs_kept"), compute_lamp_track(in).track.epochs.size());
+
+  // A CSV attitude reports its format and span only.
+  test::write_text(
+      dir / "att.csv",
+      "utc,roll_deg,pitch_deg,yaw_deg\n2018-10-09T12:30:00Z,0,0,90\n2018-10-09T12:40:00Z,0,0,90\n");
+  cfg.attitude_file = (dir / "att.csv").string();
+  const nlohmann::json c = run_gnss_stage(cfg).counts.at("attitude");
+  EXPECT_EQ(c.at("format"), "csv");
+  EXPECT_EQ(c.at("samples"), 2);
+  EXPECT_FALSE(c.contains("gps_used"));
 }
 
 }  // namespace
