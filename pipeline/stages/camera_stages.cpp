@@ -58,6 +58,12 @@ StageLog run_align_stage(const MissionConfig& cfg) {
     const AlignResult r = align_frames(track, stamps, opt);
     write_aligned_csv(camera_output(cfg, cam.id, kAlignedCsv), r.aligned);
     log.counts[cam.id] = to_json(r.report);
+    log.counts[cam.id]["time_source"] = source.time_source();
+    if (source.time_source() == FrameSource::kTimeSourceMrawHeader)
+      log.warnings.push_back(
+          cam.id + ": frame times come from the Photron header (camera clock to the second, " +
+          "shifted by clock_utc_offset_h, plus frame number / record rate): a coarse source; " +
+          "a timestamps CSV from the range timing is better");
     total += r.aligned.size();
     if (r.aligned.empty())
       log.warnings.push_back(
@@ -118,6 +124,7 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
     }
     write_correspondences_csv(camera_output(cfg, cam.id, kCorrespondencesCsv), pairs);
     nlohmann::json counts;
+    counts["time_source"] = source.time_source();
     counts["frames_examined"] = det.size();
     counts["by_status"] = by_status;
     counts["correspondences"] = pairs.size();

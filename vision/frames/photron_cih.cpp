@@ -247,11 +247,13 @@ void fill_header(const RawFields& raw, PhotronHeader& h) {
                                           "') does not say monochrome (-M-): cannot tell grey from a colour "
                                           "mosaic; colour is not supported");
   } else if (ct == "color" || ct == "colour" || ct == "rgb" || ct == "bgr" || ct == "bayer") {
-    r.bad(PhotronField::color_type, "colour recording (" + r.quoted(PhotronField::color_type) +
-                                        "): only Mono recordings are supported");
+    r.bad(PhotronField::color_type,
+          "colour recording (" + r.quoted(PhotronField::color_type) +
+              "): only monochrome recordings are supported (Mono, or Raw from a monochrome model)");
   } else if (ct != "mono") {
-    r.bad(PhotronField::color_type, "unknown colour type " + r.quoted(PhotronField::color_type) +
-                                        "; only Mono recordings are supported");
+    r.bad(PhotronField::color_type,
+          "unknown colour type " + r.quoted(PhotronField::color_type) +
+              "; only monochrome recordings are supported (Mono, or Raw from a monochrome model)");
   }
 
   const std::int64_t bit = r.integer(PhotronField::color_bit, r.require(PhotronField::color_bit));
