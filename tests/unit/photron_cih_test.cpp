@@ -329,6 +329,7 @@ TEST(PhotronCih, HeaderClockRequiresUsableFields) {
       {replaced(good, "<date>2026/5/1</date>", ""), "fileInfo/date", "missing"},
       {replaced(good, "<date>2026/5/1</date>", "<date>1 May 2026</date>"), "fileInfo/date", "not a date"},
       {replaced(good, "<date>2026/5/1</date>", "<date>2026/2/30</date>"), "fileInfo/date", "not a date"},
+      {replaced(good, "<date>2026/5/1</date>", "<date>3020/2/29</date>"), "fileInfo/date", "1970-2200"},
       {replaced(good, "<time>10:00:00</time>", ""), "fileInfo/time", "missing"},
       {replaced(good, "<time>10:00:00</time>", "<time>10:00</time>"), "fileInfo/time", "no seconds"},
       {replaced(good, "<time>10:00:00</time>", "<time>25:00:00</time>"), "fileInfo/time", "not a time"},

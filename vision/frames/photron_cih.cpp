@@ -424,8 +424,9 @@ PhotronFrameClock photron_frame_clock(const PhotronHeader& h, double clock_utc_o
     date_ok = a && b && c;
     if (date_ok) y = *a, mo = *b, d = *c;
   }
-  if (!date_ok || y < 1970 || !valid_civil_date(y, mo, d))
-    fail(PhotronField::date, "'" + printable_excerpt(h.date) + "' is not a date Y/M/D");
+  // UtcTime (int64 ns since 1970) reaches 2262; the years a camera can have recorded in are far inside.
+  if (!date_ok || y < 1970 || y > 2200 || !valid_civil_date(y, mo, d))
+    fail(PhotronField::date, "'" + printable_excerpt(h.date) + "' is not a date Y/M/D in 1970-2200");
   // Time "h:m:s" with an optional fraction; PFV also writes "h:m", which has no usable second.
   const auto tp = split(h.time, ':');
   if (tp.size() == 2 && digits(tp[0]) && digits(tp[1]))
