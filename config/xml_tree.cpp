@@ -134,6 +134,8 @@ class Parser {
       } else {
         if (static_cast<int>(open.size()) >= kXmlMaxDepth)
           fail("elements nested deeper than " + std::to_string(kXmlMaxDepth) + " levels");
+        if (++elements_ > kXmlMaxElements)
+          fail("more than " + std::to_string(kXmlMaxElements) + " elements (not a header document)");
         XmlElement* parent = open.back();
         parent->children.emplace_back();
         XmlElement& child = parent->children.back();
@@ -275,6 +277,7 @@ class Parser {
   std::size_t pos_;
   const std::string& file_;
   long line_ = 1;
+  std::size_t elements_ = 1;  // the root
 };
 
 }  // namespace

@@ -5,8 +5,9 @@
 // for well-formedness and kept), character data with the five predefined entities and numeric
 // character references (&#N; &#xN;), CDATA sections. Refused with a rangecal::Error (input)
 // naming the file and line: DOCTYPE declarations, mismatched or unclosed tags, undefined
-// entities, control bytes in the document, nesting deeper than kXmlMaxDepth, and anything but
-// whitespace, comments and processing instructions before the root element.
+// entities, control bytes in the document, nesting deeper than kXmlMaxDepth, more than
+// kXmlMaxElements elements (memory stays bounded whatever the input), and anything but whitespace,
+// comments and processing instructions before the root element.
 // Parsing stops at the end of the root element: what follows is the caller's business (PFV
 // appends a binary block after the .cihx document).
 #include <cstddef>
@@ -18,6 +19,7 @@
 namespace rangecal {
 
 constexpr int kXmlMaxDepth = 64;
+constexpr std::size_t kXmlMaxElements = 100000;
 
 struct XmlElement {
   std::string name;

@@ -246,6 +246,10 @@ TEST(PhotronCih, StrictXml) {
   for (int i = 0; i < 100; ++i) deep += "<a>";
   e = expect_error([&] { parse_x(cihx(deep)); });
   EXPECT_TRUE(contains(e.what(), "deeper than 64")) << e.what();
+  std::string many;
+  for (int i = 0; i < 100001; ++i) many += "<a/>";
+  e = expect_error([&] { parse_x(cihx(many)); });
+  EXPECT_TRUE(contains(e.what(), "more than 100000 elements")) << e.what();
   // A field given twice is ambiguous.
   expect_cihx_error(cihx(kFields + "<frameInfo><totalFrame>9</totalFrame></frameInfo>"),
                     "frameInfo/totalFrame", "2 times");
@@ -356,6 +360,9 @@ TEST(PhotronCih, MissingOrWrongHeaderFile) {
   const fs::path dir = test::scratch_dir("cih_files");
   auto e = expect_error([&] { read_photron_header((dir / "none.cihx").string()); });
   EXPECT_TRUE(contains(e.what(), "none.cihx") && contains(e.what(), "missing")) << e.what();
+  test::write_text(dir / "big.cihx", std::string((1u << 20) + 1, ' '));
+  e = expect_error([&] { read_photron_header((dir / "big.cihx").string()); });
+  EXPECT_TRUE(contains(e.what(), "too large")) << e.what();
   e = expect_error([&] { read_photron_header((dir / "x.txt").string()); });
   EXPECT_TRUE(contains(e.what(), ".cihx or .cih")) << e.what();
   e = expect_error([&] { find_photron_header((dir / "rec.mraw").string()); });

@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 
 // A .cihx is tens of kB (the LUT tables make most of it); anything this large is not a header and
 // is refused before it is read into memory.
-constexpr std::uintmax_t kMaxHeaderBytes = 16u << 20;
+constexpr std::uintmax_t kMaxHeaderBytes = 1u << 20;
 
 struct FieldNames {
   PhotronField field;
