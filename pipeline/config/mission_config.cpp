@@ -157,16 +157,37 @@ CameraConfig parse_camera(const Loader& L, const JsonView& c) {
 
   if (auto f = c.find("frames")) {
     const std::string form =
-        "an object with one of {\"timestamps\": \"frame,file,utc CSV\"} or {\"cine\": \"file.cine\"}, and "
-        "optionally \"allow_missing\": true|false";
+        "an object with one of {\"timestamps\": \"frame,file,utc CSV\"}, {\"cine\": \"file.cine\"} or "
+        "{\"mraw\": \"file.mraw\", \"clock_utc_offset_h\": h}, and optionally \"allow_missing\": true|false";
     f->require_object(form);
-    f->check_keys({"timestamps", "cine", "allow_missing"});
-    const bool has_ts = f->has("timestamps"), has_cine = f->has("cine");
-    if (has_ts == has_cine)
-      f->fail(std::string(has_ts ? "both 'timestamps' and 'cine' are given" : "no frames given") +
+    f->check_keys({"timestamps", "cine", "mraw", "clock_utc_offset_h", "allow_missing"});
+    const bool has_ts = f->has("timestamps"), has_cine = f->has("cine"), has_mraw = f->has("mraw");
+    std::vector<std::string> given;
+    for (const char* key : {"timestamps", "cine", "mraw"})
+      if (f->has(key)) given.push_back(std::string("'") + key + "'");
+    if (given.size() != 1)
+      f->fail((given.empty() ? std::string("no frames given")
+               : given.size() == 2
+                   ? "both " + given[0] + " and " + given[1] + " are given"
+                   : "all of " + given[0] + ", " + given[1] + " and " + given[2] + " are given") +
               "; expected " + form);
     if (has_ts) cam.frames.timestamps = L.input_file(*f->find("timestamps"), "a timestamps CSV path");
     if (has_cine) cam.frames.cine = L.input_file(*f->find("cine"), "a Phantom .cine path");
+    if (has_mraw) cam.frames.mraw = L.input_file(*f->find("mraw"), "a Photron .mraw path");
+    // Photron's header date and time are the camera clock's local time with no zone (Photron
+    // FASTCAM Viewer .cihx fileInfo/date, time): the offset is stated, never assumed.
+    if (auto o = f->find("clock_utc_offset_h")) {
+      if (!has_mraw)
+        o->fail(
+            "applies only to 'mraw' (the Photron header clock); timestamps CSVs and .cine stamps are UTC");
+      cam.frames.clock_utc_offset_h = Loader::in_range(
+          *o, -14, 14, "the camera clock's offset from UTC in hours (clock - UTC), within ±14");
+    } else if (has_mraw) {
+      f->fail(
+          "'mraw' needs \"clock_utc_offset_h\": the camera clock - UTC in hours (Photron's header time "
+          "is the camera's local clock with no time zone); or give \"timestamps\": a frame,file,utc CSV "
+          "naming the .mraw");
+    }
     if (auto a = f->find("allow_missing")) cam.frames.allow_missing = a->boolean("true or false");
   }
 

@@ -36,6 +36,9 @@ struct SensorConfig {
 struct FramesConfig {
   std::string timestamps;      ///< `frame,file,utc` CSV (files may be images, a video or a .cine); or empty
   std::string cine;            ///< a Phantom .cine alone, with its own time stamps; or empty
+  std::string mraw;            ///< a Photron .mraw alone, timed by its .cihx/.cih header; or empty
+  /// With `mraw`: camera clock − UTC in hours (Photron's header time has no zone); required there.
+  std::optional<double> clock_utc_offset_h;
   bool allow_missing = false;  ///< a missing/unreadable frame is skipped (and reported) instead of failing
 };
 

@@ -16,8 +16,10 @@ FrameSource open_camera_frames(const MissionConfig& cfg, const CameraConfig& cam
   const FrameSourceOptions o = frame_source_options(camera);
   if (!camera.frames.timestamps.empty()) return FrameSource::from_timestamps_csv(camera.frames.timestamps, o);
   if (!camera.frames.cine.empty()) return FrameSource::from_cine(camera.frames.cine, o);
+  if (!camera.frames.mraw.empty())
+    return FrameSource::from_mraw(camera.frames.mraw, o, camera.frames.clock_utc_offset_h);
   throw_config_error(cfg.config_path, "cameras[" + camera.id + "].frames",
-                     "neither `timestamps` nor `cine` is set");
+                     "none of `timestamps`, `cine` or `mraw` is set");
 }
 
 LampDetectorOptions lamp_detector_options(const DetectConfig& detect) {

@@ -11,7 +11,8 @@ namespace rangecal {
 /// `cameras[i].sensor` (required frame size) and `cameras[i].frames.allow_missing`.
 FrameSourceOptions frame_source_options(const CameraConfig& camera);
 
-/// The camera's frames: its `frames.timestamps` CSV, or its `frames.cine` alone. Throws
+/// The camera's frames: its `frames.timestamps` CSV, or its `frames.cine` or `frames.mraw` alone
+/// (the .mraw timed by its header and frames.clock_utc_offset_h). Throws
 /// rangecal::Error (usage) naming `cameras[].frames` when neither is set.
 FrameSource open_camera_frames(const MissionConfig& cfg, const CameraConfig& camera);
 

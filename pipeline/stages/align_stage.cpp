@@ -32,6 +32,12 @@ StageLog run_align_stage(const MissionConfig& cfg) {
     results.push_back(align_frames(track, stamps, opt));
     const AlignResult& r = results.back();
     log.counts[cam.id] = to_json(r.report);
+    log.counts[cam.id]["time_source"] = source.time_source();
+    if (source.time_source() == FrameSource::kTimeSourceMrawHeader)
+      log.warnings.push_back(
+          cam.id + ": frame times come from the Photron header (camera clock to the second, " +
+          "shifted by clock_utc_offset_h, plus frame number / record rate): a coarse source; " +
+          "a timestamps CSV from the range timing is better");
     total += r.aligned.size();
     if (r.aligned.empty())
       log.warnings.push_back(

@@ -59,6 +59,7 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
     std::map<std::string, int> by_status;
     for (const LampDetection& d : cd.detections) ++by_status[d.status];
     nlohmann::json counts;
+    counts["time_source"] = source.time_source();
     counts["frames_examined"] = cd.detections.size();
     counts["by_status"] = by_status;
     counts["correspondences"] = cd.pairs.size();

@@ -9,6 +9,7 @@
 
 #include "config/error.hpp"
 #include "vision/frames/cine_format.hpp"
+#include "vision/frames/positional_read.hpp"
 
 namespace rangecal {
 namespace {
@@ -18,19 +19,6 @@ T get_le(const std::uint8_t* p) {
   T v{};
   std::memcpy(&v, p, sizeof(T));  // little-endian host assumed (x86-64, aarch64)
   return v;
-}
-
-// Reads exactly n bytes at offset; false on short read.
-bool pread_all(int fd, void* buf, std::size_t n, std::uint64_t offset) {
-  auto* p = static_cast<std::uint8_t*>(buf);
-  while (n > 0) {
-    const ssize_t r = ::pread(fd, p, n, static_cast<off_t>(offset));
-    if (r <= 0) return false;
-    p += r;
-    n -= static_cast<std::size_t>(r);
-    offset += static_cast<std::uint64_t>(r);
-  }
-  return true;
 }
 
 [[noreturn]] void bad(const std::string& path, const std::string& field, const std::string& reason) {

@@ -9,6 +9,7 @@
 
 #include "config/error.hpp"
 #include "vision/frames/cine_reader.hpp"
+#include "vision/frames/photron_mraw_reader.hpp"
 
 namespace rangecal {
 
@@ -24,6 +25,7 @@ FrameFileKind frame_file_kind(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext == ".png" || ext == ".tif" || ext == ".tiff") return FrameFileKind::image;
   if (ext == ".cine") return FrameFileKind::cine;
+  if (ext == ".mraw") return FrameFileKind::mraw;
   static const char* const kVideo[] = {".avi", ".mkv",  ".mp4",  ".mov", ".m4v",
                                        ".mpg", ".mpeg", ".webm", ".wmv"};
   for (const char* v : kVideo)
@@ -66,6 +68,7 @@ FrameSource::~FrameSource() = default;
 FrameSource FrameSource::from_timestamps_csv(const std::string& csv_path, const FrameSourceOptions& options) {
   FrameSource s;
   s.origin_ = csv_path;
+  s.time_source_ = kTimeSourceCsv;
   s.entries_ = read_frame_timestamps(csv_path).entries;
   s.sensor_w_ = options.width_px;
   s.sensor_h_ = options.height_px;
@@ -75,12 +78,18 @@ FrameSource FrameSource::from_timestamps_csv(const std::string& csv_path, const 
     if (kind == FrameFileKind::unknown)
       throw_input_error(
           csv_path, e.line, "file",
-          "'" + e.file + "' is not a supported frame file (.png .tif .tiff, a video, or .cine)");
+          "'" + e.file + "' is not a supported frame file (.png .tif .tiff, a video, .cine or .mraw)");
     if (kind == FrameFileKind::image || s.container_errors_.count(e.file)) continue;
     std::string problem;
     if (kind == FrameFileKind::cine && !s.cines_.count(e.file)) {
       try {
         s.cines_[e.file] = std::make_shared<CineReader>(e.file);
+      } catch (const Error& err) {
+        problem = err.what();
+      }
+    } else if (kind == FrameFileKind::mraw && !s.mraws_.count(e.file)) {
+      try {
+        s.mraws_[e.file] = std::make_shared<PhotronMrawReader>(e.file);
       } catch (const Error& err) {
         problem = err.what();
       }
@@ -103,6 +112,7 @@ FrameSource FrameSource::from_timestamps_csv(const std::string& csv_path, const 
     std::int64_t n = -1;
     if (kind == FrameFileKind::cine) n = static_cast<std::int64_t>(s.cines_.at(e.file)->frame_count());
     if (kind == FrameFileKind::video) n = s.videos_.at(e.file)->frame_count;
+    if (kind == FrameFileKind::mraw) n = s.mraws_.at(e.file)->frame_count();
     if (n >= 0 && e.frame >= n && !options.allow_missing)
       throw_input_error(csv_path, e.line, "frame",
                         "frame " + std::to_string(e.frame) + " is beyond the end of '" + e.file + "' (" +
@@ -114,6 +124,7 @@ FrameSource FrameSource::from_timestamps_csv(const std::string& csv_path, const 
 FrameSource FrameSource::from_cine(const std::string& cine_path, const FrameSourceOptions& options) {
   FrameSource s;
   s.origin_ = cine_path;
+  s.time_source_ = kTimeSourceCine;
   s.sensor_w_ = options.width_px;
   s.sensor_h_ = options.height_px;
   auto reader = std::make_shared<CineReader>(cine_path);
@@ -132,6 +143,34 @@ FrameSource FrameSource::from_cine(const std::string& cine_path, const FrameSour
     s.entries_.push_back(e);
   }
   s.cines_[cine_path] = std::move(reader);
+  return s;
+}
+
+FrameSource FrameSource::from_mraw(const std::string& mraw_path, const FrameSourceOptions& options,
+                                   std::optional<double> clock_utc_offset_h) {
+  FrameSource s;
+  s.origin_ = mraw_path;
+  s.time_source_ = kTimeSourceMrawHeader;
+  s.sensor_w_ = options.width_px;
+  s.sensor_h_ = options.height_px;
+  auto reader = std::make_shared<PhotronMrawReader>(mraw_path);
+  // Photron writes the camera clock's local date and time with no zone (Photron FASTCAM Viewer,
+  // .cihx fileInfo/date, time): the offset to UTC must come from the user, never from a guess.
+  if (!clock_utc_offset_h)
+    throw_input_error(reader->header().path, 0, reader->header().field(PhotronField::time),
+                      "the Photron header time is the camera clock's local time with no time zone; give "
+                      "frames.clock_utc_offset_h (camera clock - UTC, hours), or frames.timestamps, a "
+                      "frame,file,utc CSV naming the .mraw");
+  const PhotronFrameClock clock = photron_frame_clock(reader->header(), *clock_utc_offset_h);
+  s.entries_.reserve(static_cast<std::size_t>(reader->frame_count()));  // checked against the file size
+  for (std::int64_t k = 0; k < reader->frame_count(); ++k) {
+    FrameTimestamp e;
+    e.frame = k;
+    e.file = mraw_path;
+    e.utc = clock.frame_time(k);
+    s.entries_.push_back(e);
+  }
+  s.mraws_[mraw_path] = std::move(reader);
   return s;
 }
 
@@ -164,6 +203,26 @@ std::optional<ImageFrame> FrameSource::load(std::size_t i, std::string* skip_rea
       try {
         f.image = it->second->read_image(static_cast<std::size_t>(e.frame));
         f.bits = it->second->bits();
+      } catch (const Error& err) {
+        problem = err.what();
+      }
+      break;
+    }
+    case FrameFileKind::mraw: {
+      const auto it = mraws_.find(e.file);
+      if (it == mraws_.end()) {
+        problem =
+            container_errors_.count(e.file) ? container_errors_.at(e.file) : "'" + e.file + "' not open";
+        break;
+      }
+      if (e.frame >= it->second->frame_count()) {
+        problem = "frame " + std::to_string(e.frame) + " is beyond the end of '" + e.file + "'";
+        break;
+      }
+      try {
+        const ImageFrame m = it->second->read_frame(e.frame);
+        f.image = m.image;
+        f.bits = m.bits;
       } catch (const Error& err) {
         problem = err.what();
       }

@@ -4,9 +4,12 @@
 //   images  .png .tif .tiff — 8/16-bit grey or colour (converted to grey at the same depth);
 //   video   .avi .mkv .mp4 .mov .m4v .mpg .mpeg .webm .wmv — decoded with cv::VideoCapture,
 //           `frame` is the 0-based frame index (use a lossless codec such as FFV1 for science);
-//   .cine   Phantom cine, `frame` is the 0-based index of the saved image in the file.
-// Sources: a timestamps CSV (`frame,file,utc`), or a .cine alone that brings its own TIME64
-// stamps. Every decoded frame must match the configured sensor size.
+//   .cine   Phantom cine, `frame` is the 0-based index of the saved image in the file;
+//   .mraw   Photron FASTCAM frames (header .cihx/.cih beside it), `frame` is the 0-based frame
+//           index in the file.
+// Sources: a timestamps CSV (`frame,file,utc`), a .cine alone that brings its own TIME64 stamps,
+// or a .mraw alone timed by its header clock and record rate. Every decoded frame must match the
+// configured sensor size. time_source() says where the frame times came from.
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -21,6 +24,7 @@
 namespace rangecal {
 
 class CineReader;
+class PhotronMrawReader;
 struct VideoHandle;
 
 struct FrameSourceOptions {
@@ -39,6 +43,13 @@ class FrameSource {
   static FrameSource from_timestamps_csv(const std::string& csv_path, const FrameSourceOptions& options);
   /// From a .cine alone, with its per-image TIME64 stamps (frame = 0-based image index).
   static FrameSource from_cine(const std::string& cine_path, const FrameSourceOptions& options);
+  /// From a Photron .mraw alone (frame = 0-based index), timed by its header: date and time of the
+  /// camera clock, record rate, start frame and save step (photron_frame_clock).
+  /// `clock_utc_offset_h` is the camera clock − UTC in hours: Photron's date and time are the
+  /// camera's local clock with no zone, so without it the source is refused with a message to
+  /// give a timestamps CSV; so is a header without a usable time.
+  static FrameSource from_mraw(const std::string& mraw_path, const FrameSourceOptions& options,
+                               std::optional<double> clock_utc_offset_h);
 
   FrameSource(FrameSource&&) noexcept;
   FrameSource& operator=(FrameSource&&) noexcept;
@@ -49,8 +60,14 @@ class FrameSource {
   const FrameTimestamp& entry(std::size_t i) const { return entries_.at(i); }
   /// The CSV (or .cine) this source was built from, for messages.
   const std::string& origin() const { return origin_; }
+  /// Where the frame times come from, for run.json: kTimeSourceCsv, kTimeSourceCine or
+  /// kTimeSourceMrawHeader.
+  const std::string& time_source() const { return time_source_; }
+  static constexpr const char* kTimeSourceCsv = "timestamps CSV";
+  static constexpr const char* kTimeSourceCine = ".cine TIME64 stamps";
+  static constexpr const char* kTimeSourceMrawHeader = "mraw header + rate";
 
-  /// Decodes entry i. Thread-safe (images and .cine decode concurrently; a video is decoded
+  /// Decodes entry i. Thread-safe (images, .cine and .mraw decode concurrently; a video is decoded
   /// under its own lock). When the frame is missing/undecodable and the source allows missing
   /// frames, returns nullopt and sets *skip_reason; otherwise throws rangecal::Error (input)
   /// naming the CSV file and line (and the frame file). A frame of the wrong size always throws.
@@ -59,16 +76,18 @@ class FrameSource {
  private:
   FrameSource() = default;
   std::string origin_;
+  std::string time_source_;
   std::vector<FrameTimestamp> entries_;
   int sensor_w_ = 0, sensor_h_ = 0;
   bool allow_missing_ = false;
   std::map<std::string, std::shared_ptr<CineReader>> cines_;
   std::map<std::string, std::shared_ptr<VideoHandle>> videos_;
+  std::map<std::string, std::shared_ptr<PhotronMrawReader>> mraws_;
   std::map<std::string, std::string> container_errors_;  ///< containers that failed to open (allow_missing)
 };
 
 /// The kind of frame file a path names, by extension (case-insensitive).
-enum class FrameFileKind { image, video, cine, unknown };
+enum class FrameFileKind { image, video, cine, mraw, unknown };
 FrameFileKind frame_file_kind(const std::string& path);
 
 /// Decodes one PNG/TIFF image to CV_8UC1/CV_16UC1 (colour → grey); sets *bits. Empty Mat when it

@@ -1,8 +1,9 @@
 #pragma once
 // The frames timestamps CSV (SPEC §3.4): header `frame,file,utc`, one frame a line.
 //   frame  integer ≥ 0, strictly increasing down the file (frames need not be contiguous); for a
-//          video or .cine it is the 0-based index of the frame in that file
-//   file   an image (PNG/TIFF), a video or a .cine, relative to the CSV's folder (or absolute)
+//          video, .cine or .mraw it is the 0-based index of the frame in that file
+//   file   an image (PNG/TIFF), a video, a .cine or a Photron .mraw, relative to the CSV's folder
+//          (or absolute)
 //   utc    ISO 8601 with `Z`, 1–9 fraction digits; strictly increasing down the file
 #include <cstdint>
 #include <string>
