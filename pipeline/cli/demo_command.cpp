@@ -1,4 +1,4 @@
-// `rangecal demo [--out DIR] [--scenario FILE]` (SPEC §6; issue 5): simulates the built-in scenario
+// `rangecal demo [--out DIR] [--scenario FILE]` (SPEC §6): simulates the built-in scenario
 // mirroring seed 002's experiment, runs every stage on it and prints Tables 1–4 with the paper's
 // figures beside ours, then the accuracy bars of SPEC §9 with pass/fail.
 #include <unistd.h>

@@ -1,5 +1,5 @@
 #pragma once
-// The tables `rangecal demo` prints (issue 5; seed 002 §4 Tables 1–4) with the paper's figures
+// The tables `rangecal demo` prints (seed 002 §4 Tables 1–4) with the paper's figures
 // beside ours and the simulated truth beside both. Built from the files a finished run wrote
 // (calibration*.json, correspondences.csv, pole picks and survey) plus the simulator's truth, so
 // what is printed is what a user of `rangecal run` gets.

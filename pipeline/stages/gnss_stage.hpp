@@ -58,7 +58,8 @@ struct GnssStageResult {
   GnssStageReport report;
 };
 
-/// Threshold of the vertical-form warning (issue 2: "more than 5 mm").
+/// Threshold of the vertical-form warning: more than 5 mm of lamp position error (half the PPK
+/// noise of one epoch) from ignoring the attitude is worth the user's attention.
 constexpr double kVerticalFormWarnM = 0.005;
 
 /// The pure stage. Throws rangecal::Error: usage when the body_frd form has no attitude; input for

@@ -1,4 +1,4 @@
-// Benchmarks of the accuracy analysis (issue 6; docs/accuracy_analysis.md): `montecarlo` trials
+// Benchmarks of the accuracy analysis (docs/accuracy_analysis.md): `montecarlo` trials
 // (two demo cameras re-calibrated per trial, 11 check poles triangulated) on 1 and 2 threads, and
 // `plan` on the shipped candidate scenarios (simulate the trajectory, Cramér–Rao bound of each
 // camera for two free sets, poles).

@@ -1,4 +1,4 @@
-// The camera clock offset as a bundle parameter (issue 6 item 3; optim/bundle/bundle_adjustment.hpp): a
+// The camera clock offset as a bundle parameter (optim/bundle/bundle_adjustment.hpp): a
 // frame stamped δ late shows the lamp where it stood δ before the stamp, Xw − v·δ. On the seed
 // 002-like scene with ascents flown up and down, δ is recovered exactly without noise, its σ agrees
 // with a Monte Carlo and with the Cramér–Rao bound, and a geometry that cannot separate δ from the
@@ -227,7 +227,7 @@ TEST(ClockOffset, OtherMethodsSayTheyTakeTheStampsAsExact) {
   EXPECT_TRUE(said);
 }
 
-// Issue 6 acceptance: the demo mission (seed 002's experiment, rendered frames, PPK .pos, every
+// The clock offset end to end: the demo mission (seed 002's experiment, rendered frames, PPK .pos, every
 // stage from the files) with cam1's clock 2 ms late and clock_offset free: the offset is recovered
 // within 3σ for both cameras (cam2's clock is 0.3 ms late in the demo) and the check poles still
 // meet the demo's 1 cm bar against the truth.

@@ -58,7 +58,7 @@ TEST(MonteCarlo, TrialSdAgreesWithCovarianceSigma) {
     ASSERT_TRUE(std::isfinite(p.sd_predicted) && p.sd_predicted > 0) << parameter_name(p.parameter);
     std::printf("  %-3s sd MC / sd predicted = %.3f, bias / sd MC = %+.3f\n", parameter_name(p.parameter),
                 p.sd_mc / p.sd_predicted, p.bias_mc / p.sd_mc);
-    // 150 trials: the sd is known to ±6 % (1/√(2n)); the bar is 25 % (issue 6).
+    // 150 trials: the sd is known to ±6 % (1/√(2n)); the bar is 25 %.
     EXPECT_NEAR(p.sd_mc / p.sd_predicted, 1.0, 0.25)
         << parameter_name(p.parameter) << " sd MC " << p.sd_mc << " predicted " << p.sd_predicted;
     // The estimator is nearly unbiased at this noise: the bias is well inside one sd.

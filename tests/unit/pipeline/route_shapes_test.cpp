@@ -1,4 +1,4 @@
-// Trajectories beyond vertical ascents (issue 6 item 4): with the attitude logged and the lever arm
+// Trajectories beyond vertical ascents (SPEC §8: "vertical ascents and any other legs"): with the attitude logged and the lever arm
 // in the body frame, a mission of horizontal legs at several heights and depths and a diagonal
 // climb (config/examples/plan_mixed_routes.json) calibrates through every stage to the demo's bars;
 // ignoring the attitude on those legs, where the UAV leans into its accelerations, shows in the

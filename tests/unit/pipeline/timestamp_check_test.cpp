@@ -1,4 +1,4 @@
-// Whole-second / leap-second errors in frame time stamps (issue 6: "a 1 s or 18 s offset is
+// Whole-second / leap-second errors in frame time stamps ("a 1 s or 18 s offset is
 // reported as a timestamp error"). Truth from the simulator: the demo scenario's true lamp track
 // and the true lamp pixels of camera 1 at the frames' true instants; the stamps are then shifted.
 #include "pipeline/steps/timestamp_check.hpp"

@@ -1,4 +1,4 @@
-// OpenCV → rangecal camera conversion (issue 3: "conversions to and from OpenCV's model, with the
+// OpenCV → rangecal camera conversion ("conversions to and from OpenCV's model, with the
 // fit error reported"). Truth: cv::projectPoints of the OpenCV camera (an independent
 // implementation of OpenCV's model) against rangecal's projection of the imported camera.
 #include <gtest/gtest.h>

@@ -395,7 +395,7 @@ TEST(PhotronCih, TruncatedAndCorruptedRealHeaderThrowOnlyRangecalErrors) {
     }
   };
   for (std::size_t n = 0; n < bytes.size(); n += 37) attempt(bytes.substr(0, n));
-  RenderRng rng(7);
+  RenderRandom rng(7);
   for (int i = 0; i < 2000; ++i) {
     std::string b = bytes;
     const int hits = 1 + static_cast<int>(rng.next() % 4);
