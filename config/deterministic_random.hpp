@@ -112,8 +112,8 @@ class BasicDeterministicRandom {
 };
 
 using DeterministicRandom = BasicDeterministicRandom<std::mt19937_64>;  ///< searches, Monte Carlo
-using RenderRandom = BasicDeterministicRandom<Xoshiro256StarStar>;     ///< simulator, renderer
-using SampleRandom = BasicDeterministicRandom<SplitMix64>;             ///< RANSAC
+using RenderRandom = BasicDeterministicRandom<Xoshiro256StarStar>;      ///< simulator, renderer
+using SampleRandom = BasicDeterministicRandom<SplitMix64>;              ///< RANSAC
 
 /// The seed of one purpose's stream: `seed` mixed with up to three stream ids (a purpose, a
 /// camera, a frame …), boost::hash_combine-style with a SplitMix-like avalanche per id.

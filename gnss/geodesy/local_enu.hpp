@@ -6,8 +6,8 @@
 #include <GeographicLib/LocalCartesian.hpp>
 #include <limits>
 
-#include "gnss/geodesy/geodetic_origin.hpp"
 #include "gnss/formats/rtklib_pos_reader.hpp"
+#include "gnss/geodesy/geodetic_origin.hpp"
 
 namespace rangecal {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "gnss/geodesy/local_enu.hpp"
 #include "gnss/formats/rtklib_pos_reader.hpp"
+#include "gnss/geodesy/local_enu.hpp"
 
 namespace rangecal {
 

@@ -6,8 +6,8 @@
 #include <map>
 #include <vector>
 
-#include "gnss/track/antenna_epochs.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "gnss/track/antenna_epochs.hpp"
 
 namespace rangecal {
 

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "gnss/track/lamp_track.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "gnss/track/lamp_track.hpp"
 
 namespace rangecal {
 

@@ -44,12 +44,14 @@ using CenterCost = ceres::AutoDiffCostFunction<CenterPrior, 3, kPoseBlockSize>;
 
 BundleSetup make_bundle_setup(const BundleOptions& opt) {
   BundleSetup s;
-  for (CameraParameter p : expand_free_parameters(opt.free)) s.free[static_cast<std::size_t>(index_of(p))] = true;
+  for (CameraParameter p : expand_free_parameters(opt.free))
+    s.free[static_cast<std::size_t>(index_of(p))] = true;
   s.n_free = static_cast<int>(std::count(s.free.begin(), s.free.end(), true));
   s.principal_point_prior =
       opt.priors.use_principal_point && (s.is_free(CameraParameter::u0) || s.is_free(CameraParameter::v0));
-  s.center_prior = opt.priors.use_center && (s.is_free(CameraParameter::CE) || s.is_free(CameraParameter::CN) ||
-                                              s.is_free(CameraParameter::CU));
+  s.center_prior =
+      opt.priors.use_center &&
+      (s.is_free(CameraParameter::CE) || s.is_free(CameraParameter::CN) || s.is_free(CameraParameter::CU));
   return s;
 }
 
@@ -67,7 +69,8 @@ std::vector<Matrix2d> whitening_matrices(const Camera& c, const std::vector<Bund
                                          const BundleOptions& opt) {
   std::vector<Matrix2d> W(obs.size());
   for (std::size_t i = 0; i < obs.size(); ++i)
-    W[i] = whitening_matrix(c, obs[i], obs[i].pixel_sigma_px > 0 ? obs[i].pixel_sigma_px : opt.pixel_sigma_px);
+    W[i] =
+        whitening_matrix(c, obs[i], obs[i].pixel_sigma_px > 0 ? obs[i].pixel_sigma_px : opt.pixel_sigma_px);
   return W;
 }
 
@@ -93,8 +96,8 @@ void build_problem(BundleParameterBlocks& st, const Camera& base, const std::vec
   bool lf_used = false;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!used[i]) continue;
-    auto* cost = new ReprojectionCost(new ReprojectionResidual{obs[i].world, obs[i].velocity, obs[i].pixel, W[i],
-                                                               st.R0, base.intr.dx_mm, base.intr.dy_mm});
+    auto* cost = new ReprojectionCost(new ReprojectionResidual{
+        obs[i].world, obs[i].velocity, obs[i].pixel, W[i], st.R0, base.intr.dx_mm, base.intr.dy_mm});
     problem->AddResidualBlock(cost, lf, st.intr, st.dist, st.pose, st.clock);
     lf_used = lf_used || lf;
   }
@@ -104,8 +107,9 @@ void build_problem(BundleParameterBlocks& st, const Camera& base, const std::vec
                                   opt.priors.principal_point_px, opt.priors.principal_point_sigma_px}),
                               nullptr, st.intr);
   if (setup.center_prior)
-    problem->AddResidualBlock(new CenterCost(new CenterPrior{opt.priors.center_enu_m, opt.priors.center_sigma_m}),
-                              nullptr, st.pose);
+    problem->AddResidualBlock(
+        new CenterCost(new CenterPrior{opt.priors.center_enu_m, opt.priors.center_sigma_m}), nullptr,
+        st.pose);
   int offset = 0;
   for (int b = 0; b < 4; ++b) {
     const bool* fr = setup.free.data() + offset;
@@ -202,7 +206,8 @@ Eigen::Matrix3d center_covariance(const CalibrationResult& cal) {
     return Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) {
-      const int ia = cal.parameter_index(kCenterParameters[a]), ib = cal.parameter_index(kCenterParameters[b]);
+      const int ia = cal.parameter_index(kCenterParameters[a]),
+                ib = cal.parameter_index(kCenterParameters[b]);
       if (ia >= 0 && ib >= 0) cc(a, b) = cal.covariance(ia, ib);
     }
   return cc;
@@ -240,7 +245,8 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
     const int n_used = static_cast<int>(std::count(used.begin(), used.end(), 1));
     if (2 * n_used < setup.n_free)
       throw_calibration_error("bundle", "after rejecting " + std::to_string(n - n_used) +
-                                            " outliers too few points remain (" + std::to_string(n_used) + ")");
+                                            " outliers too few points remain (" + std::to_string(n_used) +
+                                            ")");
     d.solves.push_back(solve(st, start, obs, used, W, setup, opt, RobustLoss::none));
     d.solves.back().rejected = n - static_cast<std::size_t>(n_used);
     cam = st.to_camera(start);

@@ -79,14 +79,14 @@ struct BundleSolve {
 struct BundleDetails {
   std::vector<CameraParameter> free;
   std::vector<BundleSolve> solves;
-  int iterations = 0;                  ///< Ceres iterations over all solves
-  double chi2 = 0;                     ///< Σ whitened residual² + prior residual² (inliers)
-  int dof = 0;                         ///< residuals − free parameters
-  double variance_factor = 0;          ///< χ²/dof (≈ 1 when the noise model is right)
-  bool covariance_scaled = false;      ///< BundleOptions::scale_covariance
+  int iterations = 0;              ///< Ceres iterations over all solves
+  double chi2 = 0;                 ///< Σ whitened residual² + prior residual² (inliers)
+  int dof = 0;                     ///< residuals − free parameters
+  double variance_factor = 0;      ///< χ²/dof (≈ 1 when the noise model is right)
+  bool covariance_scaled = false;  ///< BundleOptions::scale_covariance
   bool rank_deficient = false;
-  double outlier_threshold_sigma = 0;  ///< the threshold applied (whitened units)
-  double pixel_sigma_px = 0;           ///< the default pixel σ used
+  double outlier_threshold_sigma = 0;    ///< the threshold applied (whitened units)
+  double pixel_sigma_px = 0;             ///< the default pixel σ used
   std::optional<double> clock_offset_s;  ///< when the clock offset was free
   /// 1σ of each free parameter from the a-priori noise model and scaled by √variance_factor;
   /// empty when the covariance is rank-deficient.
@@ -100,12 +100,12 @@ struct BundleResult {
   /// typed `details` below is what the bundle reports.
   CalibrationResult calibration;
   BundleDetails details;
-  Eigen::MatrixXd covariance_unscaled;  ///< from the a-priori noise model
-  Eigen::MatrixXd covariance_scaled;    ///< × variance_factor
-  double chi2 = 0;                      ///< = details.chi2
-  int dof = 0;                          ///< = details.dof
-  double variance_factor = 0;           ///< = details.variance_factor
-  bool rank_deficient = false;          ///< = details.rank_deficient
+  Eigen::MatrixXd covariance_unscaled;       ///< from the a-priori noise model
+  Eigen::MatrixXd covariance_scaled;         ///< × variance_factor
+  double chi2 = 0;                           ///< = details.chi2
+  int dof = 0;                               ///< = details.dof
+  double variance_factor = 0;                ///< = details.variance_factor
+  bool rank_deficient = false;               ///< = details.rank_deficient
   std::vector<Eigen::Vector2d> residual_px;  ///< projected − observed, every input point
   std::vector<double> whitened_norm;         ///< ‖W·e‖ per point (σ units)
   std::vector<bool> outlier;                 ///< flagged by the threshold above

@@ -63,7 +63,8 @@ WhitenedSystem whitened_system(const BundleParameterBlocks& st, const Camera& ba
   }
   const std::vector<CameraParameter> free = setup.free_parameters();
   sys.J.resize(rows, static_cast<Eigen::Index>(free.size()));
-  for (std::size_t k = 0; k < free.size(); ++k) sys.J.col(static_cast<Eigen::Index>(k)) = Jall.col(index_of(free[k]));
+  for (std::size_t k = 0; k < free.size(); ++k)
+    sys.J.col(static_cast<Eigen::Index>(k)) = Jall.col(index_of(free[k]));
   return sys;
 }
 
@@ -77,7 +78,8 @@ CovarianceEstimate estimate_covariance(const MatrixXd& J, const std::vector<Came
   std::string undetermined;
   for (int k = 0; k < p; ++k) {
     scale[k] = N(k, k) > 0 ? 1 / std::sqrt(N(k, k)) : 0;
-    if (!(N(k, k) > 0)) undetermined += (undetermined.empty() ? "" : ", ") + std::string(parameter_name(free[k]));
+    if (!(N(k, k) > 0))
+      undetermined += (undetermined.empty() ? "" : ", ") + std::string(parameter_name(free[k]));
   }
   if (!undetermined.empty()) {
     out.rank_deficient = true;
@@ -97,7 +99,8 @@ CovarianceEstimate estimate_covariance(const MatrixXd& J, const std::vector<Came
   const bool physical_ok = lt[0] > rank_tolerance * lt[p - 1];
   if (!physical_ok || !(lam[0] > rank_tolerance * lam[p - 1])) {
     out.rank_deficient = true;
-    const VectorXd nullv = !physical_ok ? VectorXd(et.eigenvectors().col(0)) : VectorXd(es.eigenvectors().col(0));
+    const VectorXd nullv =
+        !physical_ok ? VectorXd(et.eigenvectors().col(0)) : VectorXd(es.eigenvectors().col(0));
     std::string list;
     for (int k = 0; k < p; ++k)
       if (std::abs(nullv[k]) > 0.2) list += (list.empty() ? "" : ", ") + std::string(parameter_name(free[k]));

@@ -24,9 +24,9 @@ struct WhitenedSystem {
   Eigen::VectorXd r;
 };
 WhitenedSystem whitened_system(const BundleParameterBlocks& blocks, const Camera& base,
-                               const std::vector<BundleObservation>& observations, const std::vector<char>& used,
-                               const std::vector<Eigen::Matrix2d>& W, const BundleSetup& setup,
-                               const BundleOptions& options);
+                               const std::vector<BundleObservation>& observations,
+                               const std::vector<char>& used, const std::vector<Eigen::Matrix2d>& W,
+                               const BundleSetup& setup, const BundleOptions& options);
 
 struct CovarianceEstimate {
   Eigen::MatrixXd covariance;  ///< a-priori (unscaled); empty when rank-deficient

@@ -49,8 +49,9 @@ std::string poorly_determined_because(P p, double s, const CameraIntrinsics& in,
       break;
     case P::clock_offset:
       return s * max_speed_mps > kClockWarningM
-                 ? "σ " + g3(s * 1e3) + " ms moves the fastest lamp point (" + g3(max_speed_mps) + " m/s) by " +
-                       g3(s * max_speed_mps * 100) + " cm (> 2 cm); fly faster ascents and descents, or fix it"
+                 ? "σ " + g3(s * 1e3) + " ms moves the fastest lamp point (" + g3(max_speed_mps) +
+                       " m/s) by " + g3(s * max_speed_mps * 100) +
+                       " cm (> 2 cm); fly faster ascents and descents, or fix it"
                  : "";
     default:
       if (is_rotation(p)) return s > 1e-3 ? "σ " + g3(s) + " rad is more than 1 mrad" : "";
@@ -58,8 +59,9 @@ std::string poorly_determined_because(P p, double s, const CameraIntrinsics& in,
       return "";
   }
   const double limit = 1;
-  return effect_px > limit ? "a 1σ change moves the image corner by " + g3(effect_px) + " px (> " + g3(limit) + " px)"
-                           : "";
+  return effect_px > limit
+             ? "a 1σ change moves the image corner by " + g3(effect_px) + " px (> " + g3(limit) + " px)"
+             : "";
 }
 
 }  // namespace
@@ -74,9 +76,11 @@ std::vector<std::string> poorly_determined_warnings(const CalibrationResult& cal
   const double hh = std::max(in.v0_px, in.height_px - 1 - in.v0_px) * in.dy_mm;
   const double rmax = std::sqrt(hw * hw + hh * hh);  // sensor mm to the farthest corner
   for (int k = 0; k < p; ++k) {
-    const std::string why =
-        poorly_determined_because(cal.parameters[k], std::sqrt(cal.covariance(k, k)), in, rmax, max_speed_mps);
-    if (!why.empty()) out.push_back("parameter " + std::string(parameter_name(cal.parameters[k])) + " is poorly determined: " + why);
+    const std::string why = poorly_determined_because(cal.parameters[k], std::sqrt(cal.covariance(k, k)), in,
+                                                      rmax, max_speed_mps);
+    if (!why.empty())
+      out.push_back("parameter " + std::string(parameter_name(cal.parameters[k])) +
+                    " is poorly determined: " + why);
   }
   for (int a = 0; a < p; ++a)
     for (int b = a + 1; b < p; ++b) {
@@ -93,9 +97,10 @@ std::vector<std::string> fit_warnings(const BundleDetails& d) {
   std::vector<std::string> out;
   if (d.clock_offset_s && std::abs(*d.clock_offset_s) > kLargeClockOffsetS) {
     const double c = *d.clock_offset_s;
-    out.push_back("clock offset " + g3(c * 1e3) + " ms is large for the first-order model X − v·δ (it misses ½·a·δ², " +
-                  g3(0.5 * 1.5 * c * c * 1e3) +
-                  " mm at 1.5 m/s²): shift the frame time stamps by it and rerun align, detect and calibrate");
+    out.push_back(
+        "clock offset " + g3(c * 1e3) + " ms is large for the first-order model X − v·δ (it misses ½·a·δ², " +
+        g3(0.5 * 1.5 * c * c * 1e3) +
+        " mm at 1.5 m/s²): shift the frame time stamps by it and rerun align, detect and calibrate");
   }
   if (d.dof > 0) {
     // χ² test at the 1 % level (Wilson–Hilferty approximation of the χ² quantile).

@@ -12,8 +12,8 @@ using Eigen::Matrix3d;
 using Eigen::MatrixXd;
 using Eigen::Vector3d;
 
-void check_bundle_input(const Camera& cam, const std::vector<BundleObservation>& obs, const BundleSetup& setup,
-                        const BundleOptions& opt) {
+void check_bundle_input(const Camera& cam, const std::vector<BundleObservation>& obs,
+                        const BundleSetup& setup, const BundleOptions& opt) {
   const auto& in = cam.intr;
   if (!(in.f_mm > 0 && in.dx_mm > 0 && in.dy_mm > 0 && in.sx > 0 && std::isfinite(in.u0_px) &&
         std::isfinite(in.v0_px)))
@@ -47,9 +47,9 @@ void check_bundle_input(const Camera& cam, const std::vector<BundleObservation>&
     if (!o.velocity.allFinite())
       throw_calibration_error(at + ".velocity", "the lamp velocity must be finite (got NaN or infinity)");
   }
-  if (setup.is_free(CameraParameter::clock_offset) && std::none_of(obs.begin(), obs.end(), [](const BundleObservation& ob) {
-        return ob.velocity.norm() > 0;
-      }))
+  if (setup.is_free(CameraParameter::clock_offset) &&
+      std::none_of(obs.begin(), obs.end(),
+                   [](const BundleObservation& ob) { return ob.velocity.norm() > 0; }))
     throw_calibration_error("bundle.clock_offset",
                             "the clock offset is free but no observation carries a lamp velocity "
                             "(correspondences.csv without vE,vN,vU, or a lamp that never moved): rerun the "

@@ -27,7 +27,8 @@ Eigen::Matrix<double, 2, 3> pixel_jacobian_wrt_world(const Camera& cam, const Ei
 
 Eigen::Matrix2d whitening_matrix(const Camera& cam, const BundleObservation& o, double sigma_px) {
   const Eigen::Matrix<double, 2, 3> JX = pixel_jacobian_wrt_world(cam, o.world);
-  const Eigen::Matrix2d C = sigma_px * sigma_px * Eigen::Matrix2d::Identity() + JX * o.world_cov * JX.transpose();
+  const Eigen::Matrix2d C =
+      sigma_px * sigma_px * Eigen::Matrix2d::Identity() + JX * o.world_cov * JX.transpose();
   const Eigen::Matrix2d L = C.llt().matrixL();
   return L.inverse();
 }

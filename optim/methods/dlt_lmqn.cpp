@@ -31,7 +31,8 @@ Camera starting_camera(const DltResult& dlt, const std::vector<PointCorresponden
   hold_fixed_intrinsics(o.free, o.fixed_principal_point_px, &base.intr);
   DistortionTerms terms{};
   bool any_distortion = false;
-  for (std::size_t k = 0; k < 7; ++k) any_distortion |= (terms[k] = contains(o.free, kDistortionParameters[k]));
+  for (std::size_t k = 0; k < 7; ++k)
+    any_distortion |= (terms[k] = contains(o.free, kDistortionParameters[k]));
   std::vector<PointCorrespondence> inliers;
   for (std::size_t i : dlt.inliers) inliers.push_back(pts[i]);
   if (any_distortion) base.intr.dist = fit_linear_distortion(base, inliers, terms).dist;
@@ -43,15 +44,16 @@ std::vector<Eigen::Matrix2d> whitening(const Camera& cam, const std::vector<Bund
                                        double default_sigma_px) {
   std::vector<Eigen::Matrix2d> W;
   W.reserve(obs.size());
-  for (const auto& o : obs) W.push_back(whitening_matrix(cam, o, o.pixel_sigma_px > 0 ? o.pixel_sigma_px : default_sigma_px));
+  for (const auto& o : obs)
+    W.push_back(whitening_matrix(cam, o, o.pixel_sigma_px > 0 ? o.pixel_sigma_px : default_sigma_px));
   return W;
 }
 
 /// Indices whose whitened residual at `cam` is within outlier_sigma × the robust scale
 /// max(1, median/√(2 ln 2)) of the `used` points (the median of a χ₂ variable).
 std::vector<std::size_t> inliers_at(const Camera& cam, const std::vector<BundleObservation>& obs,
-                                    const std::vector<Eigen::Matrix2d>& W, const std::vector<std::size_t>& used,
-                                    double outlier_sigma) {
+                                    const std::vector<Eigen::Matrix2d>& W,
+                                    const std::vector<std::size_t>& used, double outlier_sigma) {
   std::vector<double> wn(obs.size(), std::numeric_limits<double>::infinity());
   std::vector<double> sorted;
   for (std::size_t i = 0; i < obs.size(); ++i) {

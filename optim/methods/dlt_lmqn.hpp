@@ -27,7 +27,7 @@ namespace rangecal {
 struct DltLmqnOptions {
   /// Parameters LM-QN estimates (clock_offset is not among them: the method takes the frame time
   /// stamps as exact); the others are held (hold_fixed_intrinsics).
-  std::vector<CameraParameter> free{CameraParameter::f, CameraParameter::k1, CameraParameter::wx,
+  std::vector<CameraParameter> free{CameraParameter::f,  CameraParameter::k1, CameraParameter::wx,
                                     CameraParameter::wy, CameraParameter::wz, CameraParameter::CE,
                                     CameraParameter::CN, CameraParameter::CU};
   Eigen::Vector2d fixed_principal_point_px = Eigen::Vector2d::Zero();  ///< u0, v0 when not free (px)
@@ -38,13 +38,13 @@ struct DltLmqnOptions {
 };
 
 struct DltLmqnResult {
-  DltResult dlt;                          ///< the linear start
-  LmQnResult lmqn;                        ///< the last LM-QN solve (in z)
-  Camera camera;                          ///< the calibrated camera
-  std::vector<std::size_t> used;          ///< observations in the final fit, ascending
-  std::vector<std::size_t> rejected;      ///< the others, ascending
+  DltResult dlt;                            ///< the linear start
+  LmQnResult lmqn;                          ///< the last LM-QN solve (in z)
+  Camera camera;                            ///< the calibrated camera
+  std::vector<std::size_t> used;            ///< observations in the final fit, ascending
+  std::vector<std::size_t> rejected;        ///< the others, ascending
   std::vector<CameraParameter> parameters;  ///< the estimated parameters (covariance order)
-  Eigen::MatrixXd covariance;             ///< empty when the normal matrix is rank-deficient
+  Eigen::MatrixXd covariance;               ///< empty when the normal matrix is rank-deficient
 };
 
 /// Runs the method on `observations` (world ENU m with Σ_X, pixel with σ). Throws rangecal::Error

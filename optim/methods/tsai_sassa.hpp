@@ -17,10 +17,10 @@
 
 #include "optim/search/lm_qn.hpp"
 #include "optim/search/sparrow_search.hpp"
-#include "vision/camera/calibration_result.hpp"
-#include "vision/camera/camera_parameters.hpp"
 #include "vision/calibration/point_correspondence.hpp"
 #include "vision/calibration/tsai.hpp"
+#include "vision/camera/calibration_result.hpp"
+#include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
 
@@ -50,15 +50,15 @@ struct TsaiSassaOptions {
 struct TsaiSassaResult {
   TsaiStep1 step1;
   std::vector<CameraParameter> parameters;  ///< searched parameters, order of theta0/half_range
-  Eigen::VectorXd theta0;          ///< initial estimate (Tsai's linear f, Tz; k1 = 0; step 1 values)
-  Eigen::VectorXd half_range;      ///< S
-  NormalisedSearchResult search;   ///< SA-SSA result: θ, z, ‖z‖, evaluations
-  double search_rms_px = 0;        ///< RMS reprojection error of the searched camera
-  Camera camera_search;            ///< camera from the search alone
+  Eigen::VectorXd theta0;                   ///< initial estimate (Tsai's linear f, Tz; k1 = 0; step 1 values)
+  Eigen::VectorXd half_range;               ///< S
+  NormalisedSearchResult search;            ///< SA-SSA result: θ, z, ‖z‖, evaluations
+  double search_rms_px = 0;                 ///< RMS reprojection error of the searched camera
+  Camera camera_search;                     ///< camera from the search alone
   bool polished = false;
   LmQnResult polish;  ///< LM polish (in z coordinates) from the search result
   Eigen::VectorXd theta_polished;
-  Camera camera;                  ///< final camera (polished if polish is on)
+  Camera camera;  ///< final camera (polished if polish is on)
   /// Method "tsai_sassa": camera, reprojection over all points, warnings (a search that ended at
   /// the edge of its range, a polish that did not converge). The search and polish figures are in
   /// the fields above (pipeline I/O writes them into calibration.json's details).

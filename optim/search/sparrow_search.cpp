@@ -6,8 +6,8 @@
 #include <numeric>
 #include <string>
 
-#include "config/error.hpp"
 #include "config/deterministic_random.hpp"
+#include "config/error.hpp"
 
 namespace rangecal {
 namespace {

@@ -12,9 +12,9 @@
 #include <limits>
 #include <optional>
 
+#include "config/deterministic_random.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
-#include "config/deterministic_random.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
@@ -58,8 +58,8 @@ CameraTruth make_truth(const MonteCarloCamera& c, bool shared) {
                            " keys for " + std::to_string(c.problem.observations.size()) + " observations");
   CameraTruth t;
   t.method = c.method.empty() ? c.reference.method : c.method;
-  t.parameters = c.reference.parameters.empty() ? expand_free_parameters(c.problem.free)
-                                               : c.reference.parameters;
+  t.parameters =
+      c.reference.parameters.empty() ? expand_free_parameters(c.problem.free) : c.reference.parameters;
   std::vector<bool> rejected(c.problem.observations.size(), false);
   for (std::size_t i : c.reference.rejected)
     if (i < rejected.size()) rejected[i] = true;
@@ -108,7 +108,8 @@ CalibrationProblem trial_problem(const MonteCarloCamera& c, const CameraTruth& t
   }
   const Camera& ref = c.reference.camera;
   const std::vector<CameraParameter> free = expand_free_parameters(p.free);
-  if (p.priors.principal_point_px && (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
+  if (p.priors.principal_point_px &&
+      (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
     const double zu = rng.normal(), zv = rng.normal();
     p.priors.principal_point_px = Eigen::Vector2d(ref.intr.u0_px, ref.intr.v0_px) +
                                   p.priors.principal_point_sigma_px * Eigen::Vector2d(zu, zv);
@@ -290,8 +291,9 @@ std::string format_montecarlo_csv(const MonteCarloResult& r) {
   std::string s = "camera,parameter,estimate,bias_mc,sd_mc,sd_predicted\n";
   for (const CameraMonteCarlo& c : r.cameras)
     for (const ParameterStatistics& p : c.parameters)
-      s += c.camera_id + "," + parameter_name(p.parameter) + "," + format_finite("%.10g", p.estimate) + "," + format_finite("%.10g", p.bias_mc) + "," +
-           format_finite("%.10g", p.sd_mc) + "," + format_finite("%.10g", p.sd_predicted) + "\n";
+      s += c.camera_id + "," + parameter_name(p.parameter) + "," + format_finite("%.10g", p.estimate) + "," +
+           format_finite("%.10g", p.bias_mc) + "," + format_finite("%.10g", p.sd_mc) + "," +
+           format_finite("%.10g", p.sd_predicted) + "\n";
   return s;
 }
 
@@ -306,8 +308,8 @@ std::string format_montecarlo_table(const CameraMonteCarlo& c) {
   s += line;
   for (const ParameterStatistics& p : c.parameters) {
     const double ratio = p.sd_mc / p.sd_predicted;
-    std::snprintf(line, sizeof line, "  %-9s %16.9g %13.4g %13.4g %13s %7s\n", parameter_name(p.parameter), p.estimate,
-                  p.bias_mc, p.sd_mc,
+    std::snprintf(line, sizeof line, "  %-9s %16.9g %13.4g %13.4g %13s %7s\n", parameter_name(p.parameter),
+                  p.estimate, p.bias_mc, p.sd_mc,
                   std::isfinite(p.sd_predicted) ? format_finite("%.4g", p.sd_predicted).c_str() : "-",
                   std::isfinite(ratio) ? format_finite("%.3f", ratio).c_str() : "-");
     s += line;

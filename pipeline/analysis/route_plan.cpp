@@ -11,9 +11,9 @@
 
 #include "config/error.hpp"
 #include "config/number_format.hpp"
+#include "pipeline/analysis/monte_carlo.hpp"
 #include "pipeline/report/html_escape.hpp"
 #include "pipeline/simulate/mission_simulator.hpp"
-#include "pipeline/analysis/monte_carlo.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
@@ -93,7 +93,8 @@ CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObserv
   b.n_points = static_cast<int>(obs.size());
   b.free_parameters = expand_free_parameters(free);
   const int n = static_cast<int>(b.free_parameters.size());
-  const auto it = std::find(b.free_parameters.begin(), b.free_parameters.end(), CameraParameter::clock_offset);
+  const auto it =
+      std::find(b.free_parameters.begin(), b.free_parameters.end(), CameraParameter::clock_offset);
   const int clock = it == b.free_parameters.end() ? -1 : static_cast<int>(it - b.free_parameters.begin());
   Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n, n);
   double max_speed = 0;  // m/s, for the clock offset's rule
@@ -137,10 +138,10 @@ CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObserv
       }
       p.sigma_inflation = std::sqrt(F(i, i) * b.covariance(i, i));
       const bool principal_point = p.parameter == CameraParameter::u0 || p.parameter == CameraParameter::v0;
-      p.poorly_determined = p.max_abs_correlation > o.correlation_limit ||
-                            (principal_point && p.sigma > o.principal_point_limit_px) ||
-                            (p.parameter == CameraParameter::clock_offset &&
-                             p.sigma * max_speed > o.clock_offset_limit_m);
+      p.poorly_determined =
+          p.max_abs_correlation > o.correlation_limit ||
+          (principal_point && p.sigma > o.principal_point_limit_px) ||
+          (p.parameter == CameraParameter::clock_offset && p.sigma * max_speed > o.clock_offset_limit_m);
     }
     b.parameters.push_back(p);
   }
@@ -265,13 +266,14 @@ std::vector<PlanTable> plan_tables(const std::vector<RoutePlanAnalysis>& cands) 
           if (std::isinf(p.sigma))
             t.notes.push_back(cand.name + ": " + name + " undetermined (singular information matrix)");
           else if (p.poorly_determined)
-            t.notes.push_back(
-                cand.name + ": " + name + " poorly determined (" +
-                (pp ? "σ " + format_number("%.2f", p.sigma) + " px; " : "") +
-                (p.parameter == CameraParameter::clock_offset ? "σ " + format_number("%.2f", p.sigma * 1e3) + " ms; " : "") +
-                "|ρ| " +
-                format_number("%.4f", p.max_abs_correlation) + " with " + p.correlated_with + "; σ inflated " +
-                format_number("%.1f", p.sigma_inflation) + "× by the other free parameters)");
+            t.notes.push_back(cand.name + ": " + name + " poorly determined (" +
+                              (pp ? "σ " + format_number("%.2f", p.sigma) + " px; " : "") +
+                              (p.parameter == CameraParameter::clock_offset
+                                   ? "σ " + format_number("%.2f", p.sigma * 1e3) + " ms; "
+                                   : "") +
+                              "|ρ| " + format_number("%.4f", p.max_abs_correlation) + " with " +
+                              p.correlated_with + "; σ inflated " + format_number("%.1f", p.sigma_inflation) +
+                              "× by the other free parameters)");
         }
       }
       out.push_back(t);

@@ -49,9 +49,9 @@ std::vector<BundleObservation> planned_observations(const Scenario& s, std::size
 
 struct ParameterBound {
   CameraParameter parameter = CameraParameter::f;  ///< vision/camera/camera_parameters.hpp; its unit
-  double value = 0;                ///< true value (0 for wx wy wz)
-  double sigma = 0;                ///< √CRB (inf when F is singular)
-  double max_abs_correlation = 0;  ///< with the most correlated other parameter
+  double value = 0;                                ///< true value (0 for wx wy wz)
+  double sigma = 0;                                ///< √CRB (inf when F is singular)
+  double max_abs_correlation = 0;                  ///< with the most correlated other parameter
   std::string correlated_with;
   /// σ / σ-if-every-other-parameter-were-known = 1/√(1 − R²), R the multiple correlation with all
   /// the others (√(F_ii·CRB_ii)): how much the other free parameters cost this one (informative;
@@ -99,7 +99,7 @@ struct RoutePlanAnalysis {
 /// Analyses scenario `s` under `name`. Throws rangecal::Error (calibration) when a camera sees
 /// fewer than 6 lamp points.
 RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name,
-                                       const PlanOptions& options = {});
+                                     const PlanOptions& options = {});
 
 /// Side-by-side table of the candidates (same cameras and poles expected; missing ones shown "-"):
 /// per free set, per camera and parameter the σ in each candidate (with "!" for poorly determined),

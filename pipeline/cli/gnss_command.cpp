@@ -5,12 +5,12 @@
 #include <memory>
 #include <string>
 
-#include "pipeline/config/mission_config.hpp"
-#include "pipeline/cli/commands.hpp"
-#include "pipeline/io/output_paths.hpp"
-#include "pipeline/stages/mission_runner.hpp"
-#include "pipeline/io/run_log.hpp"
 #include "config/number_format.hpp"
+#include "pipeline/cli/commands.hpp"
+#include "pipeline/config/mission_config.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/run_log.hpp"
+#include "pipeline/stages/mission_runner.hpp"
 
 namespace rangecal {
 namespace {
@@ -53,8 +53,8 @@ std::string gnss_summary(const MissionConfig& cfg, const StageLog& log, bool ver
   std::string lever;
   if (src == "body_frd") {
     lever = "body FRD (" + format_number("%.3f", la["body_frd_m"][0].get<double>()) + ", " +
-            format_number("%.3f", la["body_frd_m"][1].get<double>()) + ", " + format_number("%.3f", la["body_frd_m"][2].get<double>()) +
-            ") m with attitude";
+            format_number("%.3f", la["body_frd_m"][1].get<double>()) + ", " +
+            format_number("%.3f", la["body_frd_m"][2].get<double>()) + ") m with attitude";
   } else {
     lever = "vertical " + format_number("%.4f", la["vertical_m"].get<double>()) + " m";
     if (src == "total_station")

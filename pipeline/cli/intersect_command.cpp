@@ -12,11 +12,11 @@
 
 #include "config/error.hpp"
 #include "pipeline/cli/commands.hpp"
+#include "pipeline/cli/stage_command.hpp"
+#include "pipeline/io/calibration_json.hpp"
 #include "pipeline/stages/intersect_stage.hpp"
 #include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/steps/intersection.hpp"
-#include "pipeline/cli/stage_command.hpp"
-#include "pipeline/io/calibration_json.hpp"
 
 namespace rangecal {
 

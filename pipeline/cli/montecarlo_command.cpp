@@ -15,12 +15,12 @@
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
 #include "gnss/formats/pole_survey_csv.hpp"
-#include "pipeline/cli/commands.hpp"
-#include "pipeline/io/correspondences_csv.hpp"
-#include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/analysis/monte_carlo.hpp"
-#include "pipeline/io/output_paths.hpp"
+#include "pipeline/cli/commands.hpp"
 #include "pipeline/io/calibration_json.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/steps/calibration_problem.hpp"
 
 namespace rangecal {
 namespace {

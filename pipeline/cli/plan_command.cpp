@@ -14,10 +14,10 @@
 
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
-#include "pipeline/steps/calibration_problem.hpp"
-#include "pipeline/cli/commands.hpp"
 #include "pipeline/analysis/route_plan.hpp"
+#include "pipeline/cli/commands.hpp"
 #include "pipeline/simulate/scenario.hpp"
+#include "pipeline/steps/calibration_problem.hpp"
 
 namespace rangecal {
 

@@ -10,8 +10,8 @@
 #include <string>
 
 #include "pipeline/cli/commands.hpp"
-#include "pipeline/simulate/mission_simulator.hpp"
 #include "pipeline/io/progress_bar.hpp"
+#include "pipeline/simulate/mission_simulator.hpp"
 #include "pipeline/simulate/scenario.hpp"
 
 namespace rangecal {

@@ -10,11 +10,15 @@
 #include "config/error.hpp"
 #include "config/json_view.hpp"
 #include "config/sha256.hpp"
-#include "pipeline/steps/calibration_methods.hpp"
 #include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
 namespace fs = std::filesystem;
+
+const std::vector<std::string>& calibration_method_names() {
+  static const std::vector<std::string> names = {"tsai", "tsai_sassa", "dlt_lmqn", "bundle", "planar"};
+  return names;
+}
 
 namespace {
 

@@ -34,9 +34,9 @@ struct SensorConfig {
 };
 
 struct FramesConfig {
-  std::string timestamps;      ///< `frame,file,utc` CSV (files may be images, a video or a .cine); or empty
-  std::string cine;            ///< a Phantom .cine alone, with its own time stamps; or empty
-  std::string mraw;            ///< a Photron .mraw alone, timed by its .cihx/.cih header; or empty
+  std::string timestamps;  ///< `frame,file,utc` CSV (files may be images, a video or a .cine); or empty
+  std::string cine;        ///< a Phantom .cine alone, with its own time stamps; or empty
+  std::string mraw;        ///< a Photron .mraw alone, timed by its .cihx/.cih header; or empty
   /// With `mraw`: camera clock − UTC in hours (Photron's header time has no zone); required there.
   std::optional<double> clock_utc_offset_h;
   bool allow_missing = false;  ///< a missing/unreadable frame is skipped (and reported) instead of failing
@@ -96,6 +96,10 @@ struct MissionConfig {
   IntersectConfig intersect;
   std::string output_dir;  ///< absolute; default "<config_dir>/out"
 };
+
+/// The calibration methods calibrate.method and compare may name (SPEC §4.4;
+/// pipeline/steps/calibration_methods.hpp runs them): tsai, tsai_sassa, dlt_lmqn, bundle, planar.
+const std::vector<std::string>& calibration_method_names();
 
 /// Loads and validates a mission config. Throws rangecal::Error (kind usage → exit 2) naming the
 /// config file and the JSON path (e.g. `cameras[1].sensor.pixel_size_um`), the problem and the

@@ -7,12 +7,12 @@
 #include "config/error.hpp"
 #include "gnss/formats/pole_survey_csv.hpp"
 #include "optim/bundle/whitening.hpp"
-#include "pipeline/io/residuals_csv.hpp"
-#include "pipeline/steps/calibration_problem.hpp"
-#include "pipeline/io/correspondences_csv.hpp"
-#include "pipeline/stages/mission_runner.hpp"
-#include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/calibration_json.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/residuals_csv.hpp"
+#include "pipeline/stages/mission_runner.hpp"
+#include "pipeline/steps/calibration_problem.hpp"
 
 namespace rangecal {
 namespace {
@@ -20,8 +20,8 @@ namespace {
 // Expected RMS reprojection error of a perfect calibration: each used lamp point's world σ pushed
 // through the true camera's Jacobian, plus the centroid σ on both axes. `used` follows `pairs`
 // (residuals.csv's lamp rows; empty: all used).
-double expected_rms_px(const Camera& truth, const std::vector<Correspondence>& pairs, const std::vector<bool>& used,
-                       double centroid_sigma_px) {
+double expected_rms_px(const Camera& truth, const std::vector<Correspondence>& pairs,
+                       const std::vector<bool>& used, double centroid_sigma_px) {
   double sum = 0;
   int n = 0;
   for (std::size_t i = 0; i < pairs.size(); ++i) {

@@ -8,8 +8,8 @@
 
 #include "pipeline/config/mission_config.hpp"
 #include "pipeline/demo/demo_tables.hpp"
-#include "pipeline/simulate/mission_simulator.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/simulate/mission_simulator.hpp"
 
 namespace rangecal {
 

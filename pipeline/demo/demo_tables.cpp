@@ -65,7 +65,8 @@ std::string format_demo_table1(const DemoCamera& cam) {
   for (const auto& h : heads) s += cell(h);
   s += "\n";
   auto row = [&](const char* name, const char* f, double pt, double ps, auto get) {
-    s += cell(name, 9) + cell(format_number(f, pt)) + cell(format_number(f, ps)) + cell(format_number(f, get(cam.truth)));
+    s += cell(name, 9) + cell(format_number(f, pt)) + cell(format_number(f, ps)) +
+         cell(format_number(f, get(cam.truth)));
     for (const Camera* c : ours) s += cell(format_number(f, get(*c)));
     s += "\n";
   };
@@ -98,9 +99,9 @@ std::string format_demo_tables23(const std::vector<DemoCamera>& cams) {
       const auto it = c.by_method.find(m);
       if (it == c.by_method.end()) continue;
       const ReprojectionStats& r = it->second.reprojection;
-      s += cell(c.id, 9) + cell(m) + cell(format_number("%.3f", r.rms_px)) + cell(format_number("%.3f", r.mean_px)) +
-           cell(format_number("%.3f", r.max_px)) + cell(std::to_string(r.n_used)) +
-           cell(format_number("%.3f", c.expected_rms_px)) + "\n";
+      s += cell(c.id, 9) + cell(m) + cell(format_number("%.3f", r.rms_px)) +
+           cell(format_number("%.3f", r.mean_px)) + cell(format_number("%.3f", r.max_px)) +
+           cell(std::to_string(r.n_used)) + cell(format_number("%.3f", c.expected_rms_px)) + "\n";
     }
   s += "(expected_rms: what a perfect calibration leaves, from the simulated PPK and centroid noise.)\n";
   return s;
@@ -128,7 +129,8 @@ std::string format_demo_table4(const std::vector<DemoIntersection>& by_method) {
     s += cell(d.method, 12) + cell(std::to_string(m.n));
     for (int k = 0; k < 3; ++k) s += cell(format_number("%.2f", 100 * m.mean_abs_d[k]));
     s += cell(format_number("%.2f", 100 * m.mean_dR)) + cell(format_number("%.2f", 100 * d.mean_dR_truth_m)) +
-         cell(format_number("%.2f", 100 * d.max_dR_truth_m)) + cell(format_number("%.2f", 100 * m.mean_sigma_m)) + "\n";
+         cell(format_number("%.2f", 100 * d.max_dR_truth_m)) +
+         cell(format_number("%.2f", 100 * m.mean_sigma_m)) + "\n";
   }
   return s;
 }

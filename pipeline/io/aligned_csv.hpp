@@ -1,12 +1,27 @@
 #pragma once
 // `<cam>/aligned.csv`, written by the align stage and read by the detect stage: one row per kept
-// frame (pipeline/steps/align_frames.hpp AlignedFrame), the lamp at the frame's exact UTC.
+// frame (pipeline/steps/align_frames.hpp), the lamp at the frame's exact UTC.
 #include <string>
 #include <vector>
 
-#include "pipeline/steps/align_frames.hpp"
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "gnss/time/utc_time.hpp"
 
 namespace rangecal {
+
+/// A kept frame: the lamp at the frame's exact UTC. One row of `<cam>/aligned.csv`.
+struct AlignedFrame {
+  std::int64_t frame = 0;
+  UtcTime utc;
+  Eigen::Vector3d enu = Eigen::Vector3d::Zero();     ///< interpolated lamp ENU (m)
+  Eigen::Vector3d sd_enu = Eigen::Vector3d::Zero();  ///< interpolated 1σ (m)
+  double dt_s = 0;                                   ///< frame UTC − nearest epoch UTC (s)
+  /// Lamp velocity at the frame's UTC (m/s): the Hermite interpolant's derivative. The bundle's
+  /// clock-offset parameter moves the point by −velocity·δ (optim/bundle/bundle_adjustment.hpp).
+  Eigen::Vector3d vel_enu = Eigen::Vector3d::Zero();
+};
 
 /// `<cam>/aligned.csv`: header `frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU`; utc ISO 8601 with 9
 /// fraction digits; E, N, U and sd in metres with 6 decimals (µm); dt_s with 9 decimals (ns);

@@ -264,7 +264,8 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
     }
     const bool has_t = std::any_of(r.parameters.begin(), r.parameters.end(), is_translation);
     const bool has_c = std::any_of(r.parameters.begin(), r.parameters.end(), is_center);
-    if (has_t && has_c) pv.fail("mixes translation (Tx Ty Tz) and centre (CE CN CU) parameters; use one pose form");
+    if (has_t && has_c)
+      pv.fail("mixes translation (Tx Ty Tz) and centre (CE CN CU) parameters; use one pose form");
     const std::string mform = "a symmetric " + std::to_string(n) + "x" + std::to_string(n) +
                               " matrix (one row per parameter), or [] when not computed";
     const JsonView mv = cv->at("matrix", mform);
@@ -277,7 +278,8 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
     }
     for (std::size_t i = 0; i < rows; ++i) {
       if (!(r.covariance(Eigen::Index(i), Eigen::Index(i)) >= 0))
-        mv.fail("negative variance of '" + std::string(parameter_name(r.parameters[i])) + "'; expected " + mform);
+        mv.fail("negative variance of '" + std::string(parameter_name(r.parameters[i])) + "'; expected " +
+                mform);
       for (std::size_t k = 0; k < i; ++k)
         if (r.covariance(Eigen::Index(i), Eigen::Index(k)) != r.covariance(Eigen::Index(k), Eigen::Index(i)))
           mv.fail("not symmetric; expected " + mform);

@@ -5,12 +5,11 @@
 // far below the ~1 cm a 1 px pick error makes at the range's 64 m), so reruns are byte-identical.
 // Control poles are not written: they may have been calibration points and so do not measure
 // accuracy; their figures go to run.json's counts. Written by pipeline/stages/intersect_stage.cpp, read
-// by the report stage.
+// by the report stage. Rows from an intersection result and their mean row:
+// pipeline/steps/intersection.hpp.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include "pipeline/steps/intersection.hpp"
 
 namespace rangecal {
 
@@ -24,9 +23,6 @@ struct IntersectionRow {
   long line = 0;                                         ///< line in the file when read
 };
 
-/// The rows of intersection.csv: the surveyed `check` poles of `result`, in its order.
-std::vector<IntersectionRow> intersection_rows(const IntersectionResult& result);
-
 /// CSV text: header, then one line per row, every number "%.4f" (no "-0.0000").
 std::string format_intersection_csv(const std::vector<IntersectionRow>& rows);
 
@@ -39,8 +35,5 @@ void write_intersection_csv(const std::string& path, const std::vector<Intersect
 std::vector<IntersectionRow> parse_intersection_csv(const std::string& text, const std::string& path);
 /// Reads intersection.csv (a missing file is an input error naming it).
 std::vector<IntersectionRow> read_intersection_csv(const std::string& path);
-
-/// Table 4's mean row over rows read back (they are all check poles).
-IntersectionMeans intersection_means(const std::vector<IntersectionRow>& rows);
 
 }  // namespace rangecal

@@ -44,9 +44,10 @@ nlohmann::json tsai_sassa_details_json(const TsaiSassaResult& t, const TsaiSassa
                         {"linear_rms_mm", t.step1.linear_rms_mm}}},
                       {"search", search}};
   if (t.polished)
-    d["polish"] = {{"theta", values(t.theta_polished)},    {"objective", 2 * t.polish.F},
-                   {"iterations", t.polish.iterations}, {"residual_evaluations", t.polish.residual_evaluations},
-                   {"converged", t.polish.converged},   {"moved_z", (t.polish.x - t.search.z).norm()}};
+    d["polish"] = {
+        {"theta", values(t.theta_polished)}, {"objective", 2 * t.polish.F},
+        {"iterations", t.polish.iterations}, {"residual_evaluations", t.polish.residual_evaluations},
+        {"converged", t.polish.converged},   {"moved_z", (t.polish.x - t.search.z).norm()}};
   d["covariance"] = "not computed (the search gives no uncertainty; see the bundle method)";
   return d;
 }

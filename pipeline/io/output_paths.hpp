@@ -24,7 +24,7 @@ inline constexpr const char* kCorrespondencesCsv = "correspondences.csv";  ///< 
 inline constexpr const char* kCalibrationJson = "calibration.json";        ///< calibrate stage
 inline constexpr const char* kCameraOpencvYml = "camera_opencv.yml";       ///< calibrate stage
 inline constexpr const char* kResidualsCsv = "residuals.csv";              ///< calibrate stage
-inline constexpr const char* kMethodsCsv = "methods.csv";                  ///< calibrate stage, with `compare`
+inline constexpr const char* kMethodsCsv = "methods.csv";  ///< calibrate stage, with `compare`
 /// calibrate stage, with `compare`: the full result of each compared method.
 inline std::string compare_calibration_json(const std::string& method) {
   return "calibration_" + method + ".json";
@@ -42,7 +42,8 @@ inline std::string camera_output(const std::string& output_dir, const std::strin
                                  const std::string& file) {
   return (std::filesystem::path(output_dir) / camera_id / file).string();
 }
-inline std::string camera_output(const MissionConfig& cfg, const std::string& camera_id, const std::string& file) {
+inline std::string camera_output(const MissionConfig& cfg, const std::string& camera_id,
+                                 const std::string& file) {
   return camera_output(cfg.output_dir, camera_id, file);
 }
 /// `<output_dir>/gnss/lamp_track.csv`.

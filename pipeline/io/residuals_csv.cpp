@@ -33,9 +33,10 @@ void write_residuals_csv(const std::string& path, const std::vector<ResidualRow>
 
 std::vector<ResidualRow> parse_residuals_csv(const std::string& text, const std::string& path) {
   const CsvTable t = parse_csv(text, path);
-  const std::size_t c_kind = t.column("kind"), c_id = t.column("id"), c_utc = t.column("utc"), c_e = t.column("E"),
-                    c_n = t.column("N"), c_u = t.column("U"), c_pu = t.column("u"), c_pv = t.column("v"),
-                    c_du = t.column("du_px"), c_dv = t.column("dv_px"), c_used = t.column("used");
+  const std::size_t c_kind = t.column("kind"), c_id = t.column("id"), c_utc = t.column("utc"),
+                    c_e = t.column("E"), c_n = t.column("N"), c_u = t.column("U"), c_pu = t.column("u"),
+                    c_pv = t.column("v"), c_du = t.column("du_px"), c_dv = t.column("dv_px"),
+                    c_used = t.column("used");
   std::vector<ResidualRow> out;
   out.reserve(t.records.size());
   for (const auto& rec : t.records) {

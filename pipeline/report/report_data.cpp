@@ -7,8 +7,8 @@
 #include "config/error.hpp"
 #include "config/json_view.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
-#include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/calibration_json.hpp"
+#include "pipeline/io/output_paths.hpp"
 
 namespace rangecal {
 namespace {

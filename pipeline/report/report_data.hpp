@@ -11,9 +11,9 @@
 
 #include "gnss/time/utc_time.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
-#include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/io/intersection_csv.hpp"
 #include "pipeline/io/methods_csv.hpp"
+#include "pipeline/io/residuals_csv.hpp"
 #include "vision/camera/calibration_result.hpp"
 
 namespace rangecal {
@@ -31,7 +31,7 @@ struct CameraReportData {
   std::optional<std::vector<Correspondence>> pairs;  ///< absent: correspondences.csv missing
   /// absent: residuals.csv missing (not calibrated); its lamp rows follow `pairs` one to one
   std::optional<std::vector<ResidualRow>> residuals;
-  std::optional<std::vector<MethodRow>> methods;     ///< absent: methods.csv missing (no `compare`)
+  std::optional<std::vector<MethodRow>> methods;  ///< absent: methods.csv missing (no `compare`)
   /// run.json calibrate counts "<cam>.failed": why the calibrate stage gave up on the camera.
   std::string calibration_failure;
   /// Image size (px) for the plots: calibration.json's, else 0 until the caller sets the config's.

@@ -7,6 +7,7 @@
 #include "config/number_format.hpp"
 #include "pipeline/report/html_escape.hpp"
 #include "pipeline/report/svg_plot.hpp"
+#include "pipeline/steps/intersection.hpp"
 #include "vision/camera/camera_model.hpp"
 
 namespace rangecal {
@@ -110,13 +111,14 @@ std::string parameters_table(const CalibrationResult& r) {
       "mm<sup>-2</sup>", "mm<sup>-4</sup>", "mm<sup>-6</sup>", "mm<sup>-1</sup>", "mm<sup>-1</sup>", "", ""};
   for (int i = 0; i < 7; ++i)
     if (i == 0 || dist[i] != 0)
-      row(std::string(parameter_name(kDistortionParameters[i])).insert(1, "<sub>") + "</sub>", "%.4e", dist[i],
-          "%.2e", r.sigma(kDistortionParameters[i]), units[i]);
+      row(std::string(parameter_name(kDistortionParameters[i])).insert(1, "<sub>") + "</sub>", "%.4e",
+          dist[i], "%.2e", r.sigma(kDistortionParameters[i]), units[i]);
   for (const P w : kRotationParameters)
     row(std::string("rotation ") + parameter_name(w), "%.1f", std::nan(""), "%.4f", r.sigma(w) * 1e3,
         "mrad (small rotation about R below)");
   for (int i = 0; i < 3; ++i)
-    row(std::string("T") + "xyz"[i], "%.4f", r.camera.pose.T[i], "%.4f", r.sigma(kTranslationParameters[i]), "m");
+    row(std::string("T") + "xyz"[i], "%.4f", r.camera.pose.T[i], "%.4f", r.sigma(kTranslationParameters[i]),
+        "m");
   const Eigen::Vector3d C = r.camera.pose.center(), cs = r.center_sigma_m();
   for (int i = 0; i < 3; ++i) row(std::string("centre ") + "ENU"[i], "%.4f", C[i], "%.4f", cs[i], "m");
   if (r.parameter_index(P::clock_offset) >= 0)

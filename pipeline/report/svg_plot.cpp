@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "pipeline/report/html_escape.hpp"
 #include "config/number_format.hpp"
+#include "pipeline/report/html_escape.hpp"
 
 namespace rangecal {
 namespace {

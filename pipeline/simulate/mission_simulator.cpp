@@ -10,12 +10,12 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "pipeline/io/calibration_json.hpp"
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
-#include "gnss/track/lever_arm.hpp"
 #include "gnss/formats/rtklib_pos_writer.hpp"
+#include "gnss/track/lever_arm.hpp"
+#include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/progress_bar.hpp"
 #include "vision/frames/frame_renderer.hpp"
 
@@ -80,7 +80,7 @@ void leg_motion(const FlightPathLeg& leg, double t, Eigen::Vector3d* p, Eigen::V
 }
 
 FlightPathLeg make_move(double t0, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double speed,
-                    double accel, int route) {
+                        double accel, int route) {
   FlightPathLeg leg;
   leg.t0_s = t0;
   leg.from = from;
@@ -513,7 +513,8 @@ std::string format_attitude_csv(const SimMission& m) {
   std::string out = "utc,roll_deg,pitch_deg,yaw_deg\n";
   for (const auto& a : m.attitude)
     out += format_iso8601_utc(a.utc, 6) + "," + format_number("%.6f", a.attitude.roll_deg) + "," +
-           format_number("%.6f", a.attitude.pitch_deg) + "," + format_number("%.6f", a.attitude.yaw_deg) + "\n";
+           format_number("%.6f", a.attitude.pitch_deg) + "," + format_number("%.6f", a.attitude.yaw_deg) +
+           "\n";
   return out;
 }
 
@@ -534,7 +535,8 @@ std::string format_poles_csv(const SimMission& m) {
 std::string format_picks_csv(const SimCamera& c) {
   std::string out = "id,u,v\n";
   for (const SimPick& p : c.picks)
-    out += p.id + "," + format_number("%.3f", p.picked_px.x()) + "," + format_number("%.3f", p.picked_px.y()) + "\n";
+    out += p.id + "," + format_number("%.3f", p.picked_px.x()) + "," +
+           format_number("%.3f", p.picked_px.y()) + "\n";
   return out;
 }
 

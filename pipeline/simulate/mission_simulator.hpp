@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "gnss/track/attitude.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "gnss/track/attitude.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "vision/frames/frame_renderer.hpp"
 

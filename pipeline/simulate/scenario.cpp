@@ -142,9 +142,10 @@ ScenarioCamera parse_camera(const JsonView& v) {
   v.require_object("a camera object {\"id\", \"center_enu_m\", \"look_at_enu_m\", \"f_mm\", …}");
   // Keys: the pose and sensor, then the camera-model parameters by their names
   // (vision/camera/camera_parameters.hpp: sx and the distortion terms), then the recording.
-  std::vector<std::string> keys = {"id", "center_enu_m", "look_at_enu_m", "roll_deg", "R", "f_mm",
-                                   "pixel_size_um", "width_px", "height_px", "u0_px", "v0_px",
-                                   parameter_name(CameraParameter::sx)};
+  std::vector<std::string> keys = {
+      "id",        "center_enu_m", "look_at_enu_m", "roll_deg",
+      "R",         "f_mm",         "pixel_size_um", "width_px",
+      "height_px", "u0_px",        "v0_px",         parameter_name(CameraParameter::sx)};
   for (const CameraParameter d : kDistortionParameters) keys.push_back(parameter_name(d));
   for (const char* k : {"fps", "export_step", "bit_depth", "clock_offset_s", "start_s", "nominal_focal_mm"})
     keys.push_back(k);

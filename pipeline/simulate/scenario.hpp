@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/config/mission_config.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "pipeline/config/mission_config.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
 

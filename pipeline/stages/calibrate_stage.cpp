@@ -29,8 +29,8 @@ struct CameraCalibration {
 };
 
 /// One row per observation of the problem: lamp pairs, then control poles.
-std::vector<ResidualRow> residual_rows(const CalibrationProblem& problem, const std::vector<Correspondence>& pairs,
-                                       const CalibrationResult& r) {
+std::vector<ResidualRow> residual_rows(const CalibrationProblem& problem,
+                                       const std::vector<Correspondence>& pairs, const CalibrationResult& r) {
   const auto res = reprojection_residuals(r.camera, problem.observations, r.clock_offset_s);
   std::vector<bool> rejected(problem.observations.size(), false);
   for (std::size_t i : r.rejected)
@@ -62,7 +62,8 @@ CameraCalibration calibrate_one_camera(const CalibrateConfig& calibrate, const C
   cc.counts["pairs"] = pairs.size();
   cc.counts["control_poles"] = problem.observations.size() - pairs.size();
   if (pairs.empty())
-    cc.warnings.push_back("no lamp pairs; calibrated from its " + std::to_string(problem.observations.size()) +
+    cc.warnings.push_back("no lamp pairs; calibrated from its " +
+                          std::to_string(problem.observations.size()) +
                           " control poles alone (seed 002's baseline setting, far fewer points)");
   cc.opencv = fit_opencv_camera(cc.main.camera);
   if (cc.opencv.fit_max_px > 0.01)
@@ -138,8 +139,9 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
     }
   }
   if (done.empty())
-    throw_calibration_error("calibrate", cfg.cameras.empty() ? "no cameras in the config"
-                                                             : "no camera could be calibrated (" + last_failure + ")");
+    throw_calibration_error("calibrate", cfg.cameras.empty()
+                                             ? "no cameras in the config"
+                                             : "no camera could be calibrated (" + last_failure + ")");
   for (const auto& [id, cc] : done) write_camera_calibration(cfg, id, cc);
   return log;
 }

@@ -6,10 +6,10 @@
 
 #include "config/error.hpp"
 #include "gnss/formats/pole_survey_csv.hpp"
-#include "pipeline/steps/intersection.hpp"
+#include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/intersection_csv.hpp"
 #include "pipeline/io/output_paths.hpp"
-#include "pipeline/io/calibration_json.hpp"
+#include "pipeline/steps/intersection.hpp"
 
 namespace rangecal {
 

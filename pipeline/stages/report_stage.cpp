@@ -6,6 +6,7 @@
 #include "config/json_format.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/report/report_html.hpp"
+#include "pipeline/steps/intersection.hpp"
 
 namespace rangecal {
 namespace {

@@ -1,12 +1,13 @@
 #pragma once
 // The report stage (SPEC §4.6, §5): reads what the earlier stages wrote in the output folder
-// (pipeline/report/report_data.hpp) and writes `<output_dir>/report.html` (pipeline/report/report_html.hpp) and
+// (pipeline/report/report_data.hpp) and writes `<output_dir>/report.html` (pipeline/report/report_html.hpp)
+// and
 // `<output_dir>/summary.json`. Runs alone; a camera without calibration is reported, not an error.
 #include <string>
 
 #include "pipeline/config/mission_config.hpp"
-#include "pipeline/report/report_data.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/report/report_data.hpp"
 
 namespace rangecal {
 

@@ -139,9 +139,9 @@ AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& 
     const TrackSample s = ht.sample(f.utc);
     if (s.status == TrackSampleStatus::in_gap) {
       rej.reason = FrameRejection::in_gap;
-      rej.detail = "frame lies in a " + format_number("%.3f", s.interval_s) + " s gap of the lamp track between " +
-                   format_iso8601_utc(ht.epoch_time(s.segment)) + " and " +
-                   format_iso8601_utc(ht.epoch_time(s.segment + 1)) + " (max_gap_s " +
+      rej.detail = "frame lies in a " + format_number("%.3f", s.interval_s) +
+                   " s gap of the lamp track between " + format_iso8601_utc(ht.epoch_time(s.segment)) +
+                   " and " + format_iso8601_utc(ht.epoch_time(s.segment + 1)) + " (max_gap_s " +
                    format_number("%g", opt.max_gap_s) + "): not interpolated across a gap";
       ++rep.rejected_gap;
       res.rejected.push_back(std::move(rej));

@@ -22,8 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "gnss/track/lamp_track.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "gnss/track/lamp_track.hpp"
+#include "pipeline/io/aligned_csv.hpp"
 
 namespace rangecal {
 
@@ -38,18 +39,6 @@ struct AlignOptions {
   double max_gap_s = 0.5;                    ///< config gnss.max_gap_s (s, > 0)
   std::string track_source = "lamp track";   ///< names the track in error messages (a path)
   std::string frames_source = "frame list";  ///< names the frame list in error messages (a path)
-};
-
-/// A kept frame: the lamp at the frame's exact UTC. One row of `<cam>/aligned.csv`.
-struct AlignedFrame {
-  std::int64_t frame = 0;
-  UtcTime utc;
-  Eigen::Vector3d enu = Eigen::Vector3d::Zero();     ///< interpolated lamp ENU (m)
-  Eigen::Vector3d sd_enu = Eigen::Vector3d::Zero();  ///< interpolated 1σ (m)
-  double dt_s = 0;                                   ///< frame UTC − nearest epoch UTC (s)
-  /// Lamp velocity at the frame's UTC (m/s): the Hermite interpolant's derivative. The bundle's
-  /// clock-offset parameter moves the point by −velocity·δ (optim/bundle/bundle_adjustment.hpp).
-  Eigen::Vector3d vel_enu = Eigen::Vector3d::Zero();
 };
 
 enum class FrameRejection {

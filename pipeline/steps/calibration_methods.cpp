@@ -125,7 +125,8 @@ CalibrationResult run_bundle(const CalibrationProblem& p) {
   BundleOptions opt;
   opt.free = p.free;
   opt.pixel_sigma_px = p.pixel_sigma_px;
-  if (p.priors.principal_point_px && (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
+  if (p.priors.principal_point_px &&
+      (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
     opt.priors.use_principal_point = true;
     opt.priors.principal_point_px = *p.priors.principal_point_px;
     opt.priors.principal_point_sigma_px = p.priors.principal_point_sigma_px;
@@ -179,28 +180,19 @@ void require_depth_beyond_noise(const std::string& method, const CalibrationProb
 
 using MethodFunction = CalibrationResult (*)(const CalibrationProblem&);
 struct Method {
-  const char* name;
+  const char* name;    ///< one of calibration_method_names() (pipeline/config/mission_config.hpp)
   MethodFunction run;  ///< nullptr: known, but not a method for a lamp track
 };
 
 const std::vector<Method>& methods() {
   static const std::vector<Method> table = {
-      {"tsai", run_tsai}, {"tsai_sassa", run_tsai_sassa}, {"dlt_lmqn", run_dlt_lmqn},
-      {"bundle", run_bundle}, {"planar", nullptr},
+      {"tsai", run_tsai},  {"tsai_sassa", run_tsai_sassa}, {"dlt_lmqn", run_dlt_lmqn}, {"bundle", run_bundle},
+      {"planar", nullptr},
   };
   return table;
 }
 
 }  // namespace
-
-const std::vector<std::string>& calibration_method_names() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> v;
-    for (const Method& m : methods()) v.push_back(m.name);
-    return v;
-  }();
-  return names;
-}
 
 std::vector<Eigen::Vector2d> reprojection_residuals(const Camera& cam,
                                                     const std::vector<BundleObservation>& obs,
@@ -243,8 +235,8 @@ ReprojectionStats reprojection_stats(const std::vector<Eigen::Vector2d>& residua
 
 CalibrationResult calibrate_camera(const std::string& method, const CalibrationProblem& problem) {
   const auto t0 = std::chrono::steady_clock::now();
-  const auto m = std::find_if(methods().begin(), methods().end(),
-                              [&](const Method& e) { return method == e.name; });
+  const auto m =
+      std::find_if(methods().begin(), methods().end(), [&](const Method& e) { return method == e.name; });
   if (m == methods().end())
     throw Error(ErrorKind::usage, "", 0, "calibrate.method", "unknown method '" + method + "'");
   if (!m->run)

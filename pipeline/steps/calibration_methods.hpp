@@ -19,9 +19,6 @@
 
 namespace rangecal {
 
-/// Names accepted by calibrate_camera (and by the config's calibrate.method and compare).
-const std::vector<std::string>& calibration_method_names();
-
 /// Runs `method` on `problem`. The result's reprojection statistics cover the observations the
 /// method used; `rejected` lists the others; `details` what the method did
 /// (pipeline/io/method_details_json.hpp). Throws rangecal::Error: usage for an unknown method

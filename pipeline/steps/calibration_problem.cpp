@@ -8,7 +8,8 @@ namespace rangecal {
 
 ControlPoleViews read_control_pole_views(const MissionConfig& cfg, const CameraConfig& camera) {
   ControlPoleViews v;
-  if (!cfg.calibrate.use_control_poles || cfg.poles_file.empty() || camera.pole_observations.empty()) return v;
+  if (!cfg.calibrate.use_control_poles || cfg.poles_file.empty() || camera.pole_observations.empty())
+    return v;
   v.survey = read_pole_survey(cfg.poles_file, cfg.origin);
   v.picks = read_pole_picks(camera.pole_observations);
   v.survey_file = cfg.poles_file;
@@ -44,7 +45,8 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
   for (const PolePick& pick : poles.picks) {
     const auto it = by_id.find(pick.id);
     if (it == by_id.end())
-      throw_input_error(poles.picks_file, pick.line, "id", "pole '" + pick.id + "' is not in the survey " + poles.survey_file);
+      throw_input_error(poles.picks_file, pick.line, "id",
+                        "pole '" + pick.id + "' is not in the survey " + poles.survey_file);
     if (it->second->role != PoleRole::control) continue;  // check poles never calibrate
     BundleObservation o;
     o.world = it->second->enu;

@@ -134,4 +134,37 @@ IntersectionMeans intersection_means(const std::vector<PoleIntersection>& poles,
   return m;
 }
 
+std::vector<IntersectionRow> intersection_rows(const IntersectionResult& result) {
+  std::vector<IntersectionRow> rows;
+  for (const PoleIntersection& p : result.poles) {
+    if (!p.surveyed || p.role != PoleRole::check) continue;  // control poles: see the header comment
+    IntersectionRow r;
+    r.id = p.id;
+    r.enu = p.enu;
+    r.survey_enu = p.survey_enu;
+    r.d_enu = p.d_enu;
+    r.dR = p.dR;
+    r.sigma_m = p.sigma_m;
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+IntersectionMeans intersection_means(const std::vector<IntersectionRow>& rows) {
+  std::vector<PoleIntersection> poles;
+  for (const IntersectionRow& r : rows) {
+    PoleIntersection p;
+    p.id = r.id;
+    p.surveyed = true;
+    p.role = PoleRole::check;
+    p.enu = r.enu;
+    p.survey_enu = r.survey_enu;
+    p.d_enu = r.d_enu;
+    p.dR = r.dR;
+    p.sigma_m = r.sigma_m;
+    poles.push_back(p);
+  }
+  return intersection_means(poles, PoleRole::check);
+}
+
 }  // namespace rangecal

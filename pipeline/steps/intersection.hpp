@@ -2,14 +2,16 @@
 // The intersection check (SPEC §4.5; seed 002 §4.2 Table 4) as a pure function: calibrated
 // cameras and their pole-top picks in, one triangulated point per pole seen by ≥ 2 cameras out,
 // compared with the survey where the pole is surveyed, with its predicted 1σ (calibration
-// covariance + pick noise, vision/triangulation/triangulation.hpp). File I/O is in pipeline/stages/intersect_stage.cpp
-// and pipeline/cli/intersect_command.cpp; choices are in docs/intersection.md ("intersect stage").
+// covariance + pick noise, vision/triangulation/triangulation.hpp). File I/O is in
+// pipeline/stages/intersect_stage.cpp and pipeline/cli/intersect_command.cpp; choices are in
+// docs/intersection.md ("intersect stage").
 #include <Eigen/Core>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "gnss/formats/pole_survey_csv.hpp"
+#include "pipeline/io/intersection_csv.hpp"
 #include "vision/camera/calibration_result.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
@@ -75,5 +77,11 @@ IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
 
 /// The means over the surveyed poles of `role` in `poles`.
 IntersectionMeans intersection_means(const std::vector<PoleIntersection>& poles, PoleRole role);
+
+/// The rows of intersection.csv: the surveyed `check` poles of `result`, in its order.
+std::vector<IntersectionRow> intersection_rows(const IntersectionResult& result);
+
+/// Table 4's mean row over rows read back (they are all check poles).
+IntersectionMeans intersection_means(const std::vector<IntersectionRow>& rows);
 
 }  // namespace rangecal

@@ -13,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "gnss/track/hermite_interpolation.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "gnss/track/hermite_interpolation.hpp"
 
 namespace rangecal {
 

@@ -4,8 +4,8 @@
 // camera for two free sets, poles).
 #include <benchmark/benchmark.h>
 
-#include "pipeline/analysis/route_plan.hpp"
 #include "pipeline/analysis/monte_carlo.hpp"
+#include "pipeline/analysis/route_plan.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "support/paths.hpp"
 

@@ -8,8 +8,8 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 
-#include "vision/frames/frame_renderer.hpp"
 #include "vision/detection/lamp_detector.hpp"
+#include "vision/frames/frame_renderer.hpp"
 
 using namespace rangecal;
 

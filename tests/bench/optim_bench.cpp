@@ -8,9 +8,9 @@
 #include <random>
 
 #include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/methods/tsai_sassa.hpp"
 #include "optim/search/lm_qn.hpp"
 #include "optim/search/sparrow_search.hpp"
-#include "optim/methods/tsai_sassa.hpp"
 #include "support/bundle_synthetic.hpp"
 #include "support/synthetic_camera.hpp"
 

@@ -7,12 +7,12 @@
 #include <filesystem>
 
 #include "pipeline/config/mission_config.hpp"
-#include "pipeline/stages/align_stage.hpp"
-#include "pipeline/stages/detect_stage.hpp"
 #include "pipeline/demo/demo.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
-#include "pipeline/stages/gnss_stage.hpp"
 #include "pipeline/simulate/scenario.hpp"
+#include "pipeline/stages/align_stage.hpp"
+#include "pipeline/stages/detect_stage.hpp"
+#include "pipeline/stages/gnss_stage.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {

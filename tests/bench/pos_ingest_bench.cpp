@@ -69,7 +69,7 @@ AttitudeSeries make_attitude() {
 
 void BM_PosIngestOneHour20Hz(benchmark::State& state) {
   const std::string path = make_pos_file();
-  GnssStageInputs in;
+  LampTrackInputs in;
   in.attitude = make_attitude();
   in.lever.form = ResolvedLeverArm::Form::body_frd;
   in.lever.body_frd_m = Eigen::Vector3d(0.05, 0.0, 0.25);
@@ -81,7 +81,7 @@ void BM_PosIngestOneHour20Hz(benchmark::State& state) {
   for (auto _ : state) {
     in.pos_files.clear();
     in.pos_files.push_back(read_rtklib_pos(path));
-    const GnssStageResult r = compute_lamp_track(in);
+    const LampTrackResult r = compute_lamp_track(in);
     kept = r.track.epochs.size();
     benchmark::DoNotOptimize(r.track.epochs.data());
   }

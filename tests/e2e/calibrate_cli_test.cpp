@@ -8,17 +8,16 @@
 #include <opencv2/core/persistence.hpp>
 
 #include "config/error.hpp"
-#include "support/paths.hpp"
-#include "support/single_camera_mission.hpp"
-#include "support/synthetic_camera.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/steps/calibration_methods.hpp"
+#include "support/paths.hpp"
+#include "support/single_camera_mission.hpp"
+#include "support/synthetic_camera.hpp"
 
 namespace rangecal {
 namespace {
-
 
 TEST(CalibrateStage, CliWritesCalibrationOpencvAndMethods) {
   const Camera truth = test::range_camera(-3.4e-4, 1.0);

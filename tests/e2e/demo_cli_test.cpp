@@ -17,8 +17,8 @@
 #include "gnss/time/utc_time.hpp"
 #include "pipeline/demo/demo.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
-#include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/simulate/scenario.hpp"
+#include "pipeline/stages/mission_runner.hpp"
 #include "support/paths.hpp"
 #include "support/simulated_mission.hpp"
 
@@ -32,7 +32,6 @@ const test::SimulatedRun& demo() {
       parse_scenario(demo_scenario_json(), "<built-in demo scenario>"), "demo");
   return f;
 }
-
 
 TEST(Demo, KillingARunMidwayLeavesNoPartialOutputFiles) {
   const test::SimulatedRun& d = demo();

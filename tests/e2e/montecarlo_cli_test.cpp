@@ -21,7 +21,6 @@ namespace {
 constexpr double kWorldSigmaM = 0.01;  // PPK-like 1 cm per axis
 constexpr double kPixelSigmaPx = 0.1;
 
-
 /// A calibrated single-camera mission folder (config + correspondences + calibration.json).
 std::filesystem::path calibrated_mission(const std::string& name) {
   const Camera truth = test::range_camera(-3.4e-4);

@@ -38,7 +38,6 @@ nlohmann::json five_ascents() {
       {ascent(-5, 0.75), ascent(0, 4.75), ascent(5, 0.75), ascent(0, -3.25), ascent(0, 8.75)});
 }
 
-
 TEST(Plan, CliComparesCandidatesSideBySide) {
   const auto dir = test::scratch_dir("plan_cli");
   nlohmann::json j = nlohmann::json::parse(demo_text());

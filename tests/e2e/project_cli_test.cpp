@@ -8,8 +8,8 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
-#include "support/paths.hpp"
 #include "pipeline/io/calibration_json.hpp"
+#include "support/paths.hpp"
 #include "vision/camera/point_projection.hpp"
 
 namespace rangecal {

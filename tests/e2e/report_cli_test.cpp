@@ -14,15 +14,15 @@
 
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
+#include "pipeline/io/calibration_json.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/methods_csv.hpp"
 #include "pipeline/io/residuals_csv.hpp"
-#include "pipeline/stages/calibrate_stage.hpp"
-#include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/report/report_html.hpp"
 #include "pipeline/report/svg_plot.hpp"
+#include "pipeline/stages/calibrate_stage.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
-#include "pipeline/io/calibration_json.hpp"
 
 namespace rangecal {
 namespace {
@@ -165,7 +165,6 @@ Fixture build_output(const fs::path& dir, bool with_intersection = true) {
 nlohmann::json read_json(const fs::path& p) {
   return nlohmann::json::parse(test::read_text(p));
 }
-
 
 TEST(Report, CliCommandWritesTheReport) {
   const fs::path dir = test::scratch_dir("report_cli");

@@ -51,7 +51,6 @@ json tiny() {
   })");
 }
 
-
 TEST(MissionSimulator, CliSimulateWritesAndRejects) {
   const fs::path dir = test::scratch_dir("sim_cli");
   test::write_text(dir / "tiny.json", tiny().dump(2));

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "vision/calibration/point_correspondence.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
-#include "vision/calibration/point_correspondence.hpp"
 
 namespace rangecal::test {
 

@@ -17,7 +17,6 @@ namespace {
 
 const char* const kMethod = "dlt";
 
-
 // Hartley normalisation: similarity moving the centroid to 0 and the mean distance to √dim.
 template <int D>
 Eigen::Matrix<double, D + 1, D + 1> normalising_transform(const std::vector<Eigen::Matrix<double, D, 1>>& x) {

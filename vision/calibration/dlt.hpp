@@ -9,15 +9,16 @@
 // mapped to SPEC §2's model: f = fy·dy, sx = fx·dx/(fy·dy), (u0, v0) = (K13, K23); the skew s is
 // not in rangecal's model and is reported, not kept. The sign of P is chosen so det(K·R) > 0 and the
 // points lie in front of the camera. The DLT model has no distortion: with a distorted lens, f and the
-// principal point absorb part of it, and vision/calibration/linear_distortion.hpp (eq. 8) gives initial values.
+// principal point absorb part of it, and vision/calibration/linear_distortion.hpp (eq. 8) gives initial
+// values.
 //
 // World points in any length unit (C and T come back in it); pixels per SPEC §2.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
-#include "vision/camera/camera_model.hpp"
 #include "vision/calibration/point_correspondence.hpp"
+#include "vision/camera/camera_model.hpp"
 #include "vision/camera/sensor_geometry.hpp"
 
 namespace rangecal {

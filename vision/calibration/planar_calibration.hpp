@@ -17,8 +17,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "vision/camera/camera_model.hpp"
 #include "vision/calibration/point_correspondence.hpp"
+#include "vision/camera/camera_model.hpp"
 #include "vision/camera/sensor_geometry.hpp"
 
 namespace rangecal {

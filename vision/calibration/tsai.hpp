@@ -29,8 +29,8 @@
 #include <utility>
 #include <vector>
 
-#include "vision/camera/camera_model.hpp"
 #include "vision/calibration/point_correspondence.hpp"
+#include "vision/camera/camera_model.hpp"
 
 namespace rangecal {
 

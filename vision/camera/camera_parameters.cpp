@@ -100,8 +100,8 @@ std::string free_parameter_names() {
   return s;
 }
 
-std::vector<CameraParameter> expand_free_parameters(const std::vector<std::string>& free, const std::string& file,
-                                                    const std::string& field) {
+std::vector<CameraParameter> expand_free_parameters(const std::vector<std::string>& free,
+                                                    const std::string& file, const std::string& field) {
   std::array<bool, kCameraParameterCount> on{};
   for (const std::string& name : free) {
     bool known = false;
@@ -151,9 +151,8 @@ Eigen::VectorXd parameter_values(const Camera& cam, const std::vector<CameraPara
                                  double clock_offset_s) {
   Eigen::VectorXd x(static_cast<Eigen::Index>(parameters.size()));
   for (std::size_t i = 0; i < parameters.size(); ++i)
-    x[static_cast<Eigen::Index>(i)] = is_rotation(parameters[i]) ? 0.0
-                                                                 : parameter_value(cam, parameters[i], cam,
-                                                                                   clock_offset_s);
+    x[static_cast<Eigen::Index>(i)] =
+        is_rotation(parameters[i]) ? 0.0 : parameter_value(cam, parameters[i], cam, clock_offset_s);
   return x;
 }
 
@@ -194,8 +193,8 @@ Camera camera_with_parameters(const Camera& base, const std::vector<CameraParame
   return c;
 }
 
-void hold_fixed_intrinsics(const std::vector<CameraParameter>& free, const Eigen::Vector2d& principal_point_px,
-                           CameraIntrinsics* in) {
+void hold_fixed_intrinsics(const std::vector<CameraParameter>& free,
+                           const Eigen::Vector2d& principal_point_px, CameraIntrinsics* in) {
   if (!contains(free, P::u0)) in->u0_px = principal_point_px.x();
   if (!contains(free, P::v0)) in->v0_px = principal_point_px.y();
   if (!contains(free, P::sx)) in->sx = 1.0;

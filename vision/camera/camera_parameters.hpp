@@ -33,21 +33,27 @@
 
 namespace rangecal {
 
+// clang-format off
 enum class CameraParameter : int {
-  f, sx, u0, v0,                // intrinsics
-  k1, k2, k3, p1, p2, a1, a2,   // distortion, Distortion::as_array() order
-  wx, wy, wz,                   // rotation perturbation
-  CE, CN, CU,                   // camera centre
-  clock_offset,                 // camera clock
-  Tx, Ty, Tz,                   // translation
+  f, sx, u0, v0,               // intrinsics
+  k1, k2, k3, p1, p2, a1, a2,  // distortion, Distortion::as_array() order
+  wx, wy, wz,                  // rotation perturbation
+  CE, CN, CU,                  // camera centre
+  clock_offset,                // camera clock
+  Tx, Ty, Tz,                  // translation
 };
+// clang-format on
 inline constexpr int kCameraParameterCount = 21;
 /// f … clock_offset: the parameters the bundle adjusts (centre form of the pose).
 inline constexpr int kBundleParameterCount = 18;
 
 /// Position of a parameter in the canonical order.
-constexpr int index_of(CameraParameter p) { return static_cast<int>(p); }
-constexpr CameraParameter parameter_at(int index) { return static_cast<CameraParameter>(index); }
+constexpr int index_of(CameraParameter p) {
+  return static_cast<int>(p);
+}
+constexpr CameraParameter parameter_at(int index) {
+  return static_cast<CameraParameter>(index);
+}
 
 struct CameraParameterInfo {
   CameraParameter parameter;
@@ -64,8 +70,12 @@ const std::array<CameraParameterInfo, kCameraParameterCount>& camera_parameter_t
 inline const CameraParameterInfo& parameter_info(CameraParameter p) {
   return camera_parameter_table()[static_cast<std::size_t>(index_of(p))];
 }
-inline const char* parameter_name(CameraParameter p) { return parameter_info(p).name; }
-inline const char* parameter_unit(CameraParameter p) { return parameter_info(p).unit; }
+inline const char* parameter_name(CameraParameter p) {
+  return parameter_info(p).name;
+}
+inline const char* parameter_unit(CameraParameter p) {
+  return parameter_info(p).unit;
+}
 
 /// The parameter called `name`, or nothing.
 std::optional<CameraParameter> parameter_from_name(std::string_view name);
@@ -77,8 +87,8 @@ inline constexpr std::array<CameraParameter, 4> kIntrinsicParameters = {
 inline constexpr std::array<CameraParameter, 7> kDistortionParameters = {
     CameraParameter::k1, CameraParameter::k2, CameraParameter::k3, CameraParameter::p1,
     CameraParameter::p2, CameraParameter::a1, CameraParameter::a2};
-inline constexpr std::array<CameraParameter, 3> kRotationParameters = {CameraParameter::wx, CameraParameter::wy,
-                                                                       CameraParameter::wz};
+inline constexpr std::array<CameraParameter, 3> kRotationParameters = {
+    CameraParameter::wx, CameraParameter::wy, CameraParameter::wz};
 inline constexpr std::array<CameraParameter, 3> kCenterParameters = {CameraParameter::CE, CameraParameter::CN,
                                                                      CameraParameter::CU};
 inline constexpr std::array<CameraParameter, 3> kTranslationParameters = {
@@ -115,7 +125,8 @@ bool contains(const std::vector<CameraParameter>& parameters, CameraParameter p)
 /// The value of parameter `p` of `cam`, in its unit. Rotations are the perturbation w with
 /// cam.R = exp([w]×)·reference.R, i.e. the rotation vector of cam.R·reference.Rᵀ (exactly 0 for the
 /// reference itself); clock_offset is `clock_offset_s` (a calibration result's, not the camera's).
-double parameter_value(const Camera& cam, CameraParameter p, const Camera& reference, double clock_offset_s = 0);
+double parameter_value(const Camera& cam, CameraParameter p, const Camera& reference,
+                       double clock_offset_s = 0);
 
 /// `base` with the parameters `parameters` set to the values `x` (same order): intrinsics and
 /// distortion as given; R = exp([w]×)·base.R; then the pose: with any translation parameter in the
@@ -133,8 +144,8 @@ Eigen::VectorXd parameter_values(const Camera& cam, const std::vector<CameraPara
 /// narrow field of view the principal point, rotation, f and Tz are nearly inseparable, so by
 /// default they are not estimated): u0, v0 = `principal_point_px` (the prior, else the image
 /// centre), sx = 1, distortion terms 0.
-void hold_fixed_intrinsics(const std::vector<CameraParameter>& free, const Eigen::Vector2d& principal_point_px,
-                           CameraIntrinsics* in);
+void hold_fixed_intrinsics(const std::vector<CameraParameter>& free,
+                           const Eigen::Vector2d& principal_point_px, CameraIntrinsics* in);
 
 /// The full range of each parameter for a camera (a change of this size moves the image by about
 /// its own size): f; 1 for sx; the image width and height for u0, v0; r_max^−2, r_max^−4, r_max^−6

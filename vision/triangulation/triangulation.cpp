@@ -115,7 +115,8 @@ ProjectionDerivatives differentiate(const Camera& cam, bool center_mode, const E
 
 }  // namespace
 
-Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera, const std::vector<CameraParameter>& parameters,
+Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera,
+                                              const std::vector<CameraParameter>& parameters,
                                               const Eigen::Vector3d& X,
                                               Eigen::Matrix<double, 2, 3>* d_point) {
   bool center_mode = true;
@@ -142,9 +143,9 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
     if (!(std::isfinite(v.uv_px.x()) && std::isfinite(v.uv_px.y())))
       throw_input_error("", 0, "u,v", what + ": the pixel seen by camera " + v.camera.id + " is not finite");
     if (!(std::isfinite(v.pick_sigma_px) && v.pick_sigma_px > 0))
-      throw_input_error(
-          "", 0, "pick_sigma_px",
-          what + ": camera " + v.camera.id + " pick σ must be positive, got " + format_number("%g", v.pick_sigma_px));
+      throw_input_error("", 0, "pick_sigma_px",
+                        what + ": camera " + v.camera.id + " pick σ must be positive, got " +
+                            format_number("%g", v.pick_sigma_px));
     bool cm = true;
     param_idx[i] = parameter_indices(v.calibration.parameters, v.camera.id, &cm);
     center_mode[i] = cm;

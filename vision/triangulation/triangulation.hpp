@@ -67,7 +67,8 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
 /// ∂pixel/∂θ (2×n) of `camera` at world point X for `parameters` (perturbation model as above),
 /// and ∂pixel/∂X (2×3) in `d_point` when non-null. Throws like triangulate_point for T mixed with C
 /// or a point behind the camera. Exposed for tests and planning tools.
-Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera, const std::vector<CameraParameter>& parameters,
+Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera,
+                                              const std::vector<CameraParameter>& parameters,
                                               const Eigen::Vector3d& X,
                                               Eigen::Matrix<double, 2, 3>* d_point = nullptr);
 

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "config/error.hpp"
-#include "pipeline/config/mission_config.hpp"
 #include "config/sha256.hpp"
+#include "pipeline/config/mission_config.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {

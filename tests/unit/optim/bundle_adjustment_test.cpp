@@ -196,7 +196,8 @@ TEST(BundleAdjustment, GrossOutliersAreListedAndDropped) {
   EXPECT_EQ(r.calibration.rejected, bad);
   EXPECT_EQ(r.calibration.reprojection.n_rejected, 3);
   for (std::size_t i = 0; i < obs.size(); ++i) EXPECT_EQ(r.outlier[i], i == 3 || i == 40 || i == 77) << i;
-  EXPECT_LT(std::abs(r.calibration.camera.intr.f_mm - truth.intr.f_mm), 4 * r.calibration.sigma(CameraParameter::f));
+  EXPECT_LT(std::abs(r.calibration.camera.intr.f_mm - truth.intr.f_mm),
+            4 * r.calibration.sigma(CameraParameter::f));
   EXPECT_GT(r.whitened_norm[3], 10.0);
 }
 

@@ -8,8 +8,8 @@
 #include <cstring>
 #include <vector>
 
-#include "config/error.hpp"
 #include "config/deterministic_random.hpp"
+#include "config/error.hpp"
 #include "optim/search/sparrow_search.hpp"
 
 namespace rangecal {

@@ -7,8 +7,8 @@
 
 #include "config/error.hpp"
 #include "optim/methods/tsai_sassa.hpp"
-#include "support/synthetic_camera.hpp"
 #include "pipeline/io/method_details_json.hpp"
+#include "support/synthetic_camera.hpp"
 
 namespace rangecal {
 namespace {
@@ -99,7 +99,8 @@ TEST(TsaiSassa, WholeMethodOnNoisyPointsIsDeterministic) {
   const auto a = tsai_sassa_calibrate(sc.pts, sc.sensor);
   const auto b = tsai_sassa_calibrate(sc.pts, sc.sensor);
   EXPECT_EQ(a.search.theta, b.search.theta);  // fixed seed → identical
-  EXPECT_EQ(tsai_sassa_details_json(a, TsaiSassaOptions{}).dump(), tsai_sassa_details_json(b, TsaiSassaOptions{}).dump());
+  EXPECT_EQ(tsai_sassa_details_json(a, TsaiSassaOptions{}).dump(),
+            tsai_sassa_details_json(b, TsaiSassaOptions{}).dump());
   EXPECT_NEAR(a.calibration.reprojection.rms_px, 0.1 * std::sqrt(2.0), 0.03);
   EXPECT_NEAR(a.camera.intr.f_mm, sc.truth.intr.f_mm, 0.5);
   EXPECT_EQ(a.calibration.method, "tsai_sassa");

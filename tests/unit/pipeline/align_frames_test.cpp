@@ -7,8 +7,8 @@
 #include <map>
 
 #include "config/error.hpp"
-#include "support/paths.hpp"
 #include "pipeline/io/aligned_csv.hpp"
+#include "support/paths.hpp"
 
 namespace rangecal {
 namespace {

@@ -8,9 +8,9 @@
 #include <random>
 
 #include "config/error.hpp"
+#include "pipeline/io/calibration_json.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
-#include "pipeline/io/calibration_json.hpp"
 
 namespace rangecal {
 namespace {

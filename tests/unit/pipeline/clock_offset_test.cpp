@@ -13,12 +13,12 @@
 
 #include "config/error.hpp"
 #include "optim/bundle/bundle_adjustment.hpp"
-#include "pipeline/steps/calibration_methods.hpp"
+#include "pipeline/analysis/monte_carlo.hpp"
+#include "pipeline/analysis/route_plan.hpp"
 #include "pipeline/demo/demo.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
-#include "pipeline/analysis/route_plan.hpp"
-#include "pipeline/analysis/monte_carlo.hpp"
 #include "pipeline/simulate/scenario.hpp"
+#include "pipeline/steps/calibration_methods.hpp"
 #include "support/simulated_mission.hpp"
 #include "support/synthetic_camera.hpp"
 
@@ -128,8 +128,9 @@ TEST(ClockOffset, SigmaAgreesWithMonteCarloAndCramerRaoAndTruthIsWithinThreeSigm
   for (BundleObservation& o : exact) o.world -= o.velocity * kClockOffsetS;  // the true positions
   const CameraBound crb = cramer_rao_bound(truth, exact, c.problem.free);
   ASSERT_FALSE(crb.singular);
-  const auto it = std::find_if(crb.parameters.begin(), crb.parameters.end(),
-                               [](const ParameterBound& b) { return b.parameter == CameraParameter::clock_offset; });
+  const auto it = std::find_if(crb.parameters.begin(), crb.parameters.end(), [](const ParameterBound& b) {
+    return b.parameter == CameraParameter::clock_offset;
+  });
   ASSERT_NE(it, crb.parameters.end());
   std::printf("  σ(δ) covariance / CRB = %.4f\n", sigma / it->sigma);
   EXPECT_NEAR(sigma / it->sigma, 1.0, 0.05);
@@ -196,8 +197,8 @@ TEST(ClockOffset, PlanFlagsAnOffsetThatAscentsFlownAlikeCannotSeparateFromTheCen
   const ParameterBound& w = weak.parameters.back();
   const ParameterBound& g = good.parameters.back();
   ASSERT_EQ(w.parameter, CameraParameter::clock_offset);
-  std::printf("  σ(δ): climbs alike, no poles %.2f ms (flagged %d), up and down %.2f ms (flagged %d)\n", w.sigma * 1e3,
-              w.poorly_determined, g.sigma * 1e3, g.poorly_determined);
+  std::printf("  σ(δ): climbs alike, no poles %.2f ms (flagged %d), up and down %.2f ms (flagged %d)\n",
+              w.sigma * 1e3, w.poorly_determined, g.sigma * 1e3, g.poorly_determined);
   EXPECT_TRUE(w.poorly_determined);
   EXPECT_FALSE(g.poorly_determined);
   EXPECT_GT(w.sigma, 3 * g.sigma);

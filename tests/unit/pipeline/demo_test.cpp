@@ -17,8 +17,8 @@
 #include "gnss/time/utc_time.hpp"
 #include "pipeline/demo/demo.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
-#include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/simulate/scenario.hpp"
+#include "pipeline/stages/mission_runner.hpp"
 #include "support/paths.hpp"
 #include "support/simulated_mission.hpp"
 

@@ -9,9 +9,9 @@
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
 #include "gnss/geodesy/local_enu.hpp"
+#include "pipeline/io/output_paths.hpp"
 #include "support/dataflash_writer.hpp"
 #include "support/paths.hpp"
-#include "pipeline/io/output_paths.hpp"
 
 namespace rangecal {
 namespace {
@@ -26,8 +26,8 @@ const PosFile& llh() {
   return f;
 }
 
-GnssStageInputs base_inputs(std::vector<int> accept, double max_sd = 1e9, double max_gap = 1.5) {
-  GnssStageInputs in;
+LampTrackInputs base_inputs(std::vector<int> accept, double max_sd = 1e9, double max_gap = 1.5) {
+  LampTrackInputs in;
   in.pos_files = {llh()};
   in.origin = kOrigin;
   in.filter.accept_quality = std::move(accept);
@@ -39,7 +39,7 @@ GnssStageInputs base_inputs(std::vector<int> accept, double max_sd = 1e9, double
 }
 
 TEST(GnssStage, QualityCountsOnRealData) {
-  const GnssStageResult r = compute_lamp_track(base_inputs({1}));
+  const LampTrackResult r = compute_lamp_track(base_inputs({1}));
   // SOURCE.md §5: 1878 epochs, Q=1: 444, Q=2: 1434.
   EXPECT_EQ(r.report.filter.read, 1878u);
   EXPECT_EQ(r.report.filter.kept, 444u);
@@ -56,20 +56,20 @@ TEST(GnssStage, SdFilterCountsAgreeWithTheFileAndAcrossFormats) {
   std::size_t over = 0;
   for (const PosEpoch& e : llh().epochs)
     if (e.covariance.diagonal().cwiseSqrt().maxCoeff() > 0.05) ++over;
-  const GnssStageResult r = compute_lamp_track(base_inputs({1, 2}, 0.05));
+  const LampTrackResult r = compute_lamp_track(base_inputs({1, 2}, 0.05));
   EXPECT_EQ(r.report.filter.dropped_sd, over);
   EXPECT_GT(over, 0u);
   EXPECT_EQ(r.report.filter.kept, 1878u - over);
   // The ECEF file: its covariance rotated to the local ENU gives the same decisions.
-  GnssStageInputs x = base_inputs({1, 2}, 0.05);
+  LampTrackInputs x = base_inputs({1, 2}, 0.05);
   x.pos_files = {read_rtklib_pos(pos_path("rover20181009_kin_xyz_gpst.pos"))};
-  const GnssStageResult rx = compute_lamp_track(x);
+  const LampTrackResult rx = compute_lamp_track(x);
   EXPECT_NEAR(static_cast<double>(rx.report.filter.dropped_sd), static_cast<double>(over), 2.0);
 }
 
 TEST(GnssStage, GapsOfTheRealData) {
   // SOURCE.md §5: nominal 1 Hz with 14 gaps of 2–24 s.
-  const GnssStageResult r = compute_lamp_track(base_inputs({1, 2}, 1e9, 1.5));
+  const LampTrackResult r = compute_lamp_track(base_inputs({1, 2}, 1e9, 1.5));
   ASSERT_EQ(r.report.gaps.size(), 14u);
   for (const TimeGap& g : r.report.gaps) {
     EXPECT_GE(g.duration_s(), 2.0 - 1e-9);
@@ -81,9 +81,9 @@ TEST(GnssStage, GapsOfTheRealData) {
 }
 
 TEST(GnssStage, VerticalLeverLowersTheLampAndAddsTheSurveySd) {
-  GnssStageInputs in = base_inputs({1, 2});
+  LampTrackInputs in = base_inputs({1, 2});
   in.lever.vertical_sd_m = 0.003;
-  const GnssStageResult r = compute_lamp_track(in);
+  const LampTrackResult r = compute_lamp_track(in);
   const LocalEnu site(kOrigin);
   for (std::size_t i = 0; i < llh().epochs.size(); i += 97) {
     const EnuFix a = to_site_enu(llh(), llh().epochs[i], site);
@@ -101,10 +101,10 @@ TEST(GnssStage, SplitFilesMergeToTheSameTrackAndOverlapIsAnError) {
   b.path = "b.pos";
   a.epochs.assign(f.epochs.begin(), f.epochs.begin() + 900);
   b.epochs.assign(f.epochs.begin() + 900, f.epochs.end());
-  GnssStageInputs in = base_inputs({1, 2});
+  LampTrackInputs in = base_inputs({1, 2});
   in.pos_files = {b, a};  // order of the files does not matter
-  const GnssStageResult merged = compute_lamp_track(in);
-  const GnssStageResult whole = compute_lamp_track(base_inputs({1, 2}));
+  const LampTrackResult merged = compute_lamp_track(in);
+  const LampTrackResult whole = compute_lamp_track(base_inputs({1, 2}));
   ASSERT_EQ(merged.track.epochs.size(), whole.track.epochs.size());
   for (std::size_t i = 0; i < whole.track.epochs.size(); ++i) {
     ASSERT_EQ(merged.track.epochs[i].utc, whole.track.epochs[i].utc);
@@ -133,11 +133,11 @@ AttitudeSeries constant_attitude(double roll, double pitch, double yaw) {
 }
 
 TEST(GnssStage, BodyLeverDropsEpochsOutsideTheAttitudeAndRotatesTheLever) {
-  GnssStageInputs in = base_inputs({1, 2});
+  LampTrackInputs in = base_inputs({1, 2});
   in.lever.form = ResolvedLeverArm::Form::body_frd;
   in.lever.body_frd_m = Eigen::Vector3d(0.1, 0, 0.25);
   in.attitude = constant_attitude(0, 0, 90);
-  const GnssStageResult r = compute_lamp_track(in);
+  const LampTrackResult r = compute_lamp_track(in);
   const UtcTime t0 = utc_from_civil(2018, 10, 9, 12, 30, 0, 0),
                 t1 = utc_from_civil(2018, 10, 9, 12, 40, 0, 0);
   std::size_t inside = 0;
@@ -166,9 +166,9 @@ TEST(GnssStage, BodyLeverDropsEpochsOutsideTheAttitudeAndRotatesTheLever) {
 }
 
 TEST(GnssStage, WarnsWhenTiltMakesTheVerticalFormWrongByMoreThan5mm) {
-  GnssStageInputs in = base_inputs({1, 2});
+  LampTrackInputs in = base_inputs({1, 2});
   in.attitude = constant_attitude(10, 0, 0);  // 0.25·2·sin 5° = 43.6 mm
-  GnssStageResult r = compute_lamp_track(in);
+  LampTrackResult r = compute_lamp_track(in);
   EXPECT_NEAR(r.report.vertical_form_max_error_m, 0.0436, 1e-4);
   EXPECT_GT(r.report.vertical_form_epochs_over_5mm, 0u);
   ASSERT_EQ(r.report.warnings.size(), 1u);
@@ -181,7 +181,7 @@ TEST(GnssStage, WarnsWhenTiltMakesTheVerticalFormWrongByMoreThan5mm) {
 }
 
 TEST(GnssStage, NothingLeftIsAnInputError) {
-  GnssStageInputs in = base_inputs({1}, 0.001);
+  LampTrackInputs in = base_inputs({1}, 0.001);
   try {
     compute_lamp_track(in);
     FAIL();
@@ -256,9 +256,9 @@ TEST(GnssStage, RunWritesTheTrackAndItsCounts) {
   const LampTrack t = read_lamp_track_csv(lamp_track_path(cfg));
   EXPECT_EQ(static_cast<long>(t.epochs.size()), log.counts["epochs_kept"].get<long>());
   // Compare with the pure computation.
-  GnssStageInputs in = base_inputs({1}, 0.05, 1.5);
+  LampTrackInputs in = base_inputs({1}, 0.05, 1.5);
   in.lever.vertical_m = 0.252;
-  const GnssStageResult r = compute_lamp_track(in);
+  const LampTrackResult r = compute_lamp_track(in);
   ASSERT_EQ(t.epochs.size(), r.track.epochs.size());
   for (std::size_t i = 0; i < t.epochs.size(); ++i) {
     ASSERT_EQ(t.epochs[i].utc, r.track.epochs[i].utc);
@@ -279,7 +279,7 @@ TEST(GnssStage, AttitudeNotOverlappingTheEpochsIsAnInputErrorNamingBothSpans) {
   // The real PX4 log flew on 2021-04-21; the real PPK data is of 2018-10-09.
   const std::string ulg = test::external("px4-ulog/sample_log_small.ulg").string();
   for (auto form : {ResolvedLeverArm::Form::vertical, ResolvedLeverArm::Form::body_frd}) {
-    GnssStageInputs in = base_inputs({1, 2});
+    LampTrackInputs in = base_inputs({1, 2});
     in.lever.form = form;
     in.attitude = read_attitude_file(ulg);
     try {
@@ -297,7 +297,7 @@ TEST(GnssStage, AttitudeNotOverlappingTheEpochsIsAnInputErrorNamingBothSpans) {
     }
   }
   // Touching spans overlap: an attitude ending exactly on the first epoch is accepted.
-  GnssStageInputs in = base_inputs({1, 2});
+  LampTrackInputs in = base_inputs({1, 2});
   AttitudeSeries a;
   a.path = "att.csv";
   const UtcTime first = utc_from_civil(2018, 10, 9, 12, 21, 53, 0);
@@ -352,7 +352,7 @@ TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
   EXPECT_EQ(a.at("boot_zero_utc"), "2018-10-09T12:28:20.000000000Z");
   EXPECT_EQ(a.at("truncated_bytes"), 0);
   // The same track as the body-frame lever arm on the epochs inside 12:30–12:40 (yaw 90°).
-  GnssStageInputs in = base_inputs({1, 2});
+  LampTrackInputs in = base_inputs({1, 2});
   in.lever.form = ResolvedLeverArm::Form::body_frd;
   in.lever.body_frd_m = Eigen::Vector3d(0.1, 0, 0.25);
   in.attitude = constant_attitude(0, 0, 90);

@@ -12,12 +12,12 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "pipeline/io/calibration_json.hpp"
+#include "pipeline/io/intersection_csv.hpp"
 #include "pipeline/stages/intersect_stage.hpp"
 #include "pipeline/steps/intersection.hpp"
-#include "pipeline/io/intersection_csv.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
-#include "pipeline/io/calibration_json.hpp"
 
 namespace rangecal {
 namespace {

@@ -89,7 +89,8 @@ TEST(Plan, CramerRaoSigmaMatchesMonteCarloOfTheBundle) {
     EXPECT_FALSE(cb.singular);
     for (const ParameterStatistics& p : r.cameras[c].parameters) {
       const double crb = bound(cb, p.parameter).sigma;
-      std::printf("  %s %-3s MC sd / CRB = %.3f\n", cb.camera_id.c_str(), parameter_name(p.parameter), p.sd_mc / crb);
+      std::printf("  %s %-3s MC sd / CRB = %.3f\n", cb.camera_id.c_str(), parameter_name(p.parameter),
+                  p.sd_mc / crb);
       EXPECT_NEAR(p.sd_mc / crb, 1.0, 0.25)
           << cb.camera_id << " " << parameter_name(p.parameter) << " MC " << p.sd_mc << " CRB " << crb;
     }
@@ -109,8 +110,7 @@ TEST(Plan, CramerRaoSigmaMatchesMonteCarloOfTheBundle) {
 }
 
 TEST(Plan, PrincipalPointPoorlyDeterminedWithNarrowLensAndImprovedByMoreRoutes) {
-  const RoutePlanAnalysis three =
-      analyse_route_plan(scenario_with_routes(three_ascents(), "3"), "3 ascents");
+  const RoutePlanAnalysis three = analyse_route_plan(scenario_with_routes(three_ascents(), "3"), "3 ascents");
   const RoutePlanAnalysis five = analyse_route_plan(scenario_with_routes(five_ascents(), "5"), "5 ascents");
   ASSERT_EQ(three.free_sets.size(), 2u);  // default set, and with u0 v0
   for (std::size_t c = 0; c < 2; ++c) {
@@ -120,8 +120,10 @@ TEST(Plan, PrincipalPointPoorlyDeterminedWithNarrowLensAndImprovedByMoreRoutes) 
     const CameraBound& b3 = three.free_sets[1].cameras[c];
     const CameraBound& b5 = five.free_sets[1].cameras[c];
     // With u0, v0 free the narrow field of view cannot separate them from the rotation.
-    EXPECT_TRUE(bound(b3, CameraParameter::u0).poorly_determined) << bound(b3, CameraParameter::u0).max_abs_correlation;
-    EXPECT_TRUE(bound(b3, CameraParameter::v0).poorly_determined) << bound(b3, CameraParameter::v0).max_abs_correlation;
+    EXPECT_TRUE(bound(b3, CameraParameter::u0).poorly_determined)
+        << bound(b3, CameraParameter::u0).max_abs_correlation;
+    EXPECT_TRUE(bound(b3, CameraParameter::v0).poorly_determined)
+        << bound(b3, CameraParameter::v0).max_abs_correlation;
     EXPECT_GT(bound(b3, CameraParameter::u0).sigma, 1.0);  // px: far worse than the 0.1 px centroids
     // More routes at mixed depths: more points and a clearly better principal point.
     EXPECT_GT(b5.n_points, b3.n_points);

@@ -1,7 +1,7 @@
-// Trajectories beyond vertical ascents (SPEC §8: "vertical ascents and any other legs"): with the attitude logged and the lever arm
-// in the body frame, a mission of horizontal legs at several heights and depths and a diagonal
-// climb (config/examples/plan_mixed_routes.json) calibrates through every stage to the demo's bars;
-// ignoring the attitude on those legs, where the UAV leans into its accelerations, shows in the
+// Trajectories beyond vertical ascents (SPEC §8: "vertical ascents and any other legs"): with the attitude
+// logged and the lever arm in the body frame, a mission of horizontal legs at several heights and depths and
+// a diagonal climb (config/examples/plan_mixed_routes.json) calibrates through every stage to the demo's
+// bars; ignoring the attitude on those legs, where the UAV leans into its accelerations, shows in the
 // results; and `plan` shows what the legs add over the three vertical ascents.
 #include <gtest/gtest.h>
 
@@ -9,11 +9,11 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "pipeline/analysis/route_plan.hpp"
 #include "pipeline/config/mission_config.hpp"
 #include "pipeline/demo/demo.hpp"
-#include "pipeline/analysis/route_plan.hpp"
-#include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/simulate/scenario.hpp"
+#include "pipeline/stages/mission_runner.hpp"
 #include "support/paths.hpp"
 #include "support/simulated_mission.hpp"
 

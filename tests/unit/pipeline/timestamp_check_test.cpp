@@ -47,8 +47,8 @@ TimestampOffsetCheck check_with_stamp_error(double error_s) {
     if (track.sample(stamp).status == TrackSampleStatus::ok) stamped.emplace_back(stamp, uv);
   }
   const TimestampOffsetCheck r = check_timestamp_offset(stamped, track);
-  std::printf("stamp error %+g s: %d pairs, rms %.2f px as stamped, best %+g s with %.2f px\n", error_s, r.n_points,
-              r.rms_at_zero_px, r.best_offset_s, r.rms_at_best_px);
+  std::printf("stamp error %+g s: %d pairs, rms %.2f px as stamped, best %+g s with %.2f px\n", error_s,
+              r.n_points, r.rms_at_zero_px, r.best_offset_s, r.rms_at_best_px);
   return r;
 }
 

@@ -4,8 +4,8 @@
 
 #include <fstream>
 
-#include "config/error.hpp"
 #include "config/deterministic_random.hpp"
+#include "config/error.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
 #include "vision/calibration/dlt.hpp"
@@ -125,7 +125,8 @@ TEST(Dlt, LinearDistortionInitialValuesGetClose) {
   const auto gp = test::observe(g, test::frustum_points(g, 300, 2.0, 6.0, 9));
   const LinearDistortionFit all = fit_linear_distortion(gi, gp, kAllDistortionTerms);
   const auto want = g.intr.dist.as_array(), got = all.dist.as_array();
-  for (int k = 0; k < 7; ++k) EXPECT_NEAR(got[k], want[k], 1e-6 * std::abs(want[k])) << parameter_name(kDistortionParameters[k]);
+  for (int k = 0; k < 7; ++k)
+    EXPECT_NEAR(got[k], want[k], 1e-6 * std::abs(want[k])) << parameter_name(kDistortionParameters[k]);
   EXPECT_LT(all.rms_after_mm, 1e-12);
 }
 

@@ -10,10 +10,10 @@
 
 #include "config/error.hpp"
 #include "support/paths.hpp"
+#include "vision/detection/lamp_detector.hpp"
 #include "vision/frames/cine_writer.hpp"
 #include "vision/frames/frame_renderer.hpp"
 #include "vision/frames/frame_source.hpp"
-#include "vision/detection/lamp_detector.hpp"
 
 using namespace rangecal;
 namespace fs = std::filesystem;
@@ -141,8 +141,7 @@ TEST(FrameSource, SameCentroidsFromEveryFormat) {
   std::vector<LampDetection> ref;
   for (const auto& [kind, text] : csv) {
     test::write_text(dir / (kind + ".csv"), text);
-    const FrameSource src =
-        FrameSource::from_timestamps_csv((dir / (kind + ".csv")).string(), sensor());
+    const FrameSource src = FrameSource::from_timestamps_csv((dir / (kind + ".csv")).string(), sensor());
     const auto det = detect_lamp(src, idx, opt, 2);
     ASSERT_EQ(det.size(), static_cast<std::size_t>(n));
     if (ref.empty()) ref = det;
@@ -172,8 +171,7 @@ TEST(FrameSource, BadTimestampsCsv) {
   const fs::path dir = test::scratch_dir("fs_bad_csv");
   write_frame_image((dir / "a.png").string(), lamp_frames(1)[0]);
   test::write_text(dir / "order.csv", "frame,file,utc\n0,a.png," + iso(1) + "\n1,a.png," + iso(0) + "\n");
-  auto m =
-      expect_error([&] { FrameSource::from_timestamps_csv((dir / "order.csv").string(), sensor()); });
+  auto m = expect_error([&] { FrameSource::from_timestamps_csv((dir / "order.csv").string(), sensor()); });
   EXPECT_TRUE(contains(m, "order.csv:3")) << m;
   EXPECT_TRUE(contains(m, "utc")) << m;
   test::write_text(dir / "parse.csv", "frame,file,utc\n0,a.png,2026-05-01 08:00:00\n");
@@ -235,8 +233,7 @@ TEST(FrameSource, ContainersOutOfRangeOrMissing) {
   o8.storage_bits = 8;
   write_cine((dir / "c.cine").string(), frames, {kT0, UtcTime{kT0.ns + 1000}}, o8);
   test::write_text(dir / "beyond.csv", "frame,file,utc\n0,c.cine," + iso(0) + "\n7,c.cine," + iso(1) + "\n");
-  auto m =
-      expect_error([&] { FrameSource::from_timestamps_csv((dir / "beyond.csv").string(), sensor()); });
+  auto m = expect_error([&] { FrameSource::from_timestamps_csv((dir / "beyond.csv").string(), sensor()); });
   EXPECT_TRUE(contains(m, "beyond.csv:3") && contains(m, "frame")) << m;
   test::write_text(dir / "nofile.csv", "frame,file,utc\n0,none.avi," + iso(0) + "\n");
   m = expect_error([&] { FrameSource::from_timestamps_csv((dir / "nofile.csv").string(), sensor()); });

@@ -7,8 +7,8 @@
 
 #include <cmath>
 
-#include "vision/frames/frame_renderer.hpp"
 #include "vision/detection/lamp_detector.hpp"
+#include "vision/frames/frame_renderer.hpp"
 
 using namespace rangecal;
 

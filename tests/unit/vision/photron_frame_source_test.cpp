@@ -161,8 +161,7 @@ TEST(PhotronFrameSource, SameDetectionsFromPngAndMraw) {
   EXPECT_LT(worst, 0.1);
 
   for (const std::string name : {"rec12", "rec16", "rec16h"}) {
-    const FrameSource src =
-        FrameSource::from_timestamps_csv((dir / (name + ".csv")).string(), sensor());
+    const FrameSource src = FrameSource::from_timestamps_csv((dir / (name + ".csv")).string(), sensor());
     EXPECT_EQ(src.time_source(), "timestamps CSV");
     for (int k : {0, 5, 11}) {
       const auto a = png.load(k), b = src.load(k);
@@ -203,15 +202,13 @@ TEST(PhotronFrameSource, CsvNamingMrawErrors) {
   EXPECT_EQ(e.field(), "frame");
   EXPECT_TRUE(contains(e.what(), "beyond.csv") && contains(e.what(), "3 frames")) << e.what();
   // A missing .mraw, or one without a header, at its CSV line.
-  e = expect_error([&] {
-    FrameSource::from_timestamps_csv(csv("gone.csv", "0,gone.mraw," + t0 + "\n"), sensor());
-  });
+  e = expect_error(
+      [&] { FrameSource::from_timestamps_csv(csv("gone.csv", "0,gone.mraw," + t0 + "\n"), sensor()); });
   EXPECT_EQ(e.line(), 2);
   EXPECT_TRUE(contains(e.what(), "gone.csv") && contains(e.what(), "gone.mraw")) << e.what();
   test::write_text(dir / "bare.mraw", std::string(100, '\0'));
-  e = expect_error([&] {
-    FrameSource::from_timestamps_csv(csv("bare.csv", "0,bare.mraw," + t0 + "\n"), sensor());
-  });
+  e = expect_error(
+      [&] { FrameSource::from_timestamps_csv(csv("bare.csv", "0,bare.mraw," + t0 + "\n"), sensor()); });
   EXPECT_TRUE(contains(e.what(), "bare.csv:2") && contains(e.what(), "bare.cihx")) << e.what();
   // With allow_missing the frames are skipped with the reason.
   const FrameSource lenient = FrameSource::from_timestamps_csv(

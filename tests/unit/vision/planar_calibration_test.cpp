@@ -1,5 +1,5 @@
-// Planar-target method (vision/calibration/planar_calibration.hpp, vision/calibration/homography.hpp): exact recovery on
-// synthetic views, Zhang's published data, degenerate inputs.
+// Planar-target method (vision/calibration/planar_calibration.hpp, vision/calibration/homography.hpp): exact
+// recovery on synthetic views, Zhang's published data, degenerate inputs.
 #include <gtest/gtest.h>
 
 #include <fstream>

@@ -1,0 +1,120 @@
+#include "pipeline/steps/lamp_track_computation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "config/error.hpp"
+#include "config/number_format.hpp"
+#include "gnss/geodesy/local_enu.hpp"
+#include "gnss/track/antenna_epochs.hpp"
+#include "gnss/track/lever_arm.hpp"
+
+namespace rangecal {
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+std::string mm(double m) {
+  return format_number("%.1f", m * 1e3) + " mm";
+}
+
+// The attitude must cover some of the GNSS epochs: a log of another flight (or one whose boot
+// time was mapped to UTC wrongly) would otherwise only show as every epoch dropped, or silently
+// unused in the vertical form.
+void check_attitude_overlaps(const AttitudeSeries& att, const std::vector<AntennaEpoch>& epochs,
+                             const std::vector<PosFile>& pos_files) {
+  if (att.samples.empty() || epochs.empty()) return;
+  const UtcTime a0 = att.samples.front().utc, a1 = att.samples.back().utc;
+  const UtcTime g0 = epochs.front().utc, g1 = epochs.back().utc;
+  if (a0 <= g1 && g0 <= a1) return;
+  std::string files;
+  for (const PosFile& f : pos_files) files += (files.empty() ? "" : ", ") + f.path;
+  throw_input_error(att.path, 0, "utc",
+                    "the attitude " + format_iso8601_utc(a0, 3) + " … " + format_iso8601_utc(a1, 3) +
+                        " does not overlap the GNSS epochs " + format_iso8601_utc(g0, 3) + " … " +
+                        format_iso8601_utc(g1, 3) + " of " + files +
+                        ": the attitude log is of another flight, or its time is wrong");
+}
+
+}  // namespace
+
+LampTrackResult compute_lamp_track(const LampTrackInputs& in) {
+  const bool full = in.lever.form == ResolvedLeverArm::Form::body_frd;
+  if (full && !in.attitude)
+    throw Error(ErrorKind::usage, "", 0, "lever_arm.body_frd_m",
+                "a body-frame lever arm needs the attitude (set attitude.file, or use lever_arm.vertical_m)");
+  LampTrackResult res;
+  LampTrackReport& rep = res.report;
+  const LocalEnu site(in.origin);
+  const std::vector<AntennaEpoch> kept =
+      filter_epochs(merge_antenna_epochs(in.pos_files, site), in.filter, &rep.filter);
+  if (in.attitude) check_attitude_overlaps(*in.attitude, kept, in.pos_files);
+
+  res.track.epochs.reserve(kept.size());
+  double max_tilt_deg = 0;
+  for (const AntennaEpoch& a : kept) {
+    std::optional<Attitude> att;
+    if (in.attitude) att = interpolate_attitude(*in.attitude, a.utc, in.max_attitude_gap_s);
+    LampEpoch e;
+    e.utc = a.utc;
+    e.quality = a.quality;
+    // The lamp moves with the antenna; the lever's rotation rate (ω × lever, a few mm/s) is ignored.
+    e.vel_enu = a.vel_enu;
+    Eigen::Vector3d var = a.cov_enu.diagonal();
+    if (full) {
+      if (!att) {
+        ++rep.dropped_no_attitude;
+        continue;
+      }
+      e.enu = lamp_enu_full(a.enu, rotation_nb(*att), in.lever.body_frd_m);
+    } else {
+      e.enu = lamp_enu_vertical(a.enu, in.lever.vertical_m);
+      var[2] += in.lever.vertical_sd_m * in.lever.vertical_sd_m;
+      if (att) {
+        const double err = vertical_form_error_m(rotation_nb(*att), in.lever.vertical_m);
+        if (err > rep.vertical_form_max_error_m) {
+          rep.vertical_form_max_error_m = err;
+          // The body z axis tilts from the vertical by acos(cos roll · cos pitch).
+          max_tilt_deg =
+              std::acos(std::min(1.0, std::cos(att->roll_deg * kDeg) * std::cos(att->pitch_deg * kDeg))) /
+              kDeg;
+        }
+        if (err > kVerticalFormWarnM) ++rep.vertical_form_epochs_over_5mm;
+      }
+    }
+    e.sd_enu = var.cwiseMax(0.0).cwiseSqrt();
+    res.track.epochs.push_back(e);
+  }
+  rep.track_epochs = res.track.epochs.size();
+  if (res.track.epochs.empty()) {
+    const EpochFilterCounts& c = rep.filter;
+    throw_input_error(in.pos_files.empty() ? "" : in.pos_files.front().path, 0, "",
+                      "no epoch is left for the lamp track: " + std::to_string(c.read) + " read, " +
+                          std::to_string(c.dropped_quality) + " dropped for Q, " +
+                          std::to_string(c.dropped_sd) + " for sd, " +
+                          std::to_string(rep.dropped_no_attitude) +
+                          " outside the attitude coverage (check gnss.accept_quality and gnss.max_sd_m)");
+  }
+  rep.track_start = res.track.epochs.front().utc;
+  rep.track_end = res.track.epochs.back().utc;
+  std::vector<UtcTime> times;
+  times.reserve(res.track.epochs.size());
+  for (const LampEpoch& e : res.track.epochs) times.push_back(e.utc);
+  rep.gaps = find_gaps(times, in.filter.max_gap_s);
+
+  if (in.lever.source == "total_station" && in.lever.sessions == 1)
+    rep.warnings.push_back(
+        "the total-station lever arm has a single session: its sd is unknown (taken as 0)");
+  if (rep.dropped_no_attitude > 0)
+    rep.warnings.push_back(std::to_string(rep.dropped_no_attitude) +
+                           " GNSS epochs lie outside the attitude coverage and were dropped");
+  if (rep.vertical_form_max_error_m > kVerticalFormWarnM) {
+    rep.warnings.push_back("vertical lever-arm form is wrong by up to " + mm(rep.vertical_form_max_error_m) +
+                           " (tilt up to " + format_number("%.1f", max_tilt_deg) + " deg; " +
+                           std::to_string(rep.vertical_form_epochs_over_5mm) +
+                           " epochs over 5 mm): configure lever_arm.body_frd_m to use the attitude");
+  }
+  return res;
+}
+
+}  // namespace rangecal
