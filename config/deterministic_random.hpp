@@ -33,11 +33,6 @@ struct SplitMix64 {
   }
 };
 
-/// The SplitMix64 mix of one value (the generator's output for state x): a fully specified hash.
-inline std::uint64_t splitmix64(std::uint64_t x) {
-  return SplitMix64(x)();
-}
-
 /// xoshiro256** (Blackman & Vigna 2018), its four words seeded by SplitMix64 from `seed`.
 class Xoshiro256StarStar {
  public:

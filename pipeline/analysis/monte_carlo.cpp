@@ -22,19 +22,17 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-/// The seed of trial `trial` of stream `stream` (a camera index, or the pole and world streams):
-/// nested SplitMix64 mixes (config/deterministic_random.hpp), the same on every platform and for
-/// any thread count.
-std::uint64_t trial_seed(std::uint64_t seed, std::uint64_t stream, std::uint64_t trial) {
-  return splitmix64(splitmix64(splitmix64(seed) ^ stream) ^ trial);
-}
+// Each trial draws from streams seeded by mix_seed (config/deterministic_random.hpp): camera c's
+// noise from (seed, c, trial), the pole picks from (seed, kPoleStream, trial), and the noise of
+// world-noise key k from (seed, kWorldStream, trial, k) — the same on every platform and for any
+// thread count.
 constexpr std::uint64_t kPoleStream = 0x706F6C6573ull;   // "poles": pick noise, apart from cameras
 constexpr std::uint64_t kWorldStream = 0x776F726C64ull;  // "world": keyed world noise, shared by cameras
 
 /// The standard normal 3-vector of world-noise key `key` in trial `trial`: every camera that
 /// observed that epoch (or pole) draws the same vector, whatever the thread or camera order.
 Eigen::Vector3d keyed_normal3(std::uint64_t seed, std::size_t trial, std::int64_t key) {
-  DeterministicRandom r(splitmix64(trial_seed(seed, kWorldStream, trial) ^ static_cast<std::uint64_t>(key)));
+  DeterministicRandom r(mix_seed(seed, kWorldStream, trial, static_cast<std::uint64_t>(key)));
   const double a = r.normal(), b = r.normal(), c = r.normal();
   return {a, b, c};
 }
@@ -159,7 +157,7 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
     out.cameras.resize(cameras.size());
     out.failure.resize(cameras.size());
     for (std::size_t c = 0; c < cameras.size(); ++c) {
-      DeterministicRandom rng(trial_seed(options.seed, c, t));
+      DeterministicRandom rng(mix_seed(options.seed, c, t));
       const CalibrationProblem p = trial_problem(cameras[c], truth[c], options, t, rng);
       try {
         const CalibrationResult r = calibrate_camera(truth[c].method, p);
@@ -169,7 +167,7 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
         out.failure[c] = e.what();
       }
     }
-    DeterministicRandom rng(trial_seed(options.seed, kPoleStream, t));
+    DeterministicRandom rng(mix_seed(options.seed, kPoleStream, t));
     for (const MonteCarloPole& pole : poles) {
       std::vector<TriangulationView> views;
       for (std::size_t c : pole.cameras) {
