@@ -46,7 +46,7 @@ const char* to_string(RobustLoss loss);
 struct BundleOptions {
   /// Free parameters, as calibrate.free names them (expand_free_parameters,
   /// vision/camera/camera_parameters.hpp); the rest are held at the initial camera's values.
-  std::vector<std::string> free = {"f", "k1", "pose"};
+  std::vector<std::string> free = default_free_parameters();
   double pixel_sigma_px = 0.1;  ///< default σ of a pixel measurement (centroid noise)
   BundlePriors priors;
   RobustLoss loss = RobustLoss::huber;

@@ -77,6 +77,13 @@ std::vector<BundleObservation> all_observations(const SimMission& m, const SimCa
 
 }  // namespace
 
+std::vector<std::vector<std::string>> default_plan_free_sets() {
+  std::vector<std::string> with_pp = default_free_parameters();
+  with_pp.push_back(parameter_name(CameraParameter::u0));
+  with_pp.push_back(parameter_name(CameraParameter::v0));
+  return {default_free_parameters(), with_pp};
+}
+
 std::vector<BundleObservation> planned_observations(const Scenario& s, std::size_t camera_index,
                                                     const PlanOptions& options) {
   const SimMission m = simulate_mission(s);

@@ -24,10 +24,13 @@
 
 namespace rangecal {
 
+/// The default free set and the same with the principal point free.
+std::vector<std::vector<std::string>> default_plan_free_sets();
+
 struct PlanOptions {
   /// Free-parameter sets to analyse (optim/bundle/bundle_adjustment.hpp names): the default calibration
   /// and the same with the principal point free, to show how well the routes fix it.
-  std::vector<std::vector<std::string>> free_sets{{"f", "k1", "pose"}, {"f", "k1", "pose", "u0", "v0"}};
+  std::vector<std::vector<std::string>> free_sets = default_plan_free_sets();
   double pixel_sigma_px = 0.1;        ///< lamp centroid σ (calibrate_stage.hpp kDefaultPixelSigmaPx)
   double max_frame_offset_s = 0.005;  ///< align.max_frame_offset_s default
   double correlation_limit = 0.99;    ///< |ρ| above this → poorly determined (as the bundle warns)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gnss/geodesy/geodetic_origin.hpp"
+#include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
 
@@ -68,11 +69,11 @@ struct DetectConfig {
 };
 
 struct CalibrateConfig {
-  std::string method = "bundle";                     ///< tsai | tsai_sassa | dlt_lmqn | bundle | planar
-  std::vector<std::string> free{"f", "k1", "pose"};  ///< bundle free parameters
-  std::vector<std::string> compare;                  ///< extra methods for methods.csv
-  bool use_control_poles = false;                    ///< add `control` poles as calibration points
-  std::uint64_t seed = 1;                            ///< seed of every random search (RANSAC, SSA)
+  std::string method = "bundle";  ///< tsai | tsai_sassa | dlt_lmqn | bundle | planar
+  std::vector<std::string> free = default_free_parameters();  ///< bundle free parameters
+  std::vector<std::string> compare;                           ///< extra methods for methods.csv
+  bool use_control_poles = false;                             ///< add `control` poles as calibration points
+  std::uint64_t seed = 1;                                     ///< seed of every random search (RANSAC, SSA)
 };
 
 struct IntersectConfig {

@@ -73,7 +73,8 @@ std::string format_demo_table1(const DemoCamera& cam) {
   row("u0/px", "%.2f", kPaperTsai.u0, kPaperSassa.u0, [](const Camera& c) { return c.intr.u0_px; });
   row("v0/px", "%.2f", kPaperTsai.v0, kPaperSassa.v0, [](const Camera& c) { return c.intr.v0_px; });
   row("f/mm", "%.2f", kPaperTsai.f, kPaperSassa.f, [](const Camera& c) { return c.intr.f_mm; });
-  row("sx", "%.4f", kPaperTsai.sx, kPaperSassa.sx, [](const Camera& c) { return c.intr.sx; });
+  row(parameter_name(CameraParameter::sx), "%.4f", kPaperTsai.sx, kPaperSassa.sx,
+      [](const Camera& c) { return c.intr.sx; });
   row("k1/mm-2", "%.3e", kPaperTsai.k1, kPaperSassa.k1, [](const Camera& c) { return c.intr.dist.k1; });
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {

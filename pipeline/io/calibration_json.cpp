@@ -55,8 +55,14 @@ double number_or_null(const JsonView& v, const std::string& expected) {
 }  // namespace
 
 const std::array<const char*, 7>& distortion_json_keys() {
-  static const std::array<const char*, 7> keys = {"k1_per_mm2", "k2_per_mm4", "k3_per_mm6", "p1_per_mm",
-                                                  "p2_per_mm",  "a1",         "a2"};
+  // The affine terms are dimensionless: their keys are their names.
+  static const std::array<const char*, 7> keys = {"k1_per_mm2",
+                                                  "k2_per_mm4",
+                                                  "k3_per_mm6",
+                                                  "p1_per_mm",
+                                                  "p2_per_mm",
+                                                  parameter_name(CameraParameter::a1),
+                                                  parameter_name(CameraParameter::a2)};
   return keys;
 }
 
@@ -72,7 +78,7 @@ ojson calibration_to_json(const CalibrationResult& r) {
   // The exact pitch the model uses (µm → mm is not exact in binary floating point).
   j["pixel_pitch_mm"] = {num(in.dx_mm), num(in.dy_mm)};
   j["focal_mm"] = num(in.f_mm);
-  j["sx"] = num(in.sx);
+  j[parameter_name(CameraParameter::sx)] = num(in.sx);
   j["principal_point_px"] = {num(in.u0_px), num(in.v0_px)};
   ojson d;
   d["model"] = only_k1(in.dist) ? "tsai_k1" : "seed000_eq7";
@@ -90,7 +96,7 @@ ojson calibration_to_json(const CalibrationResult& r) {
   using P = CameraParameter;
   s["focal_mm"] = num(r.sigma(P::f));
   s["principal_point_px"] = {num(r.sigma(P::u0)), num(r.sigma(P::v0))};
-  s["sx"] = num(r.sigma(P::sx));
+  s[parameter_name(P::sx)] = num(r.sigma(P::sx));
   for (int i = 0; i < 7; ++i) s[kDistKeys[i]] = num(r.sigma(kDistortionParameters[i]));
   s["rotation_rad"] = {num(r.sigma(P::wx)), num(r.sigma(P::wy)), num(r.sigma(P::wz))};
   s["translation_m"] = {num(r.sigma(P::Tx)), num(r.sigma(P::Ty)), num(r.sigma(P::Tz))};
@@ -133,7 +139,7 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
                    "pixel_size_um",
                    "pixel_pitch_mm",
                    "focal_mm",
-                   "sx",
+                   parameter_name(CameraParameter::sx),
                    "principal_point_px",
                    "distortion",
                    "rotation_world_to_camera",
@@ -181,7 +187,7 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
   const JsonView fv = root.at("focal_mm", "a positive focal length (mm)");
   in.f_mm = fv.number("a positive focal length (mm)");
   if (!(in.f_mm > 0)) fv.fail_expected("a positive focal length (mm)");
-  const JsonView sxv = root.at("sx", "a positive scale factor");
+  const JsonView sxv = root.at(parameter_name(CameraParameter::sx), "a positive scale factor");
   in.sx = sxv.number("a positive scale factor");
   if (!(in.sx > 0)) sxv.fail_expected("a positive scale factor");
   const auto pp = root.at("principal_point_px", "an array of 2 numbers [u0, v0] (px)")

@@ -38,9 +38,9 @@ nlohmann::json tsai_sassa_details_json(const TsaiSassaResult& t, const TsaiSassa
                       {"theta0", values(t.theta0)},
                       {"half_range", values(t.half_range)},
                       {"step1",
-                       {{"sx", t.step1.sx},
-                        {"Tx", t.step1.Tx},
-                        {"Ty", t.step1.Ty},
+                       {{parameter_name(CameraParameter::sx), t.step1.sx},
+                        {parameter_name(CameraParameter::Tx), t.step1.Tx},
+                        {parameter_name(CameraParameter::Ty), t.step1.Ty},
                         {"linear_rms_mm", t.step1.linear_rms_mm}}},
                       {"search", search}};
   if (t.polished)

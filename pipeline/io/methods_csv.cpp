@@ -69,9 +69,9 @@ std::string format_methods_csv(const std::vector<MethodRow>& rows) {
 std::vector<MethodRow> parse_methods_csv(const std::string& text, const std::string& path) {
   const CsvTable t = parse_csv(text, path);
   const std::size_t c_method = t.column("method"), c_u0 = t.column("u0_px"), c_v0 = t.column("v0_px"),
-                    c_f = t.column("f_mm"), c_sx = t.column("sx"), c_k1 = t.column("k1_per_mm2"),
-                    c_sf = t.column("sigma_f_mm"), c_rms = t.column("rms_px"), c_nu = t.column("n_used"),
-                    c_nr = t.column("n_rejected");
+                    c_f = t.column("f_mm"), c_sx = t.column(parameter_name(CameraParameter::sx)),
+                    c_k1 = t.column("k1_per_mm2"), c_sf = t.column("sigma_f_mm"), c_rms = t.column("rms_px"),
+                    c_nu = t.column("n_used"), c_nr = t.column("n_rejected");
   std::size_t c_r[3][3], c_t[3];
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) c_r[i][j] = t.column("r" + std::to_string(i + 1) + std::to_string(j + 1));

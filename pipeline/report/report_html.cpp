@@ -102,7 +102,7 @@ std::string parameters_table(const CalibrationResult& r) {
     s += "<tr>" + td(name, "txt") + td(fmt(vf, v)) + td(fmt(sf, sg)) + td(unit, "txt") + "</tr>\n";
   };
   using P = CameraParameter;
-  row("f", "%.4f", in.f_mm, "%.4f", r.sigma(P::f), "mm");
+  row(parameter_name(P::f), "%.4f", in.f_mm, "%.4f", r.sigma(P::f), "mm");
   row("u<sub>0</sub>", "%.2f", in.u0_px, "%.2f", r.sigma(P::u0), "px");
   row("v<sub>0</sub>", "%.2f", in.v0_px, "%.2f", r.sigma(P::v0), "px");
   row("s<sub>x</sub>", "%.6f", in.sx, "%.6f", r.sigma(P::sx), "");

@@ -30,7 +30,7 @@ struct CalibrationProblem {
   /// observations, in this order.
   std::vector<std::string> control_pole_ids;
   CameraPriors priors;
-  std::vector<std::string> free{"f", "k1", "pose"};  ///< calibrate.free names
+  std::vector<std::string> free = default_free_parameters();  ///< calibrate.free names
   double pixel_sigma_px = kDefaultPixelSigmaPx;
   std::uint64_t seed = 1;
 };

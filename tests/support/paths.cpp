@@ -4,17 +4,42 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace rangecal::test {
+
+namespace {
+
+// Scratch folders hold whole simulated missions (up to 1.5 GB each); a full ctest run would leave
+// ~16 GB in /tmp. They go when the test process exits, unless RANGECAL_KEEP_SCRATCH is set (to
+// look at a failing test's files).
+std::mutex scratch_mutex;
+std::vector<std::filesystem::path>& scratch_dirs() {
+  static std::vector<std::filesystem::path> dirs;
+  return dirs;
+}
+
+void remove_scratch_dirs() {
+  if (std::getenv("RANGECAL_KEEP_SCRATCH") != nullptr) return;
+  std::error_code ec;
+  for (const auto& dir : scratch_dirs()) std::filesystem::remove_all(dir, ec);
+}
+
+}  // namespace
 
 std::filesystem::path scratch_dir(const std::string& name) {
   auto dir =
       std::filesystem::temp_directory_path() / ("rangecal_test_" + std::to_string(::getpid()) + "_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  std::lock_guard<std::mutex> lock(scratch_mutex);
+  if (scratch_dirs().empty()) std::atexit(remove_scratch_dirs);
+  scratch_dirs().push_back(dir);
   return dir;
 }
 

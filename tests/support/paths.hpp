@@ -22,7 +22,8 @@ inline std::filesystem::path rangecal_binary() {
   return RANGECAL_BINARY;
 }
 
-/// A fresh, empty scratch directory unique to the calling test (removed and recreated).
+/// A fresh, empty scratch directory unique to the calling test (removed and recreated); removed
+/// again when the test process exits unless RANGECAL_KEEP_SCRATCH is set.
 std::filesystem::path scratch_dir(const std::string& name);
 
 /// Result of running the CLI: exit code and captured stdout / stderr.

@@ -82,6 +82,12 @@ bool free_as_single(CameraParameter p) {
 
 }  // namespace
 
+const std::vector<std::string>& default_free_parameters() {
+  static const std::vector<std::string> names = {parameter_name(P::f), parameter_name(P::k1),
+                                                 free_groups().front().name};
+  return names;
+}
+
 const std::vector<std::string>& free_parameter_choices() {
   static const std::vector<std::string> choices = [] {
     std::vector<std::string> v;

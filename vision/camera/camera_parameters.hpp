@@ -114,6 +114,11 @@ inline bool is_translation(CameraParameter p) {
 std::vector<CameraParameter> expand_free_parameters(const std::vector<std::string>& free,
                                                     const std::string& file = "",
                                                     const std::string& field = "calibrate.free");
+/// The default free set (SPEC §4.4): f, k1, pose. With a narrow field of view the principal point,
+/// rotation, f and Tz are nearly inseparable, so u0, v0 stay at the image centre (or their prior)
+/// and sx at 1 unless the user frees them (docs/optimisation.md).
+const std::vector<std::string>& default_free_parameters();
+
 /// The names expand_free_parameters accepts, in canonical order, groups after the intrinsics and
 /// distortion: f, sx, u0, v0, k1, k2, k3, p1, p2, a1, a2, pose, rotation, center, clock_offset.
 const std::vector<std::string>& free_parameter_choices();
