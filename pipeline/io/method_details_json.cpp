@@ -15,6 +15,9 @@ nlohmann::json tsai_details_json(const TsaiResult& t) {
   return {{"f_linear_mm", t.f_linear_mm},
           {"Tz_linear_m", t.Tz_linear},
           {"step1_linear_rms_mm", t.step1.linear_rms_mm},
+          {"step1_ty_ratio", t.step1.ty_ratio},
+          {"step1_eq12_origin", values(t.step1.eq12_origin)},
+          {"step1_pose_origin", values(t.step1.pose_origin)},
           {"step2_iterations", t.iterations},
           {"step2_converged", t.converged},
           {"rms_sensor_mm", t.rms_sensor_mm},
@@ -41,7 +44,10 @@ nlohmann::json tsai_sassa_details_json(const TsaiSassaResult& t, const TsaiSassa
                        {{parameter_name(CameraParameter::sx), t.step1.sx},
                         {parameter_name(CameraParameter::Tx), t.step1.Tx},
                         {parameter_name(CameraParameter::Ty), t.step1.Ty},
-                        {"linear_rms_mm", t.step1.linear_rms_mm}}},
+                        {"linear_rms_mm", t.step1.linear_rms_mm},
+                        {"ty_ratio", t.step1.ty_ratio},
+                        {"eq12_origin", values(t.step1.eq12_origin)},
+                        {"pose_origin", values(t.step1.pose_origin)}}},
                       {"search", search}};
   if (t.polished)
     d["polish"] = {

@@ -15,6 +15,10 @@ namespace rangecal {
 namespace {
 
 const char* const kMethod = "tsai";
+// Below this |Ty| / max|yc| (ty_strength) step 1 is solved in translated world frames. Measured on a
+// 35 mm, 1280×800 camera: Tsai's eq. 12 loses accuracy below ≈ 0.04 with 1 px noise (≈ 0.004 with
+// 0.1 px); above 0.1 it is as good as it gets.
+constexpr double kMinTyRatio = 0.1;
 
 struct SensorPoint {
   double xdp;  // Xd' = (u − u0)·dx = sx·xd (mm)
@@ -78,6 +82,113 @@ Eigen::Matrix3d rpy_rotation(const Eigen::Vector3d& row1, const Eigen::Vector3d&
       .toRotationMatrix();
 }
 
+// How strongly Ty is determined in the given world frame, without dividing by it: the radial
+// alignment constraint (Tsai 1987 eq. 11) multiplied out is homogeneous,
+//   Xd'·(r4 Xw + r5 Yw + r6 Zw + Ty) − Yd·(sx r1 Xw + sx r2 Yw + sx r3 Zw + sx Tx) = 0,
+// in v = (sx r1, sx r2, sx r3, sx Tx, r4, r5, r6, Ty) up to scale; v is the right singular vector of
+// the smallest singular value (columns equilibrated). Then yc_i ∝ v5..7·Xw_i + v8 and
+//   ratio = |Ty| / max_i |yc_i|,
+// which is 0 when the world origin lies on the camera's XZ plane — where eq. 12, divided by Ty, has
+// no solution — and O(1) when the origin is as far off that plane as the farthest point.
+struct TyStrength {
+  double ratio = 1;         ///< |Ty| / max_i |yc_i| (1 when undeterminable: the eq. 12 solve then reports)
+  std::size_t largest = 0;  ///< index of the point with the largest |yc_i|
+};
+
+TyStrength ty_strength(const std::vector<PointCorrespondence>& pts, const std::vector<SensorPoint>& sp) {
+  const std::size_t n = pts.size();
+  Eigen::MatrixXd M(n, 8);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& X = pts[i].world;
+    const double xd = sp[i].xdp, yd = sp[i].yd;
+    M.row(i) << -X.x() * yd, -X.y() * yd, -X.z() * yd, -yd, X.x() * xd, X.y() * xd, X.z() * xd, xd;
+  }
+  Eigen::VectorXd scale(8);
+  for (Eigen::Index j = 0; j < 8; ++j) {
+    const double c = M.col(j).norm();
+    scale(j) = c > 0 ? 1.0 / c : 1.0;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(M * scale.asDiagonal(), Eigen::ComputeFullV);
+  const Eigen::VectorXd v = scale.asDiagonal() * svd.matrixV().col(7);
+  TyStrength out;
+  double largest = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double yc = std::abs(v.segment<3>(4).dot(pts[i].world) + v(7));
+    if (yc > largest) largest = yc, out.largest = i;
+  }
+  if (largest > 0 && v.allFinite()) out.ratio = std::abs(v(7)) / largest;
+  return out;
+}
+
+using Vector8d = Eigen::Matrix<double, 8, 1>;
+
+// Seed 002 eq. 12 (Tsai 1987 eq. 16 with sx), one row per point, with the world coordinates taken
+// about `origin` (Xw' = Xw − origin). Returns v = (L, 1) = (sx r1, sx r2, sx r3, sx Tx', r4, r5, r6, Ty')/Ty'
+// with Tx', Ty' those of that frame.
+Vector8d solve_eq12(const std::vector<PointCorrespondence>& pts, const std::vector<SensorPoint>& sp,
+                    const Eigen::Vector3d& origin, double* rms_mm) {
+  const std::size_t n = pts.size();
+  Eigen::MatrixXd A(n, 7);
+  Eigen::VectorXd b(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d X = pts[i].world - origin;
+    const double xd = sp[i].xdp, yd = sp[i].yd;
+    A.row(i) << X.x() * yd, X.y() * yd, X.z() * yd, yd, -X.x() * xd, -X.y() * xd, -X.z() * xd;
+    b(i) = xd;
+  }
+  const Eigen::VectorXd L = solve_least_squares(A, b, "Tsai step 1 (seed 002 eq. 12)");
+  *rms_mm = std::sqrt((A * L - b).squaredNorm() / n);
+  Vector8d v;
+  v << L, 1.0;
+  return v;
+}
+
+// Tsai's recovery of R, Tx, Ty, sx (Tsai 1987 eqs. 17–18 and §III.B step ii) from v ∝ (sx r1, sx r2,
+// sx r3, sx Tx, r4, r5, r6, Ty) about `origin`, scaled by ‖r4..r6‖ = 1 rather than by Ty (equal to
+// Tsai's formulas when v8 = 1). Tx, Ty of that frame.
+void recover_pose(const std::vector<PointCorrespondence>& pts, const std::vector<SensorPoint>& sp,
+                  const Vector8d& v, const Eigen::Vector3d& origin, TsaiOrthonormalisation orthonormalisation,
+                  TsaiStep1* s1) {
+  const std::size_t n = pts.size();
+  // 1/|Ty| (with v8 = 1) from the unit norm of row 2 of R (Tsai 1987 eq. 17, with sx unknown).
+  const double n2 = v.segment<3>(4).norm();
+  if (!(n2 > 0) || !std::isfinite(n2))
+    throw_calibration_error(kMethod, "singular system: r4..r6/Ty vanished (Ty cannot be determined)");
+  double t = 1.0 / n2;  // the scale of v, signed below
+
+  // Sign: with t > 0, the predicted (sx·xc, yc) of the point farthest from the image centre must
+  // point the same way as its observed (Xd', Yd) (Tsai 1987 §III.B step ii).
+  std::size_t far = 0;
+  double far_r2 = -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r2 = sp[i].xdp * sp[i].xdp + sp[i].yd * sp[i].yd;
+    if (r2 > far_r2) far_r2 = r2, far = i;
+  }
+  {
+    const Eigen::Vector3d X = pts[far].world - origin;
+    const double sxc = (v(0) * X.x() + v(1) * X.y() + v(2) * X.z() + v(3)) * t;
+    const double yc = (v(4) * X.x() + v(5) * X.y() + v(6) * X.z() + v(7)) * t;
+    if (sxc * sp[far].xdp + yc * sp[far].yd < 0) t = -t;
+  }
+
+  // sx from the unit norm of row 1 (Tsai 1987 eq. 18); then rows 1–2 of R and Tx.
+  s1->sx = v.head<3>().norm() * std::abs(t);
+  if (!(s1->sx > 0) || !std::isfinite(s1->sx))
+    throw_calibration_error(kMethod, "singular system: sx·r1..r3/Ty vanished (sx cannot be determined)");
+  const Eigen::Vector3d row1 = v.head<3>() * t / s1->sx;
+  const Eigen::Vector3d row2 = v.segment<3>(4) * t;
+  // Tsai: L4 = sx·Tx/Ty. Willson's program keeps Tx = L4·Ty (no 1/sx), reproduced in its mode.
+  s1->Tx = orthonormalisation == TsaiOrthonormalisation::willson_rpy ? v(3) * t : v(3) * t / s1->sx;
+  s1->Ty = v(7) * t;
+  s1->orthogonality_error = std::abs(row1.dot(row2));
+  Eigen::Matrix3d Rraw;
+  Rraw.row(0) = row1.transpose();
+  Rraw.row(1) = row2.transpose();
+  Rraw.row(2) = row1.cross(row2).transpose();
+  s1->R = orthonormalisation == TsaiOrthonormalisation::svd ? nearest_rotation(Rraw)  // Frobenius-nearest
+                                                            : rpy_rotation(row1, row2);
+}
+
 }  // namespace
 
 TsaiStep1 tsai_step1(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
@@ -88,57 +199,36 @@ TsaiStep1 tsai_step1(const std::vector<PointCorrespondence>& pts, const TsaiSens
   TsaiStep1 s1;
   resolve_principal_point(sensor, &s1.u0_px, &s1.v0_px);
   const auto sp = to_sensor(pts, sensor, s1.u0_px, s1.v0_px);
-  const std::size_t n = pts.size();
 
-  // Seed 002 eq. 12 (Tsai 1987 eq. 16 with sx): one row per point.
-  Eigen::MatrixXd A(n, 7);
-  Eigen::VectorXd b(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d& X = pts[i].world;
-    const double xd = sp[i].xdp, yd = sp[i].yd;
-    A.row(i) << X.x() * yd, X.y() * yd, X.z() * yd, yd, -X.x() * xd, -X.y() * xd, -X.z() * xd;
-    b(i) = xd;
+  // Eq. 12 divides by Ty: with the world origin on or near the camera's XZ plane it is singular, or
+  // amplifies the noise without bound. Tsai's method as published is kept where Ty is strong in the
+  // given frame. Elsewhere eq. 12 is solved with the world coordinates taken about the point with the
+  // largest |yc| (its Ty is that yc, as strong as any point in view allows), and R, Tx, Ty are
+  // recovered about the centroid of the world points: Tsai's recovery keeps Tx, Ty of its frame while
+  // the SVD moves R, so the origin of that frame is a pivot; the centroid is the pivot that does not
+  // depend on where the world origin happens to lie (a far one would otherwise cost accuracy).
+  const TyStrength strength = ty_strength(pts, sp);
+  s1.ty_ratio = strength.ratio;
+  if (strength.ratio >= kMinTyRatio) {
+    const Vector8d v = solve_eq12(pts, sp, Eigen::Vector3d::Zero(), &s1.linear_rms_mm);
+    recover_pose(pts, sp, v, Eigen::Vector3d::Zero(), orthonormalisation, &s1);
+    return s1;
   }
-  const Eigen::VectorXd L = solve_least_squares(A, b, "Tsai step 1 (seed 002 eq. 12)");
-  s1.linear_rms_mm = std::sqrt((A * L - b).squaredNorm() / n);
-
-  // |Ty| from the unit norm of row 2 of R (Tsai 1987 eq. 17, with sx unknown).
-  const double n2 = L.segment<3>(4).norm();
-  if (!(n2 > 0) || !std::isfinite(n2))
-    throw_calibration_error(kMethod, "singular system: r4..r6/Ty vanished (Ty cannot be determined)");
-  double Ty = 1.0 / n2;
-
-  // Sign of Ty: with Ty > 0, the predicted (sx·xc, yc) of the point farthest from the image centre
-  // must point the same way as its observed (Xd', Yd) (Tsai 1987 §III.B step ii).
-  std::size_t far = 0;
-  double far_r2 = -1;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double r2 = sp[i].xdp * sp[i].xdp + sp[i].yd * sp[i].yd;
-    if (r2 > far_r2) far_r2 = r2, far = i;
-  }
-  {
-    const Eigen::Vector3d& X = pts[far].world;
-    const double sxc = (L(0) * X.x() + L(1) * X.y() + L(2) * X.z() + L(3)) * Ty;
-    const double yc = (L(4) * X.x() + L(5) * X.y() + L(6) * X.z() + 1.0) * Ty;
-    if (sxc * sp[far].xdp + yc * sp[far].yd < 0) Ty = -Ty;
-  }
-
-  // sx from the unit norm of row 1 (Tsai 1987 eq. 18); then rows 1–2 of R and Tx.
-  s1.sx = L.head<3>().norm() * std::abs(Ty);
-  if (!(s1.sx > 0) || !std::isfinite(s1.sx))
-    throw_calibration_error(kMethod, "singular system: sx·r1..r3/Ty vanished (sx cannot be determined)");
-  const Eigen::Vector3d row1 = L.head<3>() * Ty / s1.sx;
-  const Eigen::Vector3d row2 = L.segment<3>(4) * Ty;
-  // Tsai: L4 = sx·Tx/Ty. Willson's program keeps Tx = L4·Ty (no 1/sx), reproduced in its mode.
-  s1.Tx = orthonormalisation == TsaiOrthonormalisation::willson_rpy ? L(3) * Ty : L(3) * Ty / s1.sx;
-  s1.Ty = Ty;
-  s1.orthogonality_error = std::abs(row1.dot(row2));
-  Eigen::Matrix3d Rraw;
-  Rraw.row(0) = row1.transpose();
-  Rraw.row(1) = row2.transpose();
-  Rraw.row(2) = row1.cross(row2).transpose();
-  s1.R = orthonormalisation == TsaiOrthonormalisation::svd ? nearest_rotation(Rraw)  // Frobenius-nearest
-                                                           : rpy_rotation(row1, row2);
+  // World coordinates about a point a: Xa = Xw − a, and Xc = R·Xw + T = R·Xa + (T + R·a), so
+  // Ta = T + R·a; between two such frames Tb = Ta + R·(b − a), and T = Ta − R·a. The camera centre
+  // C = −Rᵀ·T = −Rᵀ·Ta + a is simply shifted. v holds (sx·Tx, Ty) in slots 4 and 8 (scaled by 1/Ty
+  // of its frame) with R's rows 1–2 in slots 1–3 and 5–7, hence the re-expression below.
+  s1.eq12_origin = pts[strength.largest].world;
+  Vector8d v = solve_eq12(pts, sp, s1.eq12_origin, &s1.linear_rms_mm);
+  s1.pose_origin.setZero();
+  for (const auto& p : pts) s1.pose_origin += p.world;
+  s1.pose_origin /= static_cast<double>(pts.size());
+  const Eigen::Vector3d ab = s1.pose_origin - s1.eq12_origin;
+  v(3) += v.head<3>().dot(ab);
+  v(7) += v.segment<3>(4).dot(ab);
+  recover_pose(pts, sp, v, s1.pose_origin, orthonormalisation, &s1);
+  s1.Tx -= s1.R.row(0).dot(s1.pose_origin);
+  s1.Ty -= s1.R.row(1).dot(s1.pose_origin);
   return s1;
 }
 

@@ -14,6 +14,17 @@
 //   L = [sx·r1/Ty, sx·r2/Ty, sx·r3/Ty, sx·Tx/Ty, r4/Ty, r5/Ty, r6/Ty];
 //   |Ty| = 1/‖L5..7‖, sign of Ty from the point farthest from the image centre, sx = ‖L1..3‖·|Ty|,
 //   rows 1–2 of R from L, row 3 = row1 × row2, then the nearest rotation (SVD).
+//   Eq. 12 divides by Ty, so it is singular with the world origin on the camera's XZ plane (Ty = 0)
+//   and loses accuracy near it. How far Ty is from that is measured first without dividing by it
+//   (the homogeneous form of eq. 11, 8 unknowns up to scale: ty_ratio = |Ty| / max_i |yc_i|). When
+//   ty_ratio ≥ 0.1 the method above runs unchanged. Below, eq. 12 is solved with the world
+//   coordinates taken about the point with the largest |yc| (so that frame's Ty is as large as the
+//   points allow), its solution is re-expressed about the centroid of the world points, R, Tx, Ty are
+//   recovered there (scaled by ‖r4..r6‖ = 1, no division by Ty), and T is mapped back: with
+//   Xw = Xa + a, T = Ta − R·a and the camera centre C = Ca + a. Every placement of the world origin
+//   then works, and the result no longer depends on it (Tsai's recovery pivots R about the origin of
+//   its frame: a far origin costs accuracy even when Ty is strong). Step 2 needs no translation: its
+//   residuals depend on the camera coordinates Xc alone.
 // Step 2: f and Tz linearly ignoring distortion, then (f, Tz, k1) by Levenberg–Marquardt on the
 //   eq. 13 residuals (undistorted sensor mm):
 //   g = [xd(1+k1 r²) − f·Xc/Zc,  yd(1+k1 r²) − f·Yc/Zc],  r² = xd² + yd²,  xd = Xd'/sx.
@@ -23,7 +34,7 @@
 // Units: world points in any length unit (T comes back in the same unit); f in mm; k1 in mm⁻².
 // Errors: rangecal::Error kind calibration (exit 4) naming the cause — fewer than 7 points (or
 // 8 for step 2 with k1), non-finite input, all points on one line, coplanar points, a singular
-// system, points behind the camera.
+// system, points behind the camera. The world origin may lie anywhere, also at the camera centre.
 #include <limits>
 #include <string>
 #include <utility>
@@ -57,6 +68,15 @@ struct TsaiStep1 {
   /// Largest deviation of the raw rows 1–2 from orthonormality before the SVD projection
   /// (max |RᵣRᵣᵀ − I| over the 2×2 block) — a diagnostic of noise/model mismatch.
   double orthogonality_error = 0;
+  /// |Ty| / max_i |yc_i| in the given world frame, from the homogeneous form of eq. 11 (which does
+  /// not divide by Ty): 0 with the world origin on the camera's XZ plane.
+  double ty_ratio = 1;
+  /// Where eq. 12 was solved and R, Tx, Ty recovered (world coordinates taken about these points):
+  /// both zero when ty_ratio ≥ 0.1 (Tsai's method as published); else the point with the largest |yc|
+  /// and the centroid of the world points. R, Tx, Ty above are always those of the given frame;
+  /// linear_rms_mm and orthogonality_error are those of the solve.
+  Eigen::Vector3d eq12_origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d pose_origin = Eigen::Vector3d::Zero();
 };
 
 /// Step 2 result plus diagnostics.
@@ -87,7 +107,8 @@ struct TsaiOptions {
   TsaiOrthonormalisation orthonormalisation = TsaiOrthonormalisation::svd;
 };
 
-/// Step 1 only. Throws rangecal::Error(calibration) on degenerate input.
+/// Step 1 only (R, Tx, Ty in the given world frame, whichever frames it solved in). Throws
+/// rangecal::Error(calibration) on degenerate input.
 TsaiStep1 tsai_step1(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
                      TsaiOrthonormalisation orthonormalisation = TsaiOrthonormalisation::svd);
 

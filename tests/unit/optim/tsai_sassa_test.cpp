@@ -119,6 +119,37 @@ TEST(TsaiSassa, AllParametersVariantPolishesToTheNoiseLevel) {
   EXPECT_NEAR(r.camera.intr.f_mm, sc.truth.intr.f_mm, 1.0);
 }
 
+// Tsai's step 1 is the initialiser; with the world origin on the camera's XZ plane (Ty = 0 exactly),
+// where eq. 12 divides by zero, it solves in translated frames (vision/calibration/tsai.hpp) and the
+// method works as anywhere else. A 35 mm lens on the 1280×800, 20 µm sensor, 80 points 8–60 m deep.
+TEST(TsaiSassa, WorldOriginOnTheCameraXzPlane) {
+  Camera truth = test::range_camera_at("wide", {0.0, 0.0, 1.5}, {20.0, 40.0, 6.0}, -2e-4);
+  truth.intr.f_mm = 35.0;
+  truth.pose.T = {-3.0, 0.0, 4.0};
+  TsaiSensor sensor;
+  sensor.width_px = 1280, sensor.height_px = 800, sensor.dx_mm = sensor.dy_mm = 0.02;
+  sensor.u0_px = truth.intr.u0_px, sensor.v0_px = truth.intr.v0_px;
+  const auto world = test::frustum_points(truth, 80, 8.0, 60.0, 11);
+
+  const auto exact = tsai_sassa_calibrate(test::observe(truth, world), sensor);
+  EXPECT_LT(exact.step1.ty_ratio, 1e-3);
+  EXPECT_TRUE(exact.polish.converged);
+  EXPECT_TRUE(exact.calibration.warnings.empty());
+  EXPECT_NEAR(exact.camera.intr.f_mm / truth.intr.f_mm, 1.0, 1e-6);
+  EXPECT_NEAR(exact.camera.intr.dist.k1 / truth.intr.dist.k1, 1.0, 1e-6);
+  EXPECT_LT(test::rotation_angle_between(exact.camera.pose.R, truth.pose.R), 1e-10);
+  EXPECT_LT((exact.camera.pose.T - truth.pose.T).norm(), 1e-6);
+  EXPECT_LT(exact.calibration.reprojection.rms_px, 1e-6);
+
+  const auto noisy = tsai_sassa_calibrate(test::observe(truth, world, 0.1, 0.0, 2), sensor);
+  std::printf("origin on the XZ plane, 0.1 px: rms %.3f px, f %.3g mm off, |T| %.3g m off\n",
+              noisy.calibration.reprojection.rms_px, noisy.camera.intr.f_mm - truth.intr.f_mm,
+              (noisy.camera.pose.T - truth.pose.T).norm());
+  EXPECT_NEAR(noisy.calibration.reprojection.rms_px, 0.1 * std::sqrt(2.0), 0.03);
+  EXPECT_NEAR(noisy.camera.intr.f_mm / truth.intr.f_mm, 1.0, 5e-4);  // σ ≈ 1e-4 (tsai_test)
+  EXPECT_LT((noisy.camera.pose.T - truth.pose.T).norm(), 0.02);      // σ ≈ 2.4 mm (tsai_test)
+}
+
 TEST(TsaiSassa, DegenerateInputIsACalibrationError) {
   Scene sc = scene();
   sc.pts.resize(5);
