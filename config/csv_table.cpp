@@ -3,11 +3,13 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 
 #include "config/error.hpp"
+#include "config/text_encoding.hpp"
 
 namespace rangecal {
 
@@ -61,7 +63,8 @@ std::string read_file_text(const std::string& path) {
   return ss.str();
 }
 
-CsvTable parse_csv(const std::string& text, const std::string& path) {
+CsvTable parse_csv(const std::string& file_text, const std::string& path) {
+  const std::string_view text = strip_utf8_bom(file_text);
   CsvTable t;
   t.path = path;
   long line_no = 0;
@@ -69,12 +72,13 @@ CsvTable parse_csv(const std::string& text, const std::string& path) {
   bool have_header = false;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
-    if (end == std::string::npos) end = text.size();
+    if (end == std::string_view::npos) end = text.size();
     std::string_view line(text.data() + pos, end - pos);
     pos = end + 1;
     ++line_no;
     const std::string_view tl = trim(line);
     if (tl.empty() || tl.front() == '#') continue;
+    require_utf8(tl, path, line_no, "");
     auto fields = split_trim(tl, ',');
     if (!have_header) {
       t.header = std::move(fields);
@@ -123,6 +127,18 @@ double CsvTable::number(const CsvRecord& r, std::size_t col) const {
   const auto v = parse_double(r.fields.at(col));
   if (!v) throw_input_error(path, r.line, header.at(col), "'" + r.fields[col] + "' is not a finite number");
   return *v;
+}
+
+double CsvTable::number_in(const CsvRecord& r, std::size_t col, double lo, double hi,
+                           const std::string& what) const {
+  const double v = number(r, col);
+  if (v < lo || v > hi) {
+    char range[96];
+    std::snprintf(range, sizeof range, "[%.10g, %.10g]", lo, hi);
+    throw_input_error(path, r.line, header.at(col),
+                      "'" + r.fields[col] + "' is outside " + range + " (" + what + ")");
+  }
+  return v;
 }
 
 std::int64_t CsvTable::integer(const CsvRecord& r, std::size_t col) const {

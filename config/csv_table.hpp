@@ -1,8 +1,9 @@
 #pragma once
 // A small CSV reader for the project's input tables (SPEC §3): a header line naming the columns,
 // then one record per line, comma separated, no quoting (none of our formats needs it). Blank
-// lines and lines starting with '#' are skipped; CRLF is accepted. Every accessor that can fail
-// throws rangecal::Error (kind input) naming the file, the 1-based line and the column.
+// lines and lines starting with '#' are skipped; CRLF line ends and a UTF-8 byte-order mark are
+// accepted; a byte that is not UTF-8 in a record is an error naming its line and column. Every accessor that
+// can fail throws rangecal::Error (kind input) naming the file, the 1-based line and the column.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -29,6 +30,9 @@ struct CsvTable {
   const std::string& text(const CsvRecord& r, std::size_t col) const;
   /// A finite double; throws naming file, line and column otherwise.
   double number(const CsvRecord& r, std::size_t col) const;
+  /// A number within [lo, hi]; throws naming file, line, column, the range and `what` it is
+  /// ("ellipsoidal height, m") otherwise.
+  double number_in(const CsvRecord& r, std::size_t col, double lo, double hi, const std::string& what) const;
   std::int64_t integer(const CsvRecord& r, std::size_t col) const;
 };
 

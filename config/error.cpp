@@ -1,5 +1,7 @@
 #include "config/error.hpp"
 
+#include "config/text_encoding.hpp"
+
 namespace rangecal {
 
 std::string format_error_message(const std::string& file, long line, const std::string& field,
@@ -14,7 +16,8 @@ std::string format_error_message(const std::string& file, long line, const std::
   }
   if (!field.empty()) msg += "field '" + field + "': ";
   msg += reason;
-  return msg;
+  // File names, fields and quoted values come from user input: never echo raw binary bytes.
+  return printable_text(msg);
 }
 
 Error::Error(ErrorKind kind, std::string file, long line, std::string field, std::string reason)

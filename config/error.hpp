@@ -36,7 +36,8 @@ class Error : public std::runtime_error {
   std::string reason_;
 };
 
-/// Formats "file:line: field 'f': reason", leaving out the parts that are empty.
+/// Formats "file:line: field 'f': reason", leaving out the parts that are empty; bytes that are not
+/// printable UTF-8 appear as \xNN.
 std::string format_error_message(const std::string& file, long line, const std::string& field,
                                  const std::string& reason);
 

@@ -3,6 +3,12 @@
 namespace rangecal {
 namespace {
 
+// Strings from bad input may hold bytes that are not UTF-8: they become U+FFFD instead of making
+// nlohmann throw (type_error 316) half way through an output file.
+std::string dump_scalar(const nlohmann::ordered_json& j) {
+  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
 bool is_scalar(const nlohmann::ordered_json& j) {
   return !j.is_array() && !j.is_object();
 }
@@ -15,7 +21,7 @@ bool all_scalars(const nlohmann::ordered_json& j) {
 
 std::string one_line(const nlohmann::ordered_json& a) {
   std::string s = "[";
-  for (std::size_t i = 0; i < a.size(); ++i) s += (i ? ", " : "") + a[i].dump();
+  for (std::size_t i = 0; i < a.size(); ++i) s += (i ? ", " : "") + dump_scalar(a[i]);
   return s + "]";
 }
 
@@ -29,7 +35,7 @@ void emit(const nlohmann::ordered_json& j, int indent, std::string& out) {
     out += "{\n";
     std::size_t i = 0;
     for (auto it = j.begin(); it != j.end(); ++it, ++i) {
-      out += inner + nlohmann::ordered_json(it.key()).dump() + ": ";
+      out += inner + dump_scalar(nlohmann::ordered_json(it.key())) + ": ";
       emit(it.value(), indent + 2, out);
       out += i + 1 < j.size() ? ",\n" : "\n";
     }
@@ -47,7 +53,7 @@ void emit(const nlohmann::ordered_json& j, int indent, std::string& out) {
     }
     out += pad + "]";
   } else {
-    out += j.dump();
+    out += dump_scalar(j);
   }
 }
 

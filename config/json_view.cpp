@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <map>
+#include <string_view>
+
+#include "config/text_encoding.hpp"
 
 namespace rangecal {
 namespace {
@@ -83,9 +88,77 @@ std::string describe_json(const nlohmann::json& j) {
   }
 }
 
-nlohmann::json parse_json_text(const std::string& text, const std::string& file, ErrorKind kind) {
+namespace {
+
+// What nlohmann's DOM parser lets pass or reports without a place: a key given twice in one object
+// (nlohmann keeps the last, so a config would be silently ambiguous) and a number beyond the range
+// of a double (its out_of_range.406 carries no position). Walks the text nlohmann has lexed, so
+// strings and numbers are well formed up to the first problem.
+void check_keys_and_numbers(std::string_view text, const std::string& file, ErrorKind kind) {
+  struct Container {
+    bool object = false;
+    bool expect_key = false;
+    std::map<std::string, long> key_lines;
+  };
+  std::vector<Container> stack;
+  long line = 1;
+  for (std::size_t i = 0; i < text.size();) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      ++i;
+    } else if (c == '{' || c == '[') {
+      stack.push_back({c == '{', c == '{', {}});
+      ++i;
+    } else if (c == '}' || c == ']') {
+      if (!stack.empty()) stack.pop_back();
+      ++i;
+    } else if (c == ',') {
+      if (!stack.empty() && stack.back().object) stack.back().expect_key = true;
+      ++i;
+    } else if (c == '"') {
+      std::size_t j = i + 1;
+      while (j < text.size() && text[j] != '"') j += text[j] == '\\' ? 2 : 1;
+      if (j >= text.size()) return;  // unterminated: nlohmann reported it already
+      if (!stack.empty() && stack.back().object && stack.back().expect_key) {
+        const std::string_view raw = text.substr(i, j - i + 1);
+        std::string key(raw.substr(1, raw.size() - 2));
+        try {
+          key = nlohmann::json::parse(raw).get<std::string>();  // decode escapes: "\u0061" is "a"
+        } catch (const nlohmann::json::exception&) {
+        }
+        const auto [it, inserted] = stack.back().key_lines.emplace(key, line);
+        if (!inserted)
+          throw Error(kind, file, line, key,
+                      "key given twice in the same object (lines " + std::to_string(it->second) + " and " +
+                          std::to_string(line) + "); keep one");
+        stack.back().expect_key = false;
+      }
+      i = j + 1;
+    } else if (c == '-' || (c >= '0' && c <= '9')) {
+      std::size_t j = i + 1;
+      while (j < text.size() && (std::isdigit(static_cast<unsigned char>(text[j])) || text[j] == '.' ||
+                                 text[j] == 'e' || text[j] == 'E' || text[j] == '+' || text[j] == '-'))
+        ++j;
+      const std::string token(text.substr(i, j - i));
+      if (!std::isfinite(std::strtod(token.c_str(), nullptr)))
+        throw Error(kind, file, line, "",
+                    "number " + token.substr(0, 40) + " is beyond the range of a double (about ±1.8e308)");
+      i = j;
+    } else {
+      ++i;
+    }
+  }
+}
+
+}  // namespace
+
+nlohmann::json parse_json_text(const std::string& file_text, const std::string& file, ErrorKind kind) {
+  const std::string_view text = strip_utf8_bom(file_text);
   try {
-    return nlohmann::json::parse(text);
+    nlohmann::json j = nlohmann::json::parse(text);
+    check_keys_and_numbers(text, file, kind);
+    return j;
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is the 1-based offset of the offending character; turn it into line and column.
     const std::size_t byte = std::min<std::size_t>(e.byte, text.size());
@@ -105,6 +178,9 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& file,
     const auto colon = what.find(": ", what.find("parse error"));
     if (colon != std::string::npos) what = what.substr(colon + 2);
     throw Error(kind, file, line, "", "invalid JSON at column " + std::to_string(col) + ": " + what);
+  } catch (const nlohmann::json::exception& e) {
+    check_keys_and_numbers(text, file, kind);  // names the line of an overflowing number
+    throw Error(kind, file, 0, "", std::string("invalid JSON: ") + e.what());
   }
 }
 

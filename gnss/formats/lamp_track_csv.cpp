@@ -5,6 +5,7 @@
 #include "config/atomic_file.hpp"
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/physical_ranges.hpp"
 
 namespace rangecal {
 
@@ -41,13 +42,13 @@ LampTrack parse_lamp_track_csv(const std::string& text, const std::string& path)
     if (!track.epochs.empty() && e.utc <= track.epochs.back().utc)
       throw_input_error(path, r.line, "utc",
                         "time is not after the previous line's; epochs must be strictly increasing");
-    e.enu = {t.number(r, ce), t.number(r, cn), t.number(r, cz)};
+    const std::string site = "site ENU, m";
+    e.enu = {t.number_in(r, ce, -ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, site),
+             t.number_in(r, cn, -ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, site),
+             t.number_in(r, cz, -ranges::kSiteHalfHeightM, ranges::kSiteHalfHeightM, site)};
     const std::size_t sdcols[3] = {se, sn, sz};
-    for (int k = 0; k < 3; ++k) {
-      e.sd_enu[k] = t.number(r, sdcols[k]);
-      if (e.sd_enu[k] < 0)
-        throw_input_error(path, r.line, t.header[sdcols[k]], "negative standard deviation");
-    }
+    for (int k = 0; k < 3; ++k)
+      e.sd_enu[k] = t.number_in(r, sdcols[k], 0, ranges::kMaxPositionSigmaM, "standard deviation, m");
     const auto q = t.integer(r, cq);
     if (q < 1 || q > 6) throw_input_error(path, r.line, "quality", "'" + t.text(r, cq) + "' is outside 1-6");
     e.quality = static_cast<int>(q);

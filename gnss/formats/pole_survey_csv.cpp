@@ -4,6 +4,7 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/physical_ranges.hpp"
 #include "gnss/geodesy/local_enu.hpp"
 
 namespace rangecal {
@@ -11,6 +12,19 @@ namespace rangecal {
 const char* to_string(PoleRole r) {
   return r == PoleRole::control ? "control" : "check";
 }
+
+namespace {
+
+// The record's pole id: not empty, and not seen before in this file (`duplicate` says why not).
+std::string unique_pole_id(const CsvTable& t, const CsvRecord& r, std::size_t col,
+                           std::set<std::string>* seen, const std::string& duplicate) {
+  const std::string& id = t.text(r, col);
+  if (id.empty()) throw_input_error(t.path, r.line, "id", "empty pole id");
+  if (!seen->insert(id).second) throw_input_error(t.path, r.line, "id", duplicate + " '" + id + "'");
+  return id;
+}
+
+}  // namespace
 
 std::vector<SurveyedPole> read_pole_survey(const std::string& path, const GeodeticOrigin& origin) {
   const CsvTable t = read_csv(path);
@@ -25,10 +39,8 @@ std::vector<SurveyedPole> read_pole_survey(const std::string& path, const Geodet
   std::set<std::string> ids;
   for (const auto& r : t.records) {
     SurveyedPole p;
-    p.id = t.text(r, c_id);
+    p.id = unique_pole_id(t, r, c_id, &ids, "duplicate pole id");
     p.line = r.line;
-    if (p.id.empty()) throw_input_error(path, r.line, "id", "empty pole id");
-    if (!ids.insert(p.id).second) throw_input_error(path, r.line, "id", "duplicate pole id '" + p.id + "'");
     const std::string& role = t.text(r, c_role);
     if (role == "control")
       p.role = PoleRole::control;
@@ -36,14 +48,24 @@ std::vector<SurveyedPole> read_pole_survey(const std::string& path, const Geodet
       p.role = PoleRole::check;
     else
       throw_input_error(path, r.line, "role", "'" + role + "' is not 'control' or 'check'");
-    const Eigen::Vector3d v(t.number(r, c1), t.number(r, c2), t.number(r, c3));
     if (geodetic) {
-      if (std::abs(v.x()) > 90) throw_input_error(path, r.line, "lat", "latitude outside [-90, 90] degrees");
-      if (std::abs(v.y()) > 180)
-        throw_input_error(path, r.line, "lon", "longitude outside [-180, 180] degrees");
+      const Eigen::Vector3d v(
+          t.number_in(r, c1, -90, 90, "latitude, degrees"),
+          t.number_in(r, c2, -180, 180, "longitude, degrees"),
+          t.number_in(r, c3, ranges::kMinHeightM, ranges::kMaxHeightM, "ellipsoidal height, m"));
       p.enu = site.from_geodetic(v);
+      const Eigen::Vector3d box(ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, ranges::kSiteHalfHeightM);
+      if ((p.enu.cwiseAbs().array() > box.array()).any())
+        throw_input_error(path, r.line, "lat",
+                          "pole lies " +
+                              std::to_string(static_cast<long long>(p.enu.head<2>().norm() / 1000)) +
+                              " km from the site origin, outside the site box of +/-50 km (wrong origin in "
+                              "the mission config, or a swapped lat/lon?)");
     } else {
-      p.enu = v;
+      const std::string site_m = "site ENU, m";
+      p.enu = {t.number_in(r, c1, -ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, site_m),
+               t.number_in(r, c2, -ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, site_m),
+               t.number_in(r, c3, -ranges::kSiteHalfHeightM, ranges::kSiteHalfHeightM, site_m)};
     }
     poles.push_back(p);
   }
@@ -51,18 +73,26 @@ std::vector<SurveyedPole> read_pole_survey(const std::string& path, const Geodet
   return poles;
 }
 
-std::vector<PolePick> read_pole_picks(const std::string& path) {
+std::vector<PolePick> read_pole_picks(const std::string& path, ImageExtent extent) {
   const CsvTable t = read_csv(path);
   const std::size_t c_id = t.column("id"), c_u = t.column("u"), c_v = t.column("v");
   std::vector<PolePick> picks;
   std::set<std::string> ids;
   for (const auto& r : t.records) {
     PolePick p;
-    p.id = t.text(r, c_id);
+    p.id = unique_pole_id(t, r, c_id, &ids, "pole picked twice");
     p.line = r.line;
-    if (p.id.empty()) throw_input_error(path, r.line, "id", "empty pole id");
-    if (!ids.insert(p.id).second) throw_input_error(path, r.line, "id", "pole '" + p.id + "' picked twice");
     p.uv = {t.number(r, c_u), t.number(r, c_v)};
+    if (extent.width_px > 0 && extent.height_px > 0) {
+      // Pixel centres at integers: the image spans [-0.5, width - 0.5] × [-0.5, height - 0.5].
+      const std::string image = "pixel in the " + std::to_string(extent.width_px) + "x" +
+                                std::to_string(extent.height_px) + " image";
+      t.number_in(r, c_u, -0.5, extent.width_px - 0.5, image);
+      t.number_in(r, c_v, -0.5, extent.height_px - 0.5, image);
+    } else {
+      t.number_in(r, c_u, -ranges::kMaxPixelCoordinatePx, ranges::kMaxPixelCoordinatePx, "pixel");
+      t.number_in(r, c_v, -ranges::kMaxPixelCoordinatePx, ranges::kMaxPixelCoordinatePx, "pixel");
+    }
     picks.push_back(p);
   }
   return picks;

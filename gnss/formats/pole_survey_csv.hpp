@@ -33,7 +33,14 @@ struct PolePick {
   long line = 0;
 };
 
-/// Reads `id,u,v`; errors name file, line and field (bad number, duplicate id).
-std::vector<PolePick> read_pole_picks(const std::string& path);
+/// The size of the image picks are made in (px); 0 × 0 when not known where the picks are read.
+struct ImageExtent {
+  int width_px = 0;
+  int height_px = 0;
+};
+
+/// Reads `id,u,v`; errors name file, line and field (bad number, duplicate id, a pick outside the
+/// image — or beyond ±1e5 px when `extent` is unknown).
+std::vector<PolePick> read_pole_picks(const std::string& path, ImageExtent extent);
 
 }  // namespace rangecal

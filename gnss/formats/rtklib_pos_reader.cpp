@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
+#include "config/text_encoding.hpp"
 
 namespace rangecal {
 
@@ -49,9 +51,23 @@ constexpr std::int64_t kJstOffsetNs = 9 * 3600 * kNsPerSecond;
 constexpr std::int64_t kWeekNs = 604800 * kNsPerSecond;
 constexpr std::size_t kMaxTokens = 40;
 
+// Physical ranges of a .pos record (docs/reliability.md, "Input ranges"): a UAV flies between the
+// Dead Sea and the stratosphere; RTKLIB works on baselines up to hundreds of km.
+constexpr double kMinHeightM = -1000, kMaxHeightM = 20000;  // ellipsoidal height
+constexpr double kMinEcefRadiusM = 6356752.0 - 22000;       // polar radius − 22 km
+constexpr double kMaxEcefRadiusM = 6378137.0 + 21000;       // equatorial radius + 21 km
+constexpr double kMaxBaselineM = 1.0e6;                     // |e|, |n|
+constexpr double kMaxSigmaM = 1.0e4;                        // σ and signed √covariance terms
+constexpr double kMaxVelocityMps = 1000;
+constexpr double kMaxAgeS = 1.0e6;
+constexpr double kMaxRatio = 1.0e6;
+// The last GPS week of kLastSupportedYear (whole weeks from 1980-01-06 to 2200-12-31).
+constexpr long long kLastSupportedGpsWeek = 11530;
+
 // RTKLIB separates fields by blanks (default) or by the `-s` separator; blanks pad either way.
+// A stray '\r' (a CRLF file converted twice, "\r\r\n") separates like a blank.
 inline bool is_sep(char c) {
-  return c == ' ' || c == '\t' || c == ',';
+  return c == ' ' || c == '\t' || c == ',' || c == '\r';
 }
 
 /// Splits `s` into at most kMaxTokens tokens; returns the count (kMaxTokens + 1 means "more").
@@ -129,18 +145,6 @@ bool to_int(std::string_view t, long long* v) {
   return ec == std::errc() && p == t.data() + t.size();
 }
 
-bool fixed_digits(std::string_view s, std::size_t pos, std::size_t n, int* out) {
-  if (pos + n > s.size()) return false;
-  int v = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const char c = s[pos + i];
-    if (c < '0' || c > '9') return false;
-    v = v * 10 + (c - '0');
-  }
-  *out = v;
-  return true;
-}
-
 // The time of an epoch as read ("reading"): ns on a leap-free scale since 1970 of whatever the
 // file's time system is. Converted to UTC by to_utc.
 UtcTime to_utc(std::int64_t reading_ns, PosTimeSystem sys) {
@@ -200,7 +204,7 @@ class Parser {
               ref_pos_text = body.substr(colon + 1);
               ref_pos_line = line_no;
             } else if (key == "program") {
-              f.header.program = std::string(trim_view(body.substr(colon + 1)));
+              f.header.program = printable_text(trim_view(body.substr(colon + 1)));  // goes to run.json
             }
           }
         }
@@ -368,7 +372,12 @@ class Parser {
     for (std::size_t i = 0; i < want; ++i)
       if (!to_double(t[i], &v[i]))
         throw_input_error(path_, line_no, "ref pos", "'" + t[i] + "' is not a number");
-    if (h.position_format == PosPositionFormat::ecef) return Eigen::Vector3d(v[0], v[1], v[2]);
+    if (h.position_format == PosPositionFormat::ecef) {
+      const Eigen::Vector3d x(v[0], v[1], v[2]);
+      if (!(x.norm() >= kMinEcefRadiusM && x.norm() <= kMaxEcefRadiusM))
+        throw_input_error(path_, line_no, "ref pos", "ECEF position is not near the Earth's surface");
+      return x;
+    }
     double lat = v[0], lon = v[1], hgt = v[2];
     if (dms) {
       lat = dms_value(t[0], v[0], v[1], v[2]);
@@ -377,6 +386,8 @@ class Parser {
     }
     if (std::abs(lat) > 90 || std::abs(lon) > 180)
       throw_input_error(path_, line_no, "ref pos", "latitude/longitude out of range");
+    if (hgt < kMinHeightM || hgt > kMaxHeightM)
+      throw_input_error(path_, line_no, "ref pos", "height is outside [-1000, 20000] m");
     Eigen::Vector3d x;
     GeographicLib::Geocentric::WGS84().Forward(lat, lon, hgt, x[0], x[1], x[2]);
     return x;
@@ -402,6 +413,19 @@ class Parser {
   double sd(const std::array<std::string_view, kMaxTokens>& tok, std::size_t i, long line) const {
     const double v = num(tok, i, line);
     if (v < 0) bad_field(line, i, tok[i], "is negative (a standard deviation must be >= 0)");
+    if (v > kMaxSigmaM)
+      bad_field(line, i, tok[i], "is above " + format_number("%.10g", kMaxSigmaM) + " (not a GNSS σ)");
+    return v;
+  }
+
+  // A number within [lo, hi]; `what` says what the range is.
+  double num_in(const std::array<std::string_view, kMaxTokens>& tok, std::size_t i, long line, double lo,
+                double hi, const std::string& what) const {
+    const double v = num(tok, i, line);
+    if (v < lo || v > hi)
+      bad_field(line, i, tok[i],
+                "is outside [" + format_number("%.10g", lo) + ", " + format_number("%.10g", hi) + "] (" +
+                    what + ")");
     return v;
   }
 
@@ -417,6 +441,7 @@ class Parser {
           a[7] != '/' || !fixed_digits(a, 8, 2, &D))
         bad_field(line, 0, a, "is not a date yyyy/mm/dd (the first epoch line used calendar time)");
       if (!valid_civil_date(Y, M, D)) bad_field(line, 0, a, "is not a valid calendar date");
+      if (!supported_civil_year(Y)) bad_field(line, 0, a, "has a " + unsupported_year_reason(Y));
       if (b.size() < 8 || !fixed_digits(b, 0, 2, &hh) || b[2] != ':' || !fixed_digits(b, 3, 2, &mm) ||
           b[5] != ':')
         bad_field(line, 1, b, "is not a time of day hh:mm:ss.sss");
@@ -426,8 +451,12 @@ class Parser {
       return utc_from_civil(Y, M, D, hh, mm, 0, 0).ns + *sec;
     }
     long long week;
-    if (!to_int(a, &week) || week < 0 || week > 100000)
+    if (!to_int(a, &week) || week < 0)
       bad_field(line, 0, a, "is not a GPS week number (the first epoch line used week/tow time)");
+    if (week > kLastSupportedGpsWeek)
+      bad_field(line, 0, a,
+                "is a GPS week after " + std::to_string(kLastSupportedGpsWeek) + " (" +
+                    unsupported_year_reason(kLastSupportedYear + 1) + ")");
     const auto tow = parse_decimal_seconds_ns(b);
     if (!tow || *tow < 0 || *tow >= kWeekNs) bad_field(line, 1, b, "is not a time of week in [0, 604800) s");
     const std::int64_t gps_epoch_unix_ns = utc_from_civil(1980, 1, 6, 0, 0, 0, 0).ns;
@@ -457,9 +486,25 @@ class Parser {
       e.position =
           Eigen::Vector3d(dms_value(tok[i], v[0], v[1], v[2]), dms_value(tok[i + 3], v[3], v[4], v[5]), 0);
       i += 6;
-      e.position[2] = num(tok, i++, line);
+      e.position[2] = num_in(tok, i++, line, kMinHeightM, kMaxHeightM, "ellipsoidal height, m");
+    } else if (h.position_format == PosPositionFormat::llh_deg) {
+      for (int k = 0; k < 2; ++k) e.position[k] = num(tok, i++, line);
+      e.position[2] = num_in(tok, i++, line, kMinHeightM, kMaxHeightM, "ellipsoidal height, m");
+    } else if (h.position_format == PosPositionFormat::enu_baseline) {
+      for (int k = 0; k < 2; ++k)
+        e.position[k] = num_in(tok, i++, line, -kMaxBaselineM, kMaxBaselineM, "baseline component, m");
+      e.position[2] = num_in(tok, i++, line, kMinHeightM - kMaxHeightM, kMaxHeightM - kMinHeightM,
+                             "up baseline component, m");
     } else {
-      for (int k = 0; k < 3; ++k) e.position[k] = num(tok, i++, line);
+      for (int k = 0; k < 3; ++k)
+        e.position[k] = num_in(tok, i++, line, -kMaxEcefRadiusM, kMaxEcefRadiusM, "ECEF coordinate, m");
+      const double r = e.position.norm();
+      if (r < kMinEcefRadiusM || r > kMaxEcefRadiusM)
+        bad_field(line, 2, tok[2],
+                  "starts an ECEF position " + format_number("%.10g", r) +
+                      " m from the Earth's centre, outside [" + format_number("%.10g", kMinEcefRadiusM) +
+                      ", " + format_number("%.10g", kMaxEcefRadiusM) +
+                      "] (does the column header match the columns?)");
     }
     if (h.position_format == PosPositionFormat::llh_deg || h.position_format == PosPositionFormat::llh_dms) {
       if (std::abs(e.position[0]) > 90) bad_field(line, 2, tok[2], "latitude is outside [-90, 90]");
@@ -478,9 +523,10 @@ class Parser {
     e.ns = static_cast<int>(ns);
     ++i;
     const double s0 = sd(tok, i, line), s1 = sd(tok, i + 1, line), s2 = sd(tok, i + 2, line);
-    const double c01 = cov_from_signed_sqrt(num(tok, i + 3, line));
-    const double c12 = cov_from_signed_sqrt(num(tok, i + 4, line));
-    const double c20 = cov_from_signed_sqrt(num(tok, i + 5, line));
+    const std::string sq = "signed square root of a covariance, m";
+    const double c01 = cov_from_signed_sqrt(num_in(tok, i + 3, line, -kMaxSigmaM, kMaxSigmaM, sq));
+    const double c12 = cov_from_signed_sqrt(num_in(tok, i + 4, line, -kMaxSigmaM, kMaxSigmaM, sq));
+    const double c20 = cov_from_signed_sqrt(num_in(tok, i + 5, line, -kMaxSigmaM, kMaxSigmaM, sq));
     i += 6;
     Eigen::Matrix3d& C = e.covariance;
     switch (h.position_format) {
@@ -504,15 +550,17 @@ class Parser {
             c20, c12, s2 * s2;
         break;
     }
-    e.age_s = num(tok, i++, line);
-    e.ratio = num(tok, i++, line);
+    // RTKLIB prints small negative ages (-0.01 s) when the base epoch is ahead: sign is not checked.
+    e.age_s = num_in(tok, i++, line, -kMaxAgeS, kMaxAgeS, "age of differential, s");
+    e.ratio = num_in(tok, i++, line, 0, kMaxRatio, "ambiguity ratio");
     if (h.has_velocity) {
       double v[3];
-      for (int k = 0; k < 3; ++k) v[k] = num(tok, i + k, line);
+      for (int k = 0; k < 3; ++k)
+        v[k] = num_in(tok, i + k, line, -kMaxVelocityMps, kMaxVelocityMps, "velocity, m/s");
       const double t0 = sd(tok, i + 3, line), t1 = sd(tok, i + 4, line), t2 = sd(tok, i + 5, line);
-      const double d01 = cov_from_signed_sqrt(num(tok, i + 6, line));
-      const double d12 = cov_from_signed_sqrt(num(tok, i + 7, line));
-      const double d20 = cov_from_signed_sqrt(num(tok, i + 8, line));
+      const double d01 = cov_from_signed_sqrt(num_in(tok, i + 6, line, -kMaxSigmaM, kMaxSigmaM, sq));
+      const double d12 = cov_from_signed_sqrt(num_in(tok, i + 7, line, -kMaxSigmaM, kMaxSigmaM, sq));
+      const double d20 = cov_from_signed_sqrt(num_in(tok, i + 8, line, -kMaxSigmaM, kMaxSigmaM, sq));
       e.has_velocity = true;
       Eigen::Matrix3d& V = e.velocity_covariance;
       if (h.position_format == PosPositionFormat::ecef) {
@@ -541,7 +589,7 @@ class Parser {
 }  // namespace
 
 PosFile parse_rtklib_pos(std::string_view text, const std::string& path) {
-  return Parser(text, path).run();
+  return Parser(strip_utf8_bom(text), path).run();
 }
 
 PosFile read_rtklib_pos(const std::string& path) {

@@ -40,8 +40,10 @@ std::int64_t floor_div(std::int64_t a, std::int64_t b) {
   return a / b - ((a % b != 0) && ((a < 0) != (b < 0)));
 }
 
-bool digits(std::string_view s, std::size_t pos, std::size_t n, int* out) {
-  if (pos + n > s.size()) return false;
+}  // namespace
+
+bool fixed_digits(std::string_view s, std::size_t pos, std::size_t n, int* out) {
+  if (pos + n > s.size() || n > 9) return false;
   int v = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const char c = s[pos + i];
@@ -51,8 +53,6 @@ bool digits(std::string_view s, std::size_t pos, std::size_t n, int* out) {
   *out = v;
   return true;
 }
-
-}  // namespace
 
 std::int64_t days_from_civil(int y, int m, int d) {
   // H. Hinnant's algorithm, proleptic Gregorian.
@@ -69,6 +69,11 @@ bool valid_civil_date(int y, int m, int d) {
   static constexpr int kDays[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
   const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
   return d <= kDays[m - 1] + (m == 2 && leap ? 1 : 0);
+}
+
+std::string unsupported_year_reason(int year) {
+  return "year " + std::to_string(year) + " is outside the supported span " +
+         std::to_string(kFirstSupportedYear) + "-" + std::to_string(kLastSupportedYear);
 }
 
 UtcTime utc_from_civil(int year, int month, int day, int hour, int minute, int second, std::int64_t nanos) {
@@ -112,11 +117,16 @@ std::optional<UtcTime> parse_iso8601_utc(std::string_view s, std::string* why) {
     return std::nullopt;
   };
   int Y, M, D, h, m, sec;
-  if (!digits(s, 0, 4, &Y) || s.size() < 20 || s[4] != '-' || !digits(s, 5, 2, &M) || s[7] != '-' ||
-      !digits(s, 8, 2, &D) || (s[10] != 'T' && s[10] != ' ') || !digits(s, 11, 2, &h) || s[13] != ':' ||
-      !digits(s, 14, 2, &m) || s[16] != ':' || !digits(s, 17, 2, &sec))
+  if (!fixed_digits(s, 0, 4, &Y) || s.size() < 20 || s[4] != '-' || !fixed_digits(s, 5, 2, &M) ||
+      s[7] != '-' || !fixed_digits(s, 8, 2, &D) || (s[10] != 'T' && s[10] != ' ') ||
+      !fixed_digits(s, 11, 2, &h) || s[13] != ':' || !fixed_digits(s, 14, 2, &m) || s[16] != ':' ||
+      !fixed_digits(s, 17, 2, &sec))
     return fail("not ISO 8601 UTC (expected YYYY-MM-DDThh:mm:ss[.fffffffff]Z)");
   if (!valid_civil_date(Y, M, D)) return fail("invalid calendar date");
+  if (!supported_civil_year(Y)) {
+    if (why) *why = unsupported_year_reason(Y);
+    return std::nullopt;
+  }
   if (h > 23 || m > 59 || sec > 59) return fail("invalid time of day (leap second 60 is not accepted)");
   std::size_t i = 19;
   std::int64_t frac = 0;

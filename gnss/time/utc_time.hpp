@@ -43,10 +43,22 @@ inline UtcTime add_seconds(UtcTime t, double s) {
 std::int64_t days_from_civil(int year, int month, int day);
 /// True when y-m-d is a valid Gregorian date.
 bool valid_civil_date(int year, int month, int day);
+/// The calendar years rangecal accepts in any time stamp. int64 nanoseconds since 1970 reach
+/// 2262-04-11; the span stops well before so that sums of a time and an offset cannot overflow.
+constexpr int kFirstSupportedYear = 1970;
+constexpr int kLastSupportedYear = 2200;
+inline bool supported_civil_year(int year) {
+  return year >= kFirstSupportedYear && year <= kLastSupportedYear;
+}
+/// "year Y is outside the supported span 1970-2200" for messages.
+std::string unsupported_year_reason(int year);
 
-/// UTC instant from calendar fields; `nanos` is within the second.
+/// UTC instant from calendar fields; `nanos` is within the second. The year must be a supported
+/// one (callers check supported_civil_year and report the field).
 UtcTime utc_from_civil(int year, int month, int day, int hour, int minute, int second, std::int64_t nanos);
 
+/// The n (≤ 9) decimal digits of s at pos as an int; false when any is not a digit or s is short.
+bool fixed_digits(std::string_view s, std::size_t pos, std::size_t n, int* out);
 /// Parses ISO 8601 UTC as used in our CSVs: `YYYY-MM-DDThh:mm:ss[.fffffffff]Z` (1–9 fraction
 /// digits; a space is accepted instead of `T`). Returns nullopt with `why` set on failure.
 std::optional<UtcTime> parse_iso8601_utc(std::string_view text, std::string* why = nullptr);

@@ -1,8 +1,10 @@
 #include "gnss/track/antenna_epochs.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "config/error.hpp"
+#include "config/physical_ranges.hpp"
 
 namespace rangecal {
 
@@ -15,6 +17,17 @@ std::vector<AntennaEpoch> merge_antenna_epochs(const std::vector<PosFile>& files
     const PosFile& f = files[fi];
     for (const PosEpoch& e : f.epochs) {
       const EnuFix fix = to_site_enu(f, e, site);
+      // A fix on the Earth but far from the site is a wrong origin in the config, or a file from
+      // another mission: refuse it rather than produce a track kilometres away.
+      if (std::abs(fix.enu.x()) > ranges::kSiteHalfWidthM ||
+          std::abs(fix.enu.y()) > ranges::kSiteHalfWidthM || std::abs(fix.enu.z()) > ranges::kSiteHalfHeightM)
+        throw_input_error(f.path, e.line, "position",
+                          "the antenna is " +
+                              std::to_string(static_cast<long long>(fix.enu.head<2>().norm() / 1000)) +
+                              " km from the site origin horizontally and " +
+                              std::to_string(static_cast<long long>(fix.enu.z())) +
+                              " m above it, outside the site box (±50 km, ±21 km): is the site origin in the "
+                              "mission config right, and is this the mission's file?");
       AntennaEpoch a;
       a.utc = e.utc;
       a.enu = fix.enu;

@@ -5,6 +5,7 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/physical_ranges.hpp"
 
 namespace rangecal {
 
@@ -37,9 +38,12 @@ TotalStationOffset parse_total_station_csv(const std::string& text, const std::s
     const std::string& id = t.text(r, cs);
     const std::string& target = t.text(r, ct);
     if (id.empty()) throw_input_error(path, r.line, "session", "empty session id");
-    const double u = t.number(r, cu);
-    t.number(r, ce);
-    t.number(r, cn);
+    // Total-station coordinates in any local frame: only differences matter, so the check is on the
+    // antenna–lamp difference below; the values themselves must be site-sized numbers.
+    const double w = ranges::kSiteHalfWidthM;
+    const double u = t.number_in(r, cu, -w, w, "total-station coordinate, m");
+    t.number_in(r, ce, -w, w, "total-station coordinate, m");
+    t.number_in(r, cn, -w, w, "total-station coordinate, m");
     if (!sessions.count(id)) order.push_back(id);
     Session& s = sessions[id];
     if (target == "antenna") {
@@ -69,8 +73,14 @@ TotalStationOffset parse_total_station_csv(const std::string& text, const std::s
     if (!s.antenna_line || !s.lamp_line)
       throw_input_error(path, s.antenna_line ? s.antenna_line : s.lamp_line, "target",
                         "session '" + id + "' lacks its " + (s.antenna_line ? "lamp" : "antenna") + " row");
+    const double d = s.u_antenna - s.u_lamp;
+    if (std::abs(d) > ranges::kMaxLeverArmM)
+      throw_input_error(path, s.lamp_line, "U",
+                        "session '" + id + "' puts the lamp " + std::to_string(d) +
+                            " m below the antenna; the lamp hangs within 10 m of the antenna (as "
+                            "vertical_m in the mission config)");
     out.sessions.push_back(id);
-    out.per_session_m.push_back(s.u_antenna - s.u_lamp);
+    out.per_session_m.push_back(d);
   }
   const double n = static_cast<double>(out.per_session_m.size());
   double sum = 0;

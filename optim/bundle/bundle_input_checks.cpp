@@ -76,12 +76,20 @@ void check_bundle_input(const Camera& cam, const std::vector<BundleObservation>&
                         "camera's rotation about that line is undetermined; add points off the line");
   }
   int behind = 0;
-  for (const auto& ob : obs)
-    if (!(world_to_camera(cam.pose, ob.world).z() > 0)) ++behind;
+  std::string which;  // the first few, by where they came from
+  for (int i = 0; i < n; ++i) {
+    if (world_to_camera(cam.pose, obs[i].world).z() > 0) continue;
+    if (++behind <= 3)
+      which += (behind > 1 ? ", " : "") +
+               (obs[i].source.empty() ? "point " + std::to_string(i + 1) : obs[i].source);
+  }
   if (behind > 0)
     throw_calibration_error("bundle.initial",
                             std::to_string(behind) + " of " + std::to_string(n) +
-                                " points are behind the initial camera (Zc ≤ 0): wrong starting pose");
+                                " points are behind the initial camera (Zc ≤ 0): " + which +
+                                (behind > 3 ? ", …" : "") +
+                                "; a control pole behind the camera is a wrong pick or survey, else the "
+                                "starting pose is wrong");
 }
 
 }  // namespace rangecal

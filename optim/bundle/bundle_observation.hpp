@@ -3,6 +3,7 @@
 // pixel where the camera saw it, with its σ — a lamp position from the PPK track, or a surveyed
 // control pole. The bundle, the LM-QN method, the Monte Carlo and the route planner all take these.
 #include <Eigen/Core>
+#include <string>
 
 namespace rangecal {
 
@@ -14,6 +15,9 @@ struct BundleObservation {
   /// Lamp velocity (ENU, m/s) at the observation's time stamp (Hermite derivative of the track);
   /// zero for static points such as poles. Used only when the clock offset is free (or nonzero).
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  /// Where the point came from, for messages: "correspondences line 12", "pole 'P3'
+  /// (cam1/poles_px.csv:4)"; may be empty.
+  std::string source;
 };
 
 /// The world point the camera saw: Xw − v·δ for a camera clock offset δ (s). The world point was

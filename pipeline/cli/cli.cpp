@@ -1,16 +1,36 @@
 #include "pipeline/cli/cli.hpp"
 
+#include <glog/logging.h>
+
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>
 #include <new>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 
 #include "config/error.hpp"
+#include "config/text_encoding.hpp"
 #include "pipeline/cli/commands.hpp"
 
 namespace rangecal {
 
+namespace {
+
+// Ceres logs through glog and OpenCV through its own logger: neither may chatter on a user's
+// console (nor write log files to /tmp). rangecal's own messages say what matters.
+void silence_library_logging(const char* argv0) {
+  FLAGS_logtostderr = true;
+  FLAGS_minloglevel = google::GLOG_ERROR;
+  if (!google::IsGoogleLoggingInitialized()) google::InitGoogleLogging(argv0);
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+}
+
+}  // namespace
+
 int run_cli(int argc, char** argv) {
+  silence_library_logging(argc > 0 ? argv[0] : "rangecal");
   CLI::App app{"rangecal — high-speed camera calibration from a PPK-positioned UAV lamp"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string(RANGECAL_VERSION));
@@ -40,11 +60,18 @@ int run_cli(int argc, char** argv) {
     std::cerr << "rangecal: error: " << e.what() << "\n";
     return e.exit_code();
   } catch (const std::bad_alloc&) {
-    std::cerr << "rangecal: error: out of memory\n";
+    std::cerr << "rangecal: error: out of memory (an input asks for more than this machine has)\n";
+    return 3;
+  } catch (const cv::Exception& e) {
+    // Readers check sizes and files before OpenCV sees them; what still fails there is input data.
+    std::cerr << "rangecal: error: image library: " << printable_text(e.what()) << "\n";
+    return 3;
+  } catch (const nlohmann::json::exception& e) {
+    std::cerr << "rangecal: error: JSON: " << printable_text(e.what()) << "\n";
     return 3;
   } catch (const std::exception& e) {
     // Not a user-caused failure we anticipated: still a clean message and a non-zero exit.
-    std::cerr << "rangecal: internal error: " << e.what() << "\n";
+    std::cerr << "rangecal: internal error: " << printable_text(e.what()) << "\n";
     return 1;
   }
   return 0;

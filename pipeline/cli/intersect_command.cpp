@@ -60,7 +60,7 @@ void run_standalone(const std::vector<std::string>& calibrations,
       if (prev.id == c.id) c.id = calibrations[i];
     c.camera = cal.camera;
     c.calibration = camera_covariance(cal);
-    c.picks = read_pole_picks(observations[i]);
+    c.picks = read_pole_picks(observations[i], {cal.camera.intr.width_px, cal.camera.intr.height_px});
     cameras.push_back(std::move(c));
   }
   const IntersectionResult r = intersect_poles(cameras, {}, kStandalonePickSigmaPx);

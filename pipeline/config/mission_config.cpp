@@ -9,6 +9,7 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/json_view.hpp"
+#include "config/physical_ranges.hpp"
 #include "config/sha256.hpp"
 #include "vision/camera/camera_parameters.hpp"
 
@@ -199,11 +200,12 @@ CameraConfig parse_camera(const Loader& L, const JsonView& c) {
   const JsonView s = c.at("sensor", sform);
   s.require_object(sform);
   s.check_keys({"width_px", "height_px", "pixel_size_um"});
-  const std::string wform = "a positive integer number of pixels (at most 100000)";
+  const std::string wform =
+      "a positive integer number of pixels (at most " + std::to_string(ranges::kMaxImageSidePx) + ")";
   for (const char* key : {"width_px", "height_px"}) {
     const JsonView v = s.at(key, wform);
     const std::int64_t n = v.integer(wform);
-    if (n < 1 || n > 100000) v.fail_expected(wform);
+    if (n < 1 || n > ranges::kMaxImageSidePx) v.fail_expected(wform);
     (std::string(key) == "width_px" ? cam.sensor.width_px : cam.sensor.height_px) = static_cast<int>(n);
   }
   const std::string pform = "an array of 2 positive numbers (µm), each at most 1000";

@@ -83,7 +83,7 @@ DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg) 
       ic.id = cc.id;
       ic.camera = it->second.camera;
       ic.calibration = camera_covariance(it->second);
-      ic.picks = read_pole_picks(cc.pole_observations);
+      ic.picks = read_pole_picks(cc.pole_observations, {cc.sensor.width_px, cc.sensor.height_px});
       cams.push_back(std::move(ic));
     }
     if (cams.size() < 2) continue;

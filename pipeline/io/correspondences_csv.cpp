@@ -5,6 +5,7 @@
 #include "config/atomic_file.hpp"
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/physical_ranges.hpp"
 
 namespace rangecal {
 
@@ -66,8 +67,12 @@ std::vector<Correspondence> read_correspondences_csv(const std::string& path) {
       throw_input_error(path, r.line, "utc",
                         "time does not increase (previous line has the same or a later time)");
     p.utc = *utc;
-    p.enu = {t.number(r, c_e), t.number(r, c_n), t.number(r, c_u)};
-    p.uv = {t.number(r, c_pu), t.number(r, c_pv)};
+    p.line = r.line;
+    const double w = ranges::kSiteHalfWidthM, h = ranges::kSiteHalfHeightM,
+                 px = ranges::kMaxPixelCoordinatePx;
+    p.enu = {t.number_in(r, c_e, -w, w, "site ENU, m"), t.number_in(r, c_n, -w, w, "site ENU, m"),
+             t.number_in(r, c_u, -h, h, "site ENU, m")};
+    p.uv = {t.number_in(r, c_pu, -px, px, "pixel"), t.number_in(r, c_pv, -px, px, "pixel")};
     if (c_res && !t.text(r, *c_res).empty()) p.residual_px = t.number(r, *c_res);
     if (c_used && !t.text(r, *c_used).empty()) {
       const std::string& s = t.text(r, *c_used);
@@ -75,11 +80,17 @@ std::vector<Correspondence> read_correspondences_csv(const std::string& path) {
       p.used = s == "1";
     }
     if (c_se) {
-      p.sd_enu = Eigen::Vector3d(t.number(r, *c_se), t.number(r, *c_sn), t.number(r, *c_su));
-      if ((p.sd_enu->array() < 0).any())
-        throw_input_error(path, r.line, "sdE", "a standard deviation is negative");
+      const double s = ranges::kMaxPositionSigmaM;
+      p.sd_enu = Eigen::Vector3d(t.number_in(r, *c_se, 0, s, "standard deviation, m"),
+                                 t.number_in(r, *c_sn, 0, s, "standard deviation, m"),
+                                 t.number_in(r, *c_su, 0, s, "standard deviation, m"));
     }
-    if (c_ve) p.vel_enu = Eigen::Vector3d(t.number(r, *c_ve), t.number(r, *c_vn), t.number(r, *c_vu));
+    if (c_ve) {
+      const double v = ranges::kMaxSpeedMps;
+      p.vel_enu = Eigen::Vector3d(t.number_in(r, *c_ve, -v, v, "velocity, m/s"),
+                                  t.number_in(r, *c_vn, -v, v, "velocity, m/s"),
+                                  t.number_in(r, *c_vu, -v, v, "velocity, m/s"));
+    }
     out.push_back(p);
   }
   return out;

@@ -29,6 +29,7 @@ struct Correspondence {
   std::optional<bool> used;           ///< filled by the calibrate stage
   std::optional<Eigen::Vector3d> sd_enu;
   std::optional<Eigen::Vector3d> vel_enu;  ///< m/s
+  long line = 0;  ///< line of the file it was read from (0 when made in memory), for messages
 };
 
 /// Deterministic text: same pairs → same bytes. Positions to 0.1 mm, pixels to 1e-4 px.

@@ -1,11 +1,14 @@
 #pragma once
-// run.json (SPEC §5): versions, config hash, per-stage wall time, counts and warnings. Each stage
-// can run alone, so each stage updates its own section of the file in the output folder (read,
-// replace the section, write atomically).
+// run.json (SPEC §5): versions, config hash, per-stage status, wall time, counts and warnings. Each
+// stage can run alone, so each stage updates its own section of the file in the output folder
+// (read, replace the section, drop the sections of the later stages — their outputs were removed
+// with this stage's, pipeline/io/stage_outputs.hpp — write atomically). A stage that fails records
+// its error in its section, and the file's top-level "status" says "failed" and which stage.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "config/error.hpp"
 #include "pipeline/config/mission_config.hpp"
 
 namespace rangecal {
@@ -15,10 +18,19 @@ struct StageLog {
   double wall_time_s = 0;
   nlohmann::json counts = nlohmann::json::object();  ///< stage-specific numbers (dropped epochs, …)
   std::vector<std::string> warnings;
+  bool failed = false;             ///< the stage threw: `error` says why, and it wrote no outputs
+  nlohmann::json error = nullptr;  ///< {message, exit_code, file, line, field} when failed
+  /// Previous outputs removed before the stage ran (its own and the later stages').
+  std::vector<std::string> removed_outputs;
 };
 
+/// The section of a stage that failed with `e`.
+StageLog failed_stage_log(const std::string& stage, const Error& e);
+
 /// Merges `log` into <output_dir>/run.json (creating it), together with the program version, the
-/// config path and its SHA-256. Wall times are rounded to 1 ms.
+/// config path and its SHA-256 (also kept per stage: stages rerun alone may have run under
+/// different configs). Drops the sections of the stages after log.stage. Wall times are rounded
+/// to 1 ms.
 void update_run_log(const MissionConfig& cfg, const StageLog& log);
 
 }  // namespace rangecal

@@ -88,15 +88,8 @@ FlightPathLeg make_move(double t0, const Eigen::Vector3d& from, const Eigen::Vec
   leg.route = route;
   leg.accel_mps2 = accel;
   const double L = (to - from).norm();
-  double duration;
-  if (L < speed * speed / accel) {  // triangular profile
-    leg.peak_speed_mps = std::sqrt(accel * L);
-    duration = 2.0 * leg.peak_speed_mps / accel;
-  } else {
-    leg.peak_speed_mps = speed;
-    duration = 2.0 * speed / accel + (L - speed * speed / accel) / speed;
-  }
-  leg.t1_s = t0 + duration;
+  leg.peak_speed_mps = L < speed * speed / accel ? std::sqrt(accel * L) : speed;  // triangular or trapezoid
+  leg.t1_s = t0 + straight_leg_duration_s(L, speed, accel);
   return leg;
 }
 

@@ -8,6 +8,8 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/json_view.hpp"
+#include "config/number_format.hpp"
+#include "config/physical_ranges.hpp"
 #include "gnss/track/attitude.hpp"
 
 namespace rangecal {
@@ -157,10 +159,13 @@ ScenarioCamera parse_camera(const JsonView& v) {
   c.camera.id = c.id;
   CameraIntrinsics& in = c.camera.intr;
   in.width_px = static_cast<int>(v.at("width_px", "a positive integer").integer("a positive integer (px)"));
-  if (in.width_px <= 0 || in.width_px > 100000) v.at("width_px", "").fail_expected("a positive integer (px)");
+  if (in.width_px <= 0 || in.width_px > ranges::kMaxImageSidePx)
+    v.at("width_px", "")
+        .fail_expected("a positive integer (px) up to " + std::to_string(ranges::kMaxImageSidePx));
   in.height_px = static_cast<int>(v.at("height_px", "a positive integer").integer("a positive integer (px)"));
-  if (in.height_px <= 0 || in.height_px > 100000)
-    v.at("height_px", "").fail_expected("a positive integer (px)");
+  if (in.height_px <= 0 || in.height_px > ranges::kMaxImageSidePx)
+    v.at("height_px", "")
+        .fail_expected("a positive integer (px) up to " + std::to_string(ranges::kMaxImageSidePx));
   const JsonView ps = v.at("pixel_size_um", "a positive number or [x, y] (µm)");
   if (ps.json().is_array()) {
     const auto p = ps.numbers(2, "a positive number or an array [x, y] of positive numbers (µm)");
@@ -285,6 +290,59 @@ Eigen::Vector3d level_lamp_offset_enu(const Eigen::Vector3d& lever_frd, double y
   return {ned.y(), ned.x(), -ned.z()};
 }
 
+// The flight time and every derived count, checked before any work starts; the error names the
+// key that makes the work too large.
+void check_work_bounds(const Scenario& s) {
+  const SimulationLimits lim;
+  double duration = 0, longest = -1;
+  std::string longest_key = "routes";
+  for (std::size_t i = 0; i < s.routes.size(); ++i) {
+    const ScenarioRoute& r = s.routes[i];
+    const std::string key = "routes[" + std::to_string(i) + "]";
+    if (i > 0) {
+      const double transit = straight_leg_duration_s((r.start_enu_m - s.routes[i - 1].end_enu_m).norm(),
+                                                     s.transit_speed_mps, s.transit_accel_mps2);
+      duration += transit;
+      if (transit > longest) longest = transit, longest_key = "transit.speed_mps";
+    }
+    const double leg =
+        straight_leg_duration_s((r.end_enu_m - r.start_enu_m).norm(), r.speed_mps, r.accel_mps2);
+    duration += leg + 2 * r.hover_s;
+    if (leg > longest) longest = leg, longest_key = key + ".speed_mps";
+    if (2 * r.hover_s > longest) longest = 2 * r.hover_s, longest_key = key + ".hover_s";
+  }
+  auto too_much = [&](const std::string& key, const std::string& what) {
+    throw_config_error(s.file, key, what);
+  };
+  auto g = [](double v) { return format_number("%.3g", v); };
+  if (!(duration <= lim.max_flight_s))
+    too_much(longest_key, "the flight would last " + g(duration) + " s, more than the " +
+                              g(lim.max_flight_s) +
+                              " s a scenario may fly (a speed in m/s, not km/h or mm/s?)");
+  if (duration * s.gnss.rate_hz > lim.max_gnss_epochs)
+    too_much("gnss.rate_hz", g(s.gnss.rate_hz) + " Hz over " + g(duration) + " s is " +
+                                 g(duration * s.gnss.rate_hz) + " epochs, more than " +
+                                 g(lim.max_gnss_epochs));
+  if (duration * s.attitude.rate_hz > lim.max_attitude_samples)
+    too_much("attitude.rate_hz", g(s.attitude.rate_hz) + " Hz over " + g(duration) + " s is " +
+                                     g(duration * s.attitude.rate_hz) + " samples, more than " +
+                                     g(lim.max_attitude_samples));
+  double pixels = 0;
+  for (std::size_t i = 0; i < s.cameras.size(); ++i) {
+    const ScenarioCamera& c = s.cameras[i];
+    const double frames = duration * c.fps / c.export_step;
+    const std::string key = "cameras[" + std::to_string(i) + "]";
+    if (frames > lim.max_frames_per_camera)
+      too_much(key + ".export_step", g(c.fps) + " fps exported every " + std::to_string(c.export_step) +
+                                         " frames over " + g(duration) + " s is " + g(frames) +
+                                         " frames, more than " + g(lim.max_frames_per_camera));
+    pixels += frames * c.camera.intr.width_px * c.camera.intr.height_px;
+    if (pixels > lim.max_rendered_pixels)
+      too_much(key + ".width_px", "rendering the exported frames would take " + g(pixels) +
+                                      " pixels, more than " + g(lim.max_rendered_pixels));
+  }
+}
+
 // A camera must see part of some route, else the mission cannot calibrate it: sample every
 // route densely and project the level-flight lamp position.
 void check_cameras_see_routes(const Scenario& s, const JsonView& root) {
@@ -309,6 +367,11 @@ void check_cameras_see_routes(const Scenario& s, const JsonView& root) {
 }
 
 }  // namespace
+
+double straight_leg_duration_s(double L, double speed, double accel) {
+  if (L < speed * speed / accel) return 2.0 * std::sqrt(accel * L) / accel;  // triangular profile
+  return 2.0 * speed / accel + (L - speed * speed / accel) / speed;
+}
 
 Eigen::Matrix3d look_at_rotation(const Eigen::Vector3d& center, const Eigen::Vector3d& look_at,
                                  double roll_deg) {
@@ -407,6 +470,7 @@ Scenario parse_scenario(const std::string& json_text, const std::string& path) {
     s.mission_calibrate = x->json();
   }
 
+  check_work_bounds(s);
   check_cameras_see_routes(s, root);
   return s;
 }

@@ -116,6 +116,21 @@ struct Scenario {
 /// Parses and validates scenario JSON text; `path` names the file in messages. Besides types
 /// and ranges it checks that every camera sees some part of some route (else the error names
 /// `cameras[i]`).
+/// Time a straight leg of `length_m` takes from rest to rest, with a trapezoidal speed profile
+/// (accelerate at `accel_mps2` to `speed_mps`, cruise, brake) or a triangular one when the leg is
+/// too short to reach the speed (s).
+double straight_leg_duration_s(double length_m, double speed_mps, double accel_mps2);
+
+/// Limits on the work a scenario may ask for (docs/reliability.md, "Bounded work"): checked when
+/// the scenario is read, before anything is simulated or rendered.
+struct SimulationLimits {
+  double max_flight_s = 3 * 3600.0;      ///< a multirotor mission, with margin
+  double max_gnss_epochs = 2.0e6;        ///< 3 h at 100 Hz and more
+  double max_attitude_samples = 2.0e7;   ///< 3 h at 1 kHz and more
+  double max_frames_per_camera = 2.0e5;  ///< exported frames
+  double max_rendered_pixels = 4.0e10;   ///< all cameras' exported frames together (80 GB at 16 bit)
+};
+
 Scenario parse_scenario(const std::string& json_text, const std::string& path);
 
 /// Reads and parses a scenario file (a missing file is an input error naming it).

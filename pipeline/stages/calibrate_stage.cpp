@@ -113,7 +113,7 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
   StageLog log;
   log.stage = "calibrate";
   std::vector<std::pair<std::string, CameraCalibration>> done;
-  std::string last_failure;
+  std::string last_failure, last_failed_file;
   for (const CameraConfig& cam : cfg.cameras) {
     const std::string corr_path = camera_output(cfg, cam.id, kCorrespondencesCsv);
     if (!std::filesystem::exists(corr_path))
@@ -131,17 +131,18 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
     } catch (const Error& e) {
       // One camera that cannot be calibrated must not stop the others: warn and go on.
       if (e.kind() != ErrorKind::calibration) throw;
-      log.warnings.push_back(cam.id + ": calibration failed: " + e.what());
+      log.warnings.push_back(cam.id + ": calibration from " + corr_path + " failed: " + e.what());
       last_failure = cam.id + ": " + e.what();
+      last_failed_file = corr_path;
       log.counts[cam.id] = {{"pairs", pairs.size()},
                             {"control_poles", problem.observations.size() - pairs.size()},
                             {"failed", e.what()}};
     }
   }
   if (done.empty())
-    throw_calibration_error("calibrate", cfg.cameras.empty()
-                                             ? "no cameras in the config"
-                                             : "no camera could be calibrated (" + last_failure + ")");
+    throw Error(ErrorKind::calibration, last_failed_file, 0, "calibrate",
+                cfg.cameras.empty() ? "no cameras in the config"
+                                    : "no camera could be calibrated (" + last_failure + ")");
   for (const auto& [id, cc] : done) write_camera_calibration(cfg, id, cc);
   return log;
 }

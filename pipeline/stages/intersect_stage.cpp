@@ -88,7 +88,7 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
       log.warnings.push_back(cc.id +
                              ": calibration.json has no usable covariance: sigma_m counts pick "
                              "noise only for this camera");
-    ic.picks = read_pole_picks(cc.pole_observations);
+    ic.picks = read_pole_picks(cc.pole_observations, {cal.camera.intr.width_px, cal.camera.intr.height_px});
     for (const PolePick& p : ic.picks) picked_ids.insert(p.id);
     used.push_back(cc.id);
     cameras.push_back(std::move(ic));

@@ -2,7 +2,9 @@
 
 #include <chrono>
 
+#include "config/atomic_file.hpp"
 #include "config/error.hpp"
+#include "pipeline/io/stage_outputs.hpp"
 #include "pipeline/stages/align_stage.hpp"
 #include "pipeline/stages/calibrate_stage.hpp"
 #include "pipeline/stages/detect_stage.hpp"
@@ -23,10 +25,27 @@ const std::vector<NamedStage>& mission_stages() {
 StageLog run_stage(const std::string& name, const MissionConfig& cfg) {
   for (const NamedStage& s : mission_stages()) {
     if (s.name != name) continue;
+    remove_dead_temp_files(cfg.output_dir);
+    // This stage's previous outputs and the later stages' would describe older inputs: remove them
+    // before anything can fail, so that no old file is ever taken for a product of this run.
+    const std::vector<std::string> removed = remove_outputs_from_stage(cfg, name);
     const auto t0 = std::chrono::steady_clock::now();
-    StageLog log = s.run(cfg);
+    const auto elapsed = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    StageLog log;
+    try {
+      log = s.run(cfg);
+    } catch (const Error& e) {
+      StageLog failed = failed_stage_log(name, e);
+      failed.wall_time_s = elapsed();
+      failed.removed_outputs = removed;
+      update_run_log(cfg, failed);
+      throw;
+    }
     log.stage = name;
-    log.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    log.wall_time_s = elapsed();
+    log.removed_outputs = removed;
     update_run_log(cfg, log);
     return log;
   }

@@ -19,8 +19,11 @@ struct NamedStage {
 /// The stages of a full run, in order: gnss, align, detect, calibrate, intersect, report.
 const std::vector<NamedStage>& mission_stages();
 
-/// Runs the stage called `name` (one of mission_stages), sets its wall time and merges its log
-/// into run.json. Throws what the stage throws (run.json keeps the other stages' sections).
+/// Runs the stage called `name` (one of mission_stages): removes temporary files left by dead
+/// processes, removes this stage's previous outputs and every later stage's
+/// (pipeline/io/stage_outputs.hpp), runs it, sets its wall time and merges its log into run.json.
+/// A stage that throws has its error recorded in run.json (status "failed") and the error
+/// propagates; the earlier stages' files and sections stay.
 StageLog run_stage(const std::string& name, const MissionConfig& cfg);
 
 /// Runs all stages in order; `on_stage_done` (may be empty) is called after each with its log.

@@ -11,7 +11,7 @@ ControlPoleViews read_control_pole_views(const MissionConfig& cfg, const CameraC
   if (!cfg.calibrate.use_control_poles || cfg.poles_file.empty() || camera.pole_observations.empty())
     return v;
   v.survey = read_pole_survey(cfg.poles_file, cfg.origin);
-  v.picks = read_pole_picks(camera.pole_observations);
+  v.picks = read_pole_picks(camera.pole_observations, {camera.sensor.width_px, camera.sensor.height_px});
   v.survey_file = cfg.poles_file;
   v.picks_file = camera.pole_observations;
   return v;
@@ -38,6 +38,7 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
     const Eigen::Vector3d sd = c.sd_enu ? *c.sd_enu : Eigen::Vector3d::Constant(kDefaultWorldSigmaM);
     o.world_cov = sd.cwiseProduct(sd).asDiagonal();
     if (c.vel_enu) o.velocity = *c.vel_enu;
+    if (c.line > 0) o.source = "correspondences line " + std::to_string(c.line);
     p.observations.push_back(o);
   }
   std::map<std::string, const SurveyedPole*> by_id;
@@ -53,6 +54,7 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
     o.pixel = pick.uv;
     o.world_cov = Eigen::Matrix3d::Identity() * kControlPoleSigmaM * kControlPoleSigmaM;
     o.pixel_sigma_px = kPolePickSigmaPx;
+    o.source = "control pole '" + pick.id + "' (" + poles.picks_file + ":" + std::to_string(pick.line) + ")";
     p.observations.push_back(o);
     p.control_pole_ids.push_back(pick.id);
   }

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "config/error.hpp"
+#include "config/physical_ranges.hpp"
 #include "vision/frames/cine_format.hpp"
 #include "vision/frames/positional_read.hpp"
 
@@ -96,8 +97,17 @@ CineReader::CineReader(const std::string& path) : path_(path) {
     c.bi_bit_count = get_le<std::uint16_t>(b + 14);
     c.bi_compression = get_le<std::uint32_t>(b + 16);
     c.bi_size_image = get_le<std::uint32_t>(b + 20);
-    if (c.bi_width <= 0 || c.bi_height == 0 || c.bi_width > 65535 || c.height() > 65535)
-      bad(path, "BITMAPINFOHEADER.biWidth/biHeight", "impossible image size");
+    // biHeight is signed (negative: rows stored top-down); compare before negating it.
+    if (c.bi_width <= 0 || c.bi_width > ranges::kMaxImageSidePx)
+      bad(path, "BITMAPINFOHEADER.biWidth",
+          std::to_string(c.bi_width) + " is outside [1, " + std::to_string(ranges::kMaxImageSidePx) + "] px");
+    if (c.bi_height == 0 || c.bi_height < -ranges::kMaxImageSidePx || c.bi_height > ranges::kMaxImageSidePx)
+      bad(path, "BITMAPINFOHEADER.biHeight",
+          std::to_string(c.bi_height) + " is outside ±[1, " + std::to_string(ranges::kMaxImageSidePx) +
+              "] px");
+    if (c.bi_bit_count != 8 && c.bi_bit_count != 16 && c.bi_bit_count != 24 && c.bi_bit_count != 48)
+      bad(path, "BITMAPINFOHEADER.biBitCount",
+          "unsupported bit count " + std::to_string(c.bi_bit_count) + " (expected 8, 16, 24 or 48)");
 
     std::vector<std::uint8_t> s(cine::kSetupMinLength);
     if (!pread_all(fd_, s.data(), s.size(), c.off_setup)) bad(path, "SETUP", "truncated");

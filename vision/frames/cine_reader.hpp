@@ -50,6 +50,7 @@ struct CineHeader {
   std::uint32_t shutter_ns = 0;
 
   int width() const { return bi_width; }
+  /// |biHeight|; the reader refuses INT32_MIN, whose negation overflows.
   int height() const { return bi_height < 0 ? -bi_height : bi_height; }
 };
 

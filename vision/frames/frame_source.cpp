@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "config/error.hpp"
+#include "config/physical_ranges.hpp"
 #include "vision/frames/cine_reader.hpp"
 #include "vision/frames/photron_mraw_reader.hpp"
 
@@ -55,10 +58,49 @@ cv::Mat to_grey(cv::Mat m, int* bits) {
   return cv::Mat();  // float/signed images are not camera frames
 }
 
+std::uint32_t big_endian_u32(const unsigned char* p) {
+  return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
+}
+
+// A PNG whose chunk chain (PNG spec §5.3: length, type, data, CRC) does not reach IEND inside the
+// file, or whose IHDR declares an image beyond the size limit, is refused before libpng sees it:
+// libpng would print "libpng error: …" on the console, and a forged size would allocate gigabytes.
+bool png_structure_ok(const std::vector<unsigned char>& b) {
+  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  if (b.size() < 8 || !std::equal(kSignature, kSignature + 8, b.begin())) return false;
+  std::size_t at = 8;
+  bool first = true;
+  while (at + 12 <= b.size()) {
+    const std::uint32_t len = big_endian_u32(&b[at]);
+    const std::string type(reinterpret_cast<const char*>(&b[at + 4]), 4);
+    if (len > b.size() - at - 12) return false;
+    if (first) {
+      if (type != "IHDR" || len != 13) return false;
+      const std::uint32_t w = big_endian_u32(&b[at + 8]), h = big_endian_u32(&b[at + 12]);
+      if (w == 0 || h == 0 || w > std::uint32_t(ranges::kMaxImageSidePx) ||
+          h > std::uint32_t(ranges::kMaxImageSidePx))
+        return false;
+      first = false;
+    }
+    if (type == "IEND") return true;
+    at += 12 + std::size_t(len);
+  }
+  return false;
+}
+
 }  // namespace
 
 cv::Mat decode_image_file(const std::string& path, int* bits) {
-  return to_grey(cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR), bits);
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return cv::Mat();
+  f.seekg(0, std::ios::end);
+  const std::streamoff size = f.tellg();
+  if (size <= 0) return cv::Mat();
+  f.seekg(0);
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  if (!f.read(reinterpret_cast<char*>(bytes.data()), size)) return cv::Mat();
+  if (bytes.size() >= 8 && bytes[0] == 0x89 && !png_structure_ok(bytes)) return cv::Mat();
+  return to_grey(cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR), bits);
 }
 
 FrameSource::FrameSource(FrameSource&&) noexcept = default;

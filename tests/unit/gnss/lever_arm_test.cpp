@@ -116,6 +116,12 @@ TEST(TotalStation, BadInput) {
   expect_bad("s1,antenna,0,0,1\ns1,lamp,0,0,0\ns2,antenna,0,0,1\n", 4, "target");
   expect_bad("s1,antenna,0,0,1\ns1,lamp,0,0,x\n", 3, "U");
   expect_bad("", 1, "session");
+  // Physical ranges: the lamp hangs within 10 m of the antenna; coordinates are site-sized.
+  expect_bad("s1,antenna,0,0,100\ns1,lamp,0,0,50\n", 3, "U");
+  expect_bad("s1,lamp,0,0,1.2\ns1,antenna,0,0,-9\n", 2, "U");
+  expect_bad("s1,antenna,1e9,0,1\ns1,lamp,0,0,0\n", 2, "E");
+  EXPECT_NO_THROW(
+      parse_total_station_csv("session,target,E,N,U\r\ns1,antenna,0,0,10.5\r\ns1,lamp,0,0,0.6\r\n", "l.csv"));
 }
 
 }  // namespace

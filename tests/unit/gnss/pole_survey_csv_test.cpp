@@ -79,12 +79,12 @@ TEST(PoleSurvey, BadRowsNameLineAndField) {
 TEST(PolePicks, ReadsAndRejectsDuplicates) {
   const auto dir = test::scratch_dir("picks");
   test::write_text(dir / "px.csv", "id,u,v\nA1,640.25,399.5\nA2,100,700\n");
-  const auto picks = read_pole_picks((dir / "px.csv").string());
+  const auto picks = read_pole_picks((dir / "px.csv").string(), {});
   ASSERT_EQ(picks.size(), 2u);
   EXPECT_EQ(picks[0].uv, Eigen::Vector2d(640.25, 399.5));
   test::write_text(dir / "dup.csv", "id,u,v\nA1,640.25,399.5\nA1,100,700\n");
   try {
-    read_pole_picks((dir / "dup.csv").string());
+    read_pole_picks((dir / "dup.csv").string(), {});
     ADD_FAILURE();
   } catch (const Error& e) {
     EXPECT_EQ(e.line(), 3);

@@ -2,7 +2,9 @@
 // its single frame, TIME64 conversion, and exact round trips of files the writer makes.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
+#include <limits>
 
 #include "config/error.hpp"
 #include "support/paths.hpp"
@@ -188,4 +190,43 @@ TEST(Cine, BadFiles) {
   o.storage_bits = 10;
   std::vector<cv::Mat> big(1, cv::Mat(4, 4, CV_16UC1, cv::Scalar(1024)));
   EXPECT_THROW(write_cine((dir / "y.cine").string(), big, {UtcTime{1}}, o), Error);
+}
+
+// Header values that would overflow or mislead the decoder are refused with the header field.
+TEST(Cine, ImpossibleBitmapHeaderValues) {
+  const fs::path dir = test::scratch_dir("cine_bad_header");
+  std::vector<cv::Mat> imgs(1, cv::Mat(16, 16, CV_16UC1, cv::Scalar(7)));
+  write_cine((dir / "ok.cine").string(), imgs, {UtcTime{1'000'000'000}}, CineWriteOptions{});
+  const std::string ok = test::read_text(dir / "ok.cine");
+  std::uint32_t off_image_header = 0;
+  std::memcpy(&off_image_header, ok.data() + 24, 4);  // CINEFILEHEADER.OffImageHeader
+  auto patched = [&](std::size_t at, const void* value, std::size_t n) {
+    std::string b = ok;
+    std::memcpy(&b[off_image_header + at], value, n);
+    return b;
+  };
+  const std::int32_t int32_min = std::numeric_limits<std::int32_t>::min(), huge = 100000, zero = 0;
+  const std::uint16_t seven = 7, twelve = 12;
+  struct Case {
+    std::string name, bytes, field;
+  };
+  const std::vector<Case> cases = {{"height_int32_min", patched(8, &int32_min, 4), "biHeight"},
+                                   {"height_huge", patched(8, &huge, 4), "biHeight"},
+                                   {"height_zero", patched(8, &zero, 4), "biHeight"},
+                                   {"width_huge", patched(4, &huge, 4), "biWidth"},
+                                   {"bit_count_7", patched(14, &seven, 2), "biBitCount"},
+                                   {"bit_count_12", patched(14, &twelve, 2), "biBitCount"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const fs::path path = dir / (c.name + ".cine");
+    test::write_text(path, c.bytes);
+    try {
+      CineReader r(path.string());
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::input);
+      EXPECT_EQ(e.file(), path.string());
+      EXPECT_NE(e.field().find(c.field), std::string::npos) << e.what();
+    }
+  }
 }

@@ -1,0 +1,136 @@
+// The text rules every input shares (config/text_encoding.hpp, config/csv_table.hpp,
+// config/json_view.hpp): CRLF and a byte-order mark accepted, bytes that are not UTF-8 refused
+// with their line and column, a JSON key given twice or a number beyond a double refused with its
+// line, and messages that never carry raw bytes.
+#include <gtest/gtest.h>
+
+#include <tuple>
+#include <vector>
+
+#include "config/csv_table.hpp"
+#include "config/error.hpp"
+#include "config/json_format.hpp"
+#include "config/json_view.hpp"
+#include "config/text_encoding.hpp"
+
+namespace rangecal {
+namespace {
+
+Error csv_error(const std::string& text) {
+  try {
+    parse_csv(text, "t.csv");
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no error";
+  return Error(ErrorKind::usage, "", 0, "", "");
+}
+
+Error json_error(const std::string& text) {
+  try {
+    parse_json_text(text, "m.json", ErrorKind::usage);
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no error";
+  return Error(ErrorKind::usage, "", 0, "", "");
+}
+
+TEST(TextEncoding, Utf8ValidationFollowsRfc3629) {
+  EXPECT_FALSE(first_invalid_utf8("plain ASCII, µm, 30°, 北京"));
+  EXPECT_EQ(first_invalid_utf8("ab\xff"), 2u);
+  EXPECT_EQ(first_invalid_utf8("a\xc0\xaf"), 1u);         // overlong '/'
+  EXPECT_EQ(first_invalid_utf8("x\xed\xa0\x80"), 1u);     // surrogate U+D800
+  EXPECT_EQ(first_invalid_utf8("\xf4\x90\x80\x80"), 0u);  // beyond U+10FFFF
+  EXPECT_EQ(first_invalid_utf8("ok\xe2\x82"), 2u);        // truncated sequence
+  EXPECT_EQ(strip_utf8_bom("\xEF\xBB\xBFid,u,v"), "id,u,v");
+  EXPECT_EQ(strip_utf8_bom("id,u,v"), "id,u,v");
+}
+
+TEST(TextEncoding, PrintableTextEscapesControlAndInvalidBytes) {
+  EXPECT_EQ(printable_text("pole P\xff\x1b[31m µm"), "pole P\\xFF\\x1B[31m µm");
+  EXPECT_EQ(printable_text(std::string("a\0b", 3)), "a\\x00b");
+  EXPECT_EQ(printable_text("tab\tand\nnewline"), "tab\tand\nnewline");
+  // Every Error message is printable, whatever the input held.
+  const Error e(ErrorKind::input, "in\xfe.csv", 3, "id", "pole 'P\xff' is unknown");
+  EXPECT_EQ(std::string(e.what()), "in\\xFE.csv:3: field 'id': pole 'P\\xFF' is unknown");
+}
+
+TEST(CsvTable, CrlfAndByteOrderMarkAreAccepted) {
+  const CsvTable a = parse_csv("id,u,v\nP1,1.5,2\nP2,3,4\n", "a.csv");
+  const CsvTable b = parse_csv("\xEF\xBB\xBFid,u,v\r\nP1,1.5,2\r\nP2,3,4\r\n", "b.csv");
+  ASSERT_EQ(b.header, a.header);
+  ASSERT_EQ(b.records.size(), 2u);
+  EXPECT_EQ(b.column("id"), 0u);
+  EXPECT_EQ(b.number(b.records[1], 2), 4.0);
+  EXPECT_EQ(b.records[1].line, 3);
+}
+
+TEST(CsvTable, BytesThatAreNotUtf8AreRefusedWithLineAndColumn) {
+  for (const auto& [text, line, column] : std::vector<std::tuple<std::string, long, std::string>>{
+           {"id,u,v\nP1,1,2\nP\xff,3,4\n", 3, "column 2"},
+           {"id,u\xc3,v\n", 1, "column 5"},
+           {"id,u,v\r\n\r\nP1,1,2\r\nX,\x80,4\r\n", 4, "column 3"}}) {
+    const Error e = csv_error(text);
+    EXPECT_EQ(e.kind(), ErrorKind::input);
+    EXPECT_EQ(e.line(), line);
+    EXPECT_NE(std::string(e.what()).find(column), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not UTF-8"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CsvTable, NumberInRangeNamesTheRange) {
+  const CsvTable t = parse_csv("E,N\n1,2\n70000,3\n", "p.csv");
+  EXPECT_EQ(t.number_in(t.records[0], 0, -5e4, 5e4, "site ENU, m"), 1.0);
+  try {
+    t.number_in(t.records[1], 0, -5e4, 5e4, "site ENU, m");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.field(), "E");
+    EXPECT_NE(std::string(e.what()).find("[-50000, 50000] (site ENU, m)"), std::string::npos) << e.what();
+  }
+}
+
+TEST(JsonText, KeyGivenTwiceNamesTheKeyAndBothLines) {
+  const Error top = json_error("{\n  \"a\": 1,\n  \"b\": 2,\n  \"a\": 3\n}\n");
+  EXPECT_EQ(top.kind(), ErrorKind::usage);
+  EXPECT_EQ(top.line(), 4);
+  EXPECT_EQ(top.field(), "a");
+  EXPECT_NE(std::string(top.what()).find("lines 2 and 4"), std::string::npos) << top.what();
+  // Nested, and spelled with an escape.
+  const Error nested = json_error("{\"cams\": [{\"id\": \"c1\",\n \"i\\u0064\": \"c2\"}]}");
+  EXPECT_EQ(nested.line(), 2);
+  EXPECT_EQ(nested.field(), "id");
+  // The same key in different objects is fine, and so is a key equal to a string value.
+  EXPECT_NO_THROW(parse_json_text("{\"a\": {\"x\": 1}, \"b\": {\"x\": 2}, \"c\": [\"a\", \"a\"]}", "ok.json",
+                                  ErrorKind::usage));
+}
+
+TEST(JsonText, NumberBeyondADoubleNamesItsLine) {
+  for (const auto& [text, line] : std::vector<std::pair<std::string, long>>{
+           {"{\"x\": 1e999}", 1}, {"{\n\"a\": [1,\n -2e400]\n}", 3}, {"[0.5,\n\n1E+309]", 3}}) {
+    const Error e = json_error(text);
+    EXPECT_EQ(e.kind(), ErrorKind::usage);
+    EXPECT_EQ(e.line(), line) << text;
+    EXPECT_NE(std::string(e.what()).find("beyond the range of a double"), std::string::npos) << e.what();
+  }
+}
+
+TEST(JsonText, ByteOrderMarkIsAcceptedAndBadUtf8IsAnError) {
+  EXPECT_EQ(parse_json_text("\xEF\xBB\xBF{\"a\": 1}", "bom.json", ErrorKind::usage)["a"], 1);
+  const Error e = json_error("{\"id\": \"P\xff\"}");
+  EXPECT_EQ(e.kind(), ErrorKind::usage);
+  EXPECT_EQ(std::string(e.what()).find('\xff'), std::string::npos) << "raw byte in the message";
+}
+
+TEST(JsonFormat, InvalidUtf8InAStringDoesNotThrow) {
+  nlohmann::ordered_json j;
+  j["id"] = "P\xff";
+  std::string out;
+  EXPECT_NO_THROW(out = dump_json_compact_arrays(j));
+  EXPECT_EQ(first_invalid_utf8(out), std::nullopt);
+}
+
+}  // namespace
+}  // namespace rangecal
