@@ -13,7 +13,12 @@ const char* to_string(PoleRole r) {
 }
 
 std::vector<SurveyedPole> read_pole_survey(const std::string& path, const GeodeticOrigin& origin) {
-  const CsvTable t = read_csv(path);
+  return parse_pole_survey(read_file_text(path), path, origin);
+}
+
+std::vector<SurveyedPole> parse_pole_survey(const std::string& text, const std::string& path,
+                                            const GeodeticOrigin& origin) {
+  const CsvTable t = parse_csv(text, path);
   const std::size_t c_id = t.column("id"), c_role = t.column("role");
   const bool geodetic = t.find_column("lat").has_value();
   if (!geodetic && !t.find_column("E"))
@@ -52,7 +57,11 @@ std::vector<SurveyedPole> read_pole_survey(const std::string& path, const Geodet
 }
 
 std::vector<PolePick> read_pole_picks(const std::string& path) {
-  const CsvTable t = read_csv(path);
+  return parse_pole_picks(read_file_text(path), path);
+}
+
+std::vector<PolePick> parse_pole_picks(const std::string& text, const std::string& path) {
+  const CsvTable t = parse_csv(text, path);
   const std::size_t c_id = t.column("id"), c_u = t.column("u"), c_v = t.column("v");
   std::vector<PolePick> picks;
   std::set<std::string> ids;

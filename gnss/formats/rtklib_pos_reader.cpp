@@ -416,7 +416,8 @@ class Parser {
       if (a.size() != 10 || !fixed_digits(a, 0, 4, &Y) || a[4] != '/' || !fixed_digits(a, 5, 2, &M) ||
           a[7] != '/' || !fixed_digits(a, 8, 2, &D))
         bad_field(line, 0, a, "is not a date yyyy/mm/dd (the first epoch line used calendar time)");
-      if (!valid_civil_date(Y, M, D)) bad_field(line, 0, a, "is not a valid calendar date");
+      if (!valid_civil_date(Y, M, D))
+        bad_field(line, 0, a, "is not a valid calendar date in the years 1900-2100");
       if (b.size() < 8 || !fixed_digits(b, 0, 2, &hh) || b[2] != ':' || !fixed_digits(b, 3, 2, &mm) ||
           b[5] != ':')
         bad_field(line, 1, b, "is not a time of day hh:mm:ss.sss");
@@ -426,7 +427,8 @@ class Parser {
       return utc_from_civil(Y, M, D, hh, mm, 0, 0).ns + *sec;
     }
     long long week;
-    if (!to_int(a, &week) || week < 0 || week > 100000)
+    // Week 6312 ends in 2100, the last year valid_civil_date accepts (utc_time.cpp).
+    if (!to_int(a, &week) || week < 0 || week > 6312)
       bad_field(line, 0, a, "is not a GPS week number (the first epoch line used week/tow time)");
     const auto tow = parse_decimal_seconds_ns(b);
     if (!tow || *tow < 0 || *tow >= kWeekNs) bad_field(line, 1, b, "is not a time of week in [0, 604800) s");

@@ -64,8 +64,15 @@ std::int64_t days_from_civil(int y, int m, int d) {
   return era * 146097 + static_cast<std::int64_t>(doe) - 719468;
 }
 
+// Years a date read from a file may have (inclusive). UtcTime holds int64 ns since 1970, which
+// reaches only 1677…2262, and the pipeline subtracts times: within 1900…2100 any two instants are
+// less than 2^63 ns apart, so no arithmetic on parsed times can overflow. Parsers check dates with
+// valid_civil_date, so every date outside these years is refused as invalid.
+constexpr int kMinCivilYear = 1900;
+constexpr int kMaxCivilYear = 2100;
+
 bool valid_civil_date(int y, int m, int d) {
-  if (m < 1 || m > 12 || d < 1) return false;
+  if (y < kMinCivilYear || y > kMaxCivilYear || m < 1 || m > 12 || d < 1) return false;
   static constexpr int kDays[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
   const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
   return d <= kDays[m - 1] + (m == 2 && leap ? 1 : 0);
@@ -116,7 +123,7 @@ std::optional<UtcTime> parse_iso8601_utc(std::string_view s, std::string* why) {
       !digits(s, 8, 2, &D) || (s[10] != 'T' && s[10] != ' ') || !digits(s, 11, 2, &h) || s[13] != ':' ||
       !digits(s, 14, 2, &m) || s[16] != ':' || !digits(s, 17, 2, &sec))
     return fail("not ISO 8601 UTC (expected YYYY-MM-DDThh:mm:ss[.fffffffff]Z)");
-  if (!valid_civil_date(Y, M, D)) return fail("invalid calendar date");
+  if (!valid_civil_date(Y, M, D)) return fail("invalid calendar date (years 1900-2100)");
   if (h > 23 || m > 59 || sec > 59) return fail("invalid time of day (leap second 60 is not accepted)");
   std::size_t i = 19;
   std::int64_t frac = 0;

@@ -341,5 +341,29 @@ TEST(RtklibPosReaderBadInput, BadCalendarAndExtraField) {
   EXPECT_EQ(e.line(), 13);
 }
 
+// Fuzzing found these (docs/reliability.md "Fuzzing"): a year or GPS week whose time in int64 ns
+// overflows (undefined behaviour) was accepted; dates outside 1900-2100 are refused
+// (valid_civil_date, utc_time.cpp).
+TEST(RtklibPosReaderBadInput, YearOrWeekOutsideTheRepresentableRangeIsAnError) {
+  for (const char* year : {"0219", "1899", "2101", "9999"}) {
+    std::string l1 = kLine1;
+    l1.replace(0, 4, year);
+    const Error e = expect_error(llh_file_with(l1), std::string("year") + year);
+    EXPECT_EQ(e.line(), 12);
+    EXPECT_EQ(e.field(), "GPST (date or week)");
+    EXPECT_NE(e.reason().find("1900-2100"), std::string::npos) << e.what();
+  }
+  const std::string text = test::read_text(pos_path("rover20181009_kin_llh_weektow.pos"));
+  std::size_t pos = 0;
+  for (int i = 0; i < 11; ++i) pos = text.find('\n', pos) + 1;
+  for (const char* week : {"6313", "99999"}) {
+    std::string l1 = text.substr(pos, text.find('\n', pos) + 1 - pos);
+    l1.replace(0, 4, week);
+    const Error e = expect_error(text.substr(0, pos) + l1, std::string("week") + week);
+    EXPECT_EQ(e.line(), 12);
+    EXPECT_EQ(e.field(), "GPST (date or week)");
+  }
+}
+
 }  // namespace
 }  // namespace rangecal
