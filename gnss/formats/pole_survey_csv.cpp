@@ -27,7 +27,12 @@ std::string unique_pole_id(const CsvTable& t, const CsvRecord& r, std::size_t co
 }  // namespace
 
 std::vector<SurveyedPole> read_pole_survey(const std::string& path, const GeodeticOrigin& origin) {
-  const CsvTable t = read_csv(path);
+  return parse_pole_survey(read_file_text(path), path, origin);
+}
+
+std::vector<SurveyedPole> parse_pole_survey(const std::string& text, const std::string& path,
+                                            const GeodeticOrigin& origin) {
+  const CsvTable t = parse_csv(text, path);
   const std::size_t c_id = t.column("id"), c_role = t.column("role");
   const bool geodetic = t.find_column("lat").has_value();
   if (!geodetic && !t.find_column("E"))
@@ -74,7 +79,11 @@ std::vector<SurveyedPole> read_pole_survey(const std::string& path, const Geodet
 }
 
 std::vector<PolePick> read_pole_picks(const std::string& path, ImageExtent extent) {
-  const CsvTable t = read_csv(path);
+  return parse_pole_picks(read_file_text(path), path, extent);
+}
+
+std::vector<PolePick> parse_pole_picks(const std::string& text, const std::string& path, ImageExtent extent) {
+  const CsvTable t = parse_csv(text, path);
   const std::size_t c_id = t.column("id"), c_u = t.column("u"), c_v = t.column("v");
   std::vector<PolePick> picks;
   std::set<std::string> ids;

@@ -25,6 +25,9 @@ struct SurveyedPole {
 /// rangecal::Error (input) naming file, line and field: unknown header, bad number, latitude out
 /// of range, unknown role, duplicate id, no poles.
 std::vector<SurveyedPole> read_pole_survey(const std::string& path, const GeodeticOrigin& origin);
+/// As read_pole_survey from the file's text in memory (`path` is for messages).
+std::vector<SurveyedPole> parse_pole_survey(const std::string& text, const std::string& path,
+                                            const GeodeticOrigin& origin);
 
 /// A pole-top pixel picked in one camera's images (SPEC §3.5 `<cam>/poles_px.csv`: `id,u,v`).
 struct PolePick {
@@ -42,5 +45,7 @@ struct ImageExtent {
 /// Reads `id,u,v`; errors name file, line and field (bad number, duplicate id, a pick outside the
 /// image — or beyond ±1e5 px when `extent` is unknown).
 std::vector<PolePick> read_pole_picks(const std::string& path, ImageExtent extent);
+/// As read_pole_picks from the file's text in memory (`path` is for messages).
+std::vector<PolePick> parse_pole_picks(const std::string& text, const std::string& path, ImageExtent extent);
 
 }  // namespace rangecal

@@ -441,7 +441,10 @@ class Parser {
           a[7] != '/' || !fixed_digits(a, 8, 2, &D))
         bad_field(line, 0, a, "is not a date yyyy/mm/dd (the first epoch line used calendar time)");
       if (!valid_civil_date(Y, M, D)) bad_field(line, 0, a, "is not a valid calendar date");
-      if (!supported_civil_year(Y)) bad_field(line, 0, a, "has a " + unsupported_year_reason(Y));
+      if (!supported_civil_year(Y))
+        bad_field(line, 0, a,
+                  "is a date outside the supported years " + std::to_string(kFirstSupportedYear) + "-" +
+                      std::to_string(kLastSupportedYear));
       if (b.size() < 8 || !fixed_digits(b, 0, 2, &hh) || b[2] != ':' || !fixed_digits(b, 3, 2, &mm) ||
           b[5] != ':')
         bad_field(line, 1, b, "is not a time of day hh:mm:ss.sss");

@@ -45,7 +45,11 @@ void write_correspondences_csv(const std::string& path, const std::vector<Corres
 }
 
 std::vector<Correspondence> read_correspondences_csv(const std::string& path) {
-  const CsvTable t = read_csv(path);
+  return parse_correspondences_csv(read_file_text(path), path);
+}
+
+std::vector<Correspondence> parse_correspondences_csv(const std::string& text, const std::string& path) {
+  const CsvTable t = parse_csv(text, path);
   const std::size_t c_utc = t.column("utc"), c_e = t.column("E"), c_n = t.column("N"), c_u = t.column("U"),
                     c_pu = t.column("u"), c_pv = t.column("v");
   const auto c_res = t.find_column("residual_px");

@@ -39,5 +39,7 @@ void write_correspondences_csv(const std::string& path, const std::vector<Corres
 /// Reads and validates (time strictly increasing, numbers finite, used ∈ {0,1,blank}); errors name
 /// file, line and column. An empty table (header only) is allowed here; callers decide if too few.
 std::vector<Correspondence> read_correspondences_csv(const std::string& path);
+/// As read_correspondences_csv from the file's text in memory (`path` is for messages).
+std::vector<Correspondence> parse_correspondences_csv(const std::string& text, const std::string& path);
 
 }  // namespace rangecal

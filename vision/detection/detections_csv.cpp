@@ -41,7 +41,11 @@ void write_detections_csv(const std::string& path, const std::vector<LampDetecti
 }
 
 std::vector<LampDetection> read_detections_csv(const std::string& path) {
-  const CsvTable t = read_csv(path);
+  return parse_detections_csv(read_file_text(path), path);
+}
+
+std::vector<LampDetection> parse_detections_csv(const std::string& text, const std::string& path) {
+  const CsvTable t = parse_csv(text, path);
   const std::size_t c_frame = t.column("frame"), c_utc = t.column("utc"), c_u = t.column("u"),
                     c_v = t.column("v"), c_peak = t.column("peak"), c_area = t.column("area"),
                     c_snr = t.column("snr"), c_status = t.column("status");

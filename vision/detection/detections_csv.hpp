@@ -52,6 +52,8 @@ void write_detections_csv(const std::string& path, const std::vector<LampDetecti
 /// Reads detections.csv; throws rangecal::Error (input) naming file, line and field on a bad value
 /// or an unknown status.
 std::vector<LampDetection> read_detections_csv(const std::string& path);
+/// As read_detections_csv from the file's text in memory (`path` is for messages).
+std::vector<LampDetection> parse_detections_csv(const std::string& text, const std::string& path);
 /// True when `status` is one of the statuses above.
 bool is_known_lamp_status(const std::string& status);
 

@@ -144,6 +144,18 @@ TEST(AttitudeBadInput, EachErrorNamesLineAndField) {
   expect_bad("2018-10-09T12:00:00Z,0,0,0\n2018-10-09T12:00:01Z,abc,0,0\n", 3, "roll_deg");
   expect_bad("2018-10-09T12:00:00Z,0,95,0\n2018-10-09T12:00:01Z,0,0,0\n", 2, "pitch_deg");
   expect_bad("2018-10-09T12:00:00Z,0,0,0\n", 2, "utc");  // a single sample
+  // Found by fuzzing (docs/reliability.md "Fuzzing"): a year whose time overflows int64 ns was
+  // undefined behaviour; years outside 1970-2200 are an error naming the line and the field.
+  expect_bad("2018-10-09T12:00:00Z,0,0,0\n6022-10-09T12:00:01Z,0,0,0\n", 3, "utc");
+  expect_bad("1022-10-09T12:00:00Z,0,0,0\n2018-10-09T12:00:01Z,0,0,0\n", 2, "utc");
+  try {
+    series("2018-10-09T12:00:00Z,0,0,0\n6022-10-09T12:00:01Z,0,0,0\n");
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("att.csv:3"), std::string::npos) << what;
+    EXPECT_NE(what.find("utc"), std::string::npos) << what;
+    EXPECT_NE(what.find("1970-2200"), std::string::npos) << what;
+  }
   try {
     read_attitude_csv("/nonexistent/att.csv");
     ADD_FAILURE();

@@ -341,5 +341,29 @@ TEST(RtklibPosReaderBadInput, BadCalendarAndExtraField) {
   EXPECT_EQ(e.line(), 13);
 }
 
+// Fuzzing found these (docs/reliability.md "Fuzzing"): a year or GPS week whose time in int64 ns
+// overflows (undefined behaviour) was accepted; dates outside 1970-2200 are refused
+// (supported_civil_year, utc_time.hpp).
+TEST(RtklibPosReaderBadInput, YearOrWeekOutsideTheRepresentableRangeIsAnError) {
+  for (const char* year : {"0219", "1969", "2201", "9999"}) {
+    std::string l1 = kLine1;
+    l1.replace(0, 4, year);
+    const Error e = expect_error(llh_file_with(l1), std::string("year") + year);
+    EXPECT_EQ(e.line(), 12);
+    EXPECT_EQ(e.field(), "GPST (date or week)");
+    EXPECT_NE(e.reason().find("1970-2200"), std::string::npos) << e.what();
+  }
+  const std::string text = test::read_text(pos_path("rover20181009_kin_llh_weektow.pos"));
+  std::size_t pos = 0;
+  for (int i = 0; i < 11; ++i) pos = text.find('\n', pos) + 1;
+  for (const char* week : {"11531", "99999"}) {
+    std::string l1 = text.substr(pos, text.find('\n', pos) + 1 - pos);
+    l1.replace(0, 4, week);
+    const Error e = expect_error(text.substr(0, pos) + l1, std::string("week") + week);
+    EXPECT_EQ(e.line(), 12);
+    EXPECT_EQ(e.field(), "GPST (date or week)");
+  }
+}
+
 }  // namespace
 }  // namespace rangecal

@@ -32,6 +32,12 @@ TEST(UtcTime, Iso8601RejectsBadText) {
   EXPECT_NE(why.find("Z"), std::string::npos);
   EXPECT_FALSE(parse_iso8601_utc("2018-02-30T00:00:00Z", &why));
   EXPECT_FALSE(parse_iso8601_utc("2018-10-09T24:00:00Z", &why));
+  // Years outside 1970-2200 would overflow int64 ns arithmetic (found by fuzzing).
+  EXPECT_FALSE(parse_iso8601_utc("0219-10-09T12:00:00Z", &why));
+  EXPECT_NE(why.find("1970-2200"), std::string::npos) << why;
+  EXPECT_FALSE(parse_iso8601_utc("9999-12-31T23:59:59Z", &why));
+  EXPECT_TRUE(parse_iso8601_utc("1970-01-01T00:00:00Z", &why));
+  EXPECT_TRUE(parse_iso8601_utc("2200-12-31T23:59:59.999999999Z", &why));
   EXPECT_FALSE(parse_iso8601_utc("2018-10-09T12:21:53.1234567891Z", &why));
   EXPECT_FALSE(parse_iso8601_utc("2018-10-09T12:21:53.Z", &why));
   EXPECT_FALSE(parse_iso8601_utc("garbage", &why));
