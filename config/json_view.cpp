@@ -105,6 +105,19 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& file,
     const auto colon = what.find(": ", what.find("parse error"));
     if (colon != std::string::npos) what = what.substr(colon + 2);
     throw Error(kind, file, line, "", "invalid JSON at column " + std::to_string(col) + ": " + what);
+  } catch (const nlohmann::json::out_of_range& e) {
+    // A number too large for a double (e.g. 1e400): nlohmann's out_of_range.406, "number overflow
+    // parsing '<token>'", carries no position, so the token is looked up in the text.
+    const std::string what = e.what();
+    const std::size_t q0 = what.find('\''), q1 = what.rfind('\'');
+    const std::string token = q0 != std::string::npos && q1 > q0 ? what.substr(q0 + 1, q1 - q0 - 1) : "";
+    const std::size_t at = token.empty() ? std::string::npos : text.find(token);
+    const long line = at == std::string::npos
+                          ? 0
+                          : 1 + static_cast<long>(std::count(
+                                    text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+    throw Error(kind, file, line, "",
+                "invalid JSON: the number '" + token + "' is outside the range of a double");
   }
 }
 
