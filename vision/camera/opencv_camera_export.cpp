@@ -219,6 +219,17 @@ cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& path, const ch
                     const std::string& form) {
   const cv::FileNode n = fs[key];
   if (n.empty()) throw_input_error(path, 0, key, "missing; expected " + form);
+  // OpenCV allocates rows × cols × element size as the file states before it reads the data, so a
+  // one-byte edit of `rows` could ask for gigabytes: the shape is checked against the data first
+  // (the matrices here have at most 14 elements).
+  const cv::FileNode nr = n.isMap() ? n["rows"] : cv::FileNode(), nc = n.isMap() ? n["cols"] : cv::FileNode(),
+                     nd = n.isMap() ? n["data"] : cv::FileNode();
+  if (!nr.isInt() || !nc.isInt() || !nd.isSeq() || static_cast<int>(nr) < 1 || static_cast<int>(nc) < 1 ||
+      static_cast<int>(nr) > 64 || static_cast<int>(nc) > 64 ||
+      nd.size() != static_cast<std::size_t>(static_cast<int>(nr) * static_cast<int>(nc)))
+    throw_input_error(
+        path, 0, key,
+        "not a matrix (rows and cols of 1 to 64 and rows × cols data values); expected " + form);
   cv::Mat m;
   try {
     n >> m;

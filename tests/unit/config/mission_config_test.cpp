@@ -153,6 +153,21 @@ TEST(MissionConfigErrors, InvalidJsonNamesLine) {
   }
 }
 
+// Found by fuzzing (docs/reliability.md "Fuzzing"): a number beyond the range of a double made the
+// JSON library throw its out_of_range, which escaped as a foreign exception.
+TEST(MissionConfigErrors, NumberOutOfDoubleRangeNamesLine) {
+  try {
+    parse_mission_config("{\n \"mission\": \"x\",\n \"site\": 11e308\n}\n", kPath, false);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::usage);
+    EXPECT_EQ(e.file(), kPath);
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find(kPath + ":3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("11e308"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MissionConfigErrors, UnknownTopLevelKeySuggests) {
   auto j = minimal();
   j["calibrat"] = nlohmann::json::object();

@@ -157,6 +157,20 @@ TEST(Scenario, SyntaxErrorAndMissingFile) {
   }
 }
 
+// Found by fuzzing (docs/reliability.md "Fuzzing"): "11e308" overflows a double; the JSON
+// library's out_of_range escaped instead of a rangecal::Error naming the file and line.
+TEST(Scenario, NumberOutOfDoubleRangeIsAConfigError) {
+  try {
+    parse_scenario("{\n \"seed\": 1,\n \"start_utc\": -11e308aa\n}", "scn.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::usage);
+    EXPECT_EQ(e.file(), "scn.json");
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("scn.json:3"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Scenario, DemoScenarioLoads) {
   const auto path = rangecal::test::source_dir() / "config" / "examples" / "demo_scenario.json";
   const Scenario s = load_scenario(path.string());

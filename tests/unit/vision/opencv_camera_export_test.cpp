@@ -218,6 +218,15 @@ TEST(OpenCvCameraExport, BadFilesNameFileAndKey) {
   const auto data = bad_d.find("data: [", di);
   bad_d.replace(data, bad_d.find("]", data) - data + 1, "data: [ 0., 0., 0. ]");
   expect_read_error("three_coefficients", bad_d, "distortion_coefficients");
+  // Found by fuzzing (docs/reliability.md "Fuzzing"): OpenCV allocated rows × cols as written
+  // before reading the data (gigabytes from a one-character edit); the shape is checked first.
+  std::string huge = good;
+  const auto ki = huge.find("camera_matrix");
+  huge.replace(huge.find("rows: 3", ki), 7, "rows: 999999999");
+  expect_read_error("huge_rows", huge, "camera_matrix");
+  std::string broken = good;
+  broken.replace(broken.find("rows: 3", ki), 7, "rows:$3");
+  expect_read_error("broken_rows", broken, "camera_matrix");
   const auto missing = (test::scratch_dir("opencv_missing") / "nope.yml").string();
   try {
     read_opencv_camera_yml(missing);
