@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "config/error.hpp"
+#include "config/physical_ranges.hpp"
 #include "config/text_encoding.hpp"
 
 namespace rangecal {
@@ -139,6 +140,13 @@ double CsvTable::number_in(const CsvRecord& r, std::size_t col, double lo, doubl
                       "'" + r.fields[col] + "' is outside " + range + " (" + what + ")");
   }
   return v;
+}
+
+std::array<double, 3> CsvTable::site_enu(const CsvRecord& r, std::size_t ce, std::size_t cn,
+                                         std::size_t cu) const {
+  const double w = ranges::kSiteHalfWidthM, h = ranges::kSiteHalfHeightM;
+  return {number_in(r, ce, -w, w, "site ENU, m"), number_in(r, cn, -w, w, "site ENU, m"),
+          number_in(r, cu, -h, h, "site ENU, m")};
 }
 
 std::int64_t CsvTable::integer(const CsvRecord& r, std::size_t col) const {

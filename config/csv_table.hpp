@@ -4,6 +4,7 @@
 // lines and lines starting with '#' are skipped; CRLF line ends and a UTF-8 byte-order mark are
 // accepted; a byte that is not UTF-8 in a record is an error naming its line and column. Every accessor that
 // can fail throws rangecal::Error (kind input) naming the file, the 1-based line and the column.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -33,6 +34,8 @@ struct CsvTable {
   /// A number within [lo, hi]; throws naming file, line, column, the range and `what` it is
   /// ("ellipsoidal height, m") otherwise.
   double number_in(const CsvRecord& r, std::size_t col, double lo, double hi, const std::string& what) const;
+  /// Columns (ce, cn, cu) as site ENU (m), each within the site box of config/physical_ranges.hpp.
+  std::array<double, 3> site_enu(const CsvRecord& r, std::size_t ce, std::size_t cn, std::size_t cu) const;
   std::int64_t integer(const CsvRecord& r, std::size_t col) const;
 };
 

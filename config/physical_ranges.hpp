@@ -3,6 +3,8 @@
 // fixed once so that every format applies the same limits. A value outside its range is refused
 // at its parser with file, line and field: it is a unit mistake, a swapped column or a corrupt
 // file, never a geometry rangecal should compute with.
+#include <cmath>
+
 namespace rangecal::ranges {
 
 /// Ellipsoidal height of anything on a test range or above it (m): the Dead Sea to the stratosphere.
@@ -13,6 +15,10 @@ constexpr double kMaxHeightM = 20000;
 constexpr double kSiteHalfWidthM = 50000;
 /// |U| limit in the site box (m).
 constexpr double kSiteHalfHeightM = 21000;
+/// True when site ENU (m) lies in the site box: |E|, |N| ≤ kSiteHalfWidthM, |U| ≤ kSiteHalfHeightM.
+inline bool within_site_box(double e, double n, double u) {
+  return std::abs(e) <= kSiteHalfWidthM && std::abs(n) <= kSiteHalfWidthM && std::abs(u) <= kSiteHalfHeightM;
+}
 /// Largest standard deviation of a position (m).
 constexpr double kMaxPositionSigmaM = 10000;
 /// Largest speed of the UAV or a lamp (m/s).

@@ -42,10 +42,8 @@ LampTrack parse_lamp_track_csv(const std::string& text, const std::string& path)
     if (!track.epochs.empty() && e.utc <= track.epochs.back().utc)
       throw_input_error(path, r.line, "utc",
                         "time is not after the previous line's; epochs must be strictly increasing");
-    const std::string site = "site ENU, m";
-    e.enu = {t.number_in(r, ce, -ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, site),
-             t.number_in(r, cn, -ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, site),
-             t.number_in(r, cz, -ranges::kSiteHalfHeightM, ranges::kSiteHalfHeightM, site)};
+    const auto enu = t.site_enu(r, ce, cn, cz);
+    e.enu = {enu[0], enu[1], enu[2]};
     const std::size_t sdcols[3] = {se, sn, sz};
     for (int k = 0; k < 3; ++k)
       e.sd_enu[k] = t.number_in(r, sdcols[k], 0, ranges::kMaxPositionSigmaM, "standard deviation, m");

@@ -59,18 +59,15 @@ std::vector<SurveyedPole> parse_pole_survey(const std::string& text, const std::
           t.number_in(r, c2, -180, 180, "longitude, degrees"),
           t.number_in(r, c3, ranges::kMinHeightM, ranges::kMaxHeightM, "ellipsoidal height, m"));
       p.enu = site.from_geodetic(v);
-      const Eigen::Vector3d box(ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, ranges::kSiteHalfHeightM);
-      if ((p.enu.cwiseAbs().array() > box.array()).any())
+      if (!ranges::within_site_box(p.enu.x(), p.enu.y(), p.enu.z()))
         throw_input_error(path, r.line, "lat",
                           "pole lies " +
                               std::to_string(static_cast<long long>(p.enu.head<2>().norm() / 1000)) +
                               " km from the site origin, outside the site box of +/-50 km (wrong origin in "
                               "the mission config, or a swapped lat/lon?)");
     } else {
-      const std::string site_m = "site ENU, m";
-      p.enu = {t.number_in(r, c1, -ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, site_m),
-               t.number_in(r, c2, -ranges::kSiteHalfWidthM, ranges::kSiteHalfWidthM, site_m),
-               t.number_in(r, c3, -ranges::kSiteHalfHeightM, ranges::kSiteHalfHeightM, site_m)};
+      const auto enu = t.site_enu(r, c1, c2, c3);
+      p.enu = {enu[0], enu[1], enu[2]};
     }
     poles.push_back(p);
   }

@@ -19,8 +19,7 @@ std::vector<AntennaEpoch> merge_antenna_epochs(const std::vector<PosFile>& files
       const EnuFix fix = to_site_enu(f, e, site);
       // A fix on the Earth but far from the site is a wrong origin in the config, or a file from
       // another mission: refuse it rather than produce a track kilometres away.
-      if (std::abs(fix.enu.x()) > ranges::kSiteHalfWidthM ||
-          std::abs(fix.enu.y()) > ranges::kSiteHalfWidthM || std::abs(fix.enu.z()) > ranges::kSiteHalfHeightM)
+      if (!ranges::within_site_box(fix.enu.x(), fix.enu.y(), fix.enu.z()))
         throw_input_error(f.path, e.line, "position",
                           "the antenna is " +
                               std::to_string(static_cast<long long>(fix.enu.head<2>().norm() / 1000)) +

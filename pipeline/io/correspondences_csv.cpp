@@ -72,10 +72,9 @@ std::vector<Correspondence> parse_correspondences_csv(const std::string& text, c
                         "time does not increase (previous line has the same or a later time)");
     p.utc = *utc;
     p.line = r.line;
-    const double w = ranges::kSiteHalfWidthM, h = ranges::kSiteHalfHeightM,
-                 px = ranges::kMaxPixelCoordinatePx;
-    p.enu = {t.number_in(r, c_e, -w, w, "site ENU, m"), t.number_in(r, c_n, -w, w, "site ENU, m"),
-             t.number_in(r, c_u, -h, h, "site ENU, m")};
+    const double px = ranges::kMaxPixelCoordinatePx;
+    const auto enu = t.site_enu(r, c_e, c_n, c_u);
+    p.enu = {enu[0], enu[1], enu[2]};
     p.uv = {t.number_in(r, c_pu, -px, px, "pixel"), t.number_in(r, c_pv, -px, px, "pixel")};
     if (c_res && !t.text(r, *c_res).empty()) p.residual_px = t.number(r, *c_res);
     if (c_used && !t.text(r, *c_used).empty()) {
