@@ -268,6 +268,10 @@ OpenCvCamera read_opencv_camera_yml(const std::string& path) {
     throw_input_error(path, 0, "", std::string("not a readable OpenCV FileStorage file: ") + e.err);
   }
   if (!fs.isOpened()) throw_input_error(path, 0, "", "not a readable OpenCV FileStorage file");
+  // Looking a key up in a document whose top level is a list or a value is an OpenCV assertion
+  // (cv::Exception), so the top level is checked first.
+  if (!fs.root().isMap())
+    throw_input_error(path, 0, "", "the top level is not a map of keys (image_width, camera_matrix, ...)");
   OpenCvCamera oc;
   oc.image_width = read_int(fs, path, "image_width");
   oc.image_height = read_int(fs, path, "image_height");

@@ -227,6 +227,9 @@ TEST(OpenCvCameraExport, BadFilesNameFileAndKey) {
   std::string broken = good;
   broken.replace(broken.find("rows: 3", ki), 7, "rows:$3");
   expect_read_error("broken_rows", broken, "camera_matrix");
+  // Found by fuzzing: a top level that is a list made OpenCV's key lookup throw cv::Exception.
+  expect_read_error("top_level_list", "%YAML:1.0\n- 1\n- 2\n", "");
+  expect_read_error("top_level_list_fuzz", "%YAML:1.0\n-%YAML-", "");
   const auto missing = (test::scratch_dir("opencv_missing") / "nope.yml").string();
   try {
     read_opencv_camera_yml(missing);
