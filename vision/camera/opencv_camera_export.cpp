@@ -266,6 +266,10 @@ OpenCvCamera read_opencv_camera_yml(const std::string& path) {
     fs.open(path, cv::FileStorage::READ);
   } catch (const cv::Exception& e) {
     throw_input_error(path, 0, "", std::string("not a readable OpenCV FileStorage file: ") + e.err);
+  } catch (const std::exception& e) {
+    // OpenCV 4.6's YAML parser can also fail with a standard exception (std::length_error on a
+    // damaged line, found by fuzzing).
+    throw_input_error(path, 0, "", std::string("not a readable OpenCV FileStorage file: ") + e.what());
   }
   if (!fs.isOpened()) throw_input_error(path, 0, "", "not a readable OpenCV FileStorage file");
   // Looking a key up in a document whose top level is a list or a value is an OpenCV assertion

@@ -230,6 +230,11 @@ TEST(OpenCvCameraExport, BadFilesNameFileAndKey) {
   // Found by fuzzing: a top level that is a list made OpenCV's key lookup throw cv::Exception.
   expect_read_error("top_level_list", "%YAML:1.0\n- 1\n- 2\n", "");
   expect_read_error("top_level_list_fuzz", "%YAML:1.0\n-%YAML-", "");
+  // Found by fuzzing: a damaged line made OpenCV's YAML parser throw std::length_error.
+  expect_read_error(
+      "length_error",
+      test::read_text(test::source_dir() / "tests/fuzz/seeds/opencv_camera_yml/regress_length_error.yml"),
+      "");
   const auto missing = (test::scratch_dir("opencv_missing") / "nope.yml").string();
   try {
     read_opencv_camera_yml(missing);
