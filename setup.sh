@@ -1,71 +1,125 @@
 #!/usr/bin/env bash
 # rangecal set-up on Debian 12 (run as root, or with sudo available):
-#   bash setup.sh demo   install what is missing, build (Release), run the demo
-#   bash setup.sh test   install what is missing, build (Release), run every test
-#   bash setup.sh build  install what is missing and build only
+#   bash setup.sh demo      run-time packages, build the rangecal program only (Release), run the demo
+#   bash setup.sh test      also the test packages; build everything (Release), run every test
+#   bash setup.sh build     run-time packages, build the rangecal program only
 #   bash setup.sh sanitize  the unit tests built with AddressSanitizer + UndefinedBehaviorSanitizer
 #                           (clang, folder build-asan) and run (docs/reliability.md "Sanitizers")
 #   bash setup.sh fuzz      the libFuzzer targets built in build-asan and each run briefly over its
-#                           seed corpus (FUZZ_SECONDS, default 20) (docs/reliability.md "Fuzzing")
+#                           seed corpus (FUZZ_SECONDS, default 10) (docs/reliability.md "Fuzzing")
+# The console gets one line per step; the package manager's and the compiler's output go to
+# setup-logs/<step>.log, whose tail is printed when a step fails.
 set -euo pipefail
 cd "$(dirname "$0")"
 what="${1:-build}"
 BUILD_DIR="${BUILD_DIR:-build}"
 JOBS="${JOBS:-$(nproc)}"
+LOG_DIR="${LOG_DIR:-setup-logs}"
+mkdir -p "$LOG_DIR"
 
-PKGS=(cmake g++ make libgeographiclib-dev geographiclib-tools libeigen3-dev libopencv-dev libceres-dev
-      nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev libtbb-dev chromium
-      clang libclang-rt-14-dev llvm-14)  # the last three: sanitizer and fuzz builds (libFuzzer, llvm-symbolizer)
-missing=()
-for p in "${PKGS[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "setup: installing missing Debian packages: ${missing[*]}"
-  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+# What the rangecal program needs to build and run.
+RUNTIME_PKGS=(cmake g++ make libgeographiclib-dev libeigen3-dev libopencv-dev libceres-dev
+              nlohmann-json3-dev libcli11-dev libtbb-dev)
+# What the tests add: GoogleTest, Google Benchmark, GeographicLib's CartConvert (an independent
+# oracle), Chromium (renders report.html headless).
+TEST_PKGS=(libgtest-dev libgmock-dev libbenchmark-dev geographiclib-tools chromium)
+# The sanitizer and fuzz builds: clang, its sanitizer and libFuzzer runtimes, llvm-symbolizer.
+SAN_PKGS=(clang libclang-rt-14-dev llvm-14)
 
-# The sanitizer folder: clang, -O1 -g, ASan + UBSan (no recovery) everywhere and libFuzzer coverage
+# step NAME COMMAND...: one console line, the output in the step's log, its tail on failure.
+step() {
+  local name="$1"
+  shift
+  local log="$LOG_DIR/$name.log"
+  local t0=$SECONDS
+  printf 'setup: %-10s ... ' "$name"
+  if "$@" >"$log" 2>&1; then
+    printf 'ok (%d s)\n' $((SECONDS - t0))
+  else
+    local rc=$?
+    printf 'FAILED (exit %d after %d s)\n' "$rc" $((SECONDS - t0))
+    echo "setup: the last lines of $log:" >&2
+    tail -n 30 "$log" >&2
+    exit "$rc"
+  fi
+}
+
+install_missing() {
+  local missing=()
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -eq 0 ]; then
+    echo "all packages present"
+    return 0
+  fi
+  echo "installing: ${missing[*]}"
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update &&
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y --no-install-recommends "${missing[@]}"
+}
+
+# The Release folder: the program alone for the demo, everything for the tests.
+release_build() {
+  local with_tests="$1"
+  shift
+  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DRANGECAL_BUILD_TESTS="$with_tests" \
+    -DRANGECAL_BUILD_BENCHMARKS="$with_tests" &&
+    cmake --build "$BUILD_DIR" -j "$JOBS" "$@"
+}
+
+# The sanitizer folder: clang, -O1, ASan + UBSan (no recovery) everywhere and libFuzzer coverage
 # on the libraries, so that one compile serves both the sanitizer unit tests and the fuzz targets.
 SAN_BUILD_DIR="${SAN_BUILD_DIR:-build-asan}"
 san_configure() {
   cmake -S . -B "$SAN_BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
     -DRANGECAL_SANITIZE=ON -DRANGECAL_FUZZ=ON -DRANGECAL_BUILD_BENCHMARKS=OFF \
-    -DRANGECAL_FUZZ_SECONDS="${FUZZ_SECONDS:-20}" >/dev/null
+    -DRANGECAL_FUZZ_SECONDS="${FUZZ_SECONDS:-10}"
 }
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 [ -x /usr/lib/llvm-14/bin/llvm-symbolizer ] && export ASAN_SYMBOLIZER_PATH=/usr/lib/llvm-14/bin/llvm-symbolizer
-# Unit tests left out of the sanitizer run, and why: see docs/reliability.md "Sanitizers".
-SAN_EXCLUDE="${SAN_EXCLUDE-^$}"
+# The sanitizer job runs the unit tests of these areas (tests/unit/<area>/), and leaves out the
+# tests that simulate and solve whole missions; why, and the measured times: docs/reliability.md
+# "Sanitizers".
+SAN_AREAS="${SAN_AREAS:-config gnss vision optim pipeline}"
+SAN_EXCLUDE="${SAN_EXCLUDE-^(Demo|RouteShapes|ClockOffsetMission|MonteCarlo|RoutePlan|MissionSimulator)\.|^LampDetector\.(NoFalseLampInThousandLampFreeFrames|CentroidAccuracyUnsaturatedSnr20)$}"
+san_unit_targets() {
+  for area in $SAN_AREAS; do
+    for f in tests/unit/"$area"/*_test.cpp; do
+      n="$(basename "$f" .cpp)"
+      echo "test_${n%_test}"
+    done
+  done
+}
 
 case "$what" in
-  build | demo | test)
-    cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
-    cmake --build "$BUILD_DIR" -j "$JOBS" ;;
-esac
-
-case "$what" in
-  build) ;;
-  demo)
-    "$BUILD_DIR/rangecal" demo --out "${DEMO_OUT:-demo-out}" ;;
+  demo | build)
+    step packages install_missing "${RUNTIME_PKGS[@]}"
+    step build release_build OFF --target rangecal
+    if [ "$what" = demo ]; then
+      echo "setup: demo       ... (rangecal demo --out ${DEMO_OUT:-demo-out})"
+      "$BUILD_DIR/rangecal" demo --out "${DEMO_OUT:-demo-out}"
+    fi ;;
   test)
+    step packages install_missing "${RUNTIME_PKGS[@]}" "${TEST_PKGS[@]}"
+    step build release_build ON
+    echo "setup: tests      ... (ctest; the full log is $BUILD_DIR/Testing/Temporary/LastTest.log)"
     ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" ;;
   sanitize)
-    san_configure
-    unit_targets=()
-    for f in tests/unit/*/*_test.cpp; do
-      n="$(basename "$f" .cpp)"
-      unit_targets+=("test_${n%_test}")
-    done
-    cmake --build "$SAN_BUILD_DIR" -j "$JOBS" --target "${unit_targets[@]}"
+    step packages install_missing "${RUNTIME_PKGS[@]}" "${TEST_PKGS[@]}" "${SAN_PKGS[@]}"
+    step configure-asan san_configure
+    # shellcheck disable=SC2046
+    step build-asan cmake --build "$SAN_BUILD_DIR" -j "$JOBS" --target $(san_unit_targets)
+    echo "setup: sanitize   ... (ctest -L unit -E '$SAN_EXCLUDE')"
     ctest --test-dir "$SAN_BUILD_DIR" -L unit -E "$SAN_EXCLUDE" --output-on-failure -j "$JOBS" ;;
   fuzz)
-    san_configure
-    cmake --build "$SAN_BUILD_DIR" -j "$JOBS" --target fuzz_targets
+    step packages install_missing "${RUNTIME_PKGS[@]}" "${TEST_PKGS[@]}" "${SAN_PKGS[@]}"
+    step configure-asan san_configure
+    step build-fuzz cmake --build "$SAN_BUILD_DIR" -j "$JOBS" --target fuzz_targets
+    echo "setup: fuzz       ... (ctest -L fuzz, ${FUZZ_SECONDS:-10} s per target)"
     ctest --test-dir "$SAN_BUILD_DIR" -L fuzz --output-on-failure -j "$JOBS" ;;
-  *) echo "usage: bash setup.sh [build|demo|test|sanitize|fuzz]" >&2; exit 2 ;;
+  *) echo "usage: bash setup.sh [demo|test|build|sanitize|fuzz]" >&2; exit 2 ;;
 esac

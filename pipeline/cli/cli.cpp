@@ -3,14 +3,18 @@
 #include <glog/logging.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <exception>
 #include <iostream>
 #include <new>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/utils/logger.hpp>
+#include <string>
+#include <vector>
 
 #include "config/error.hpp"
+#include "config/json_view.hpp"
 #include "config/text_encoding.hpp"
 #include "pipeline/cli/commands.hpp"
 
@@ -27,12 +31,33 @@ void silence_library_logging(const char* argv0) {
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
 }
 
+// The first word that is not an option must name a command. CLI11 would only say "The following
+// arguments were not expected"; a range engineer typing `rangecal calibarte` wants the nearest.
+std::string unknown_command_message(const CLI::App& app, int argc, char** argv) {
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    names.push_back(sub->get_name());
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;
+    if (std::find(names.begin(), names.end(), word) != names.end()) return "";
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    return "unknown command '" + printable_text(word) + "'" + did_you_mean(word, names) +
+           "; commands: " + list + " (rangecal --help)";
+  }
+  return "";
+}
+
 }  // namespace
 
 int run_cli(int argc, char** argv) {
   silence_library_logging(argc > 0 ? argv[0] : "rangecal");
   CLI::App app{"rangecal — high-speed camera calibration from a PPK-positioned UAV lamp"};
   app.require_subcommand(1);
+  // -q/-v may also follow the command (`rangecal run -q mission.json`): subcommands created after
+  // this pass options they do not know up to the top level.
+  app.fallthrough();
   app.set_version_flag("--version", std::string(RANGECAL_VERSION));
   CliContext ctx;
   app.add_flag("--quiet,-q", ctx.quiet, "Print only errors");
@@ -51,6 +76,10 @@ int run_cli(int argc, char** argv) {
   add_plan_command(app, ctx);
   add_demo_command(app, ctx);
 
+  if (const std::string message = unknown_command_message(app, argc, argv); !message.empty()) {
+    std::cerr << "rangecal: error: " << message << "\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -13,6 +13,7 @@
 #include "config/error.hpp"
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/cli/stage_command.hpp"
+#include "pipeline/cli/stage_summary.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/stages/intersect_stage.hpp"
 #include "pipeline/stages/mission_runner.hpp"
@@ -112,7 +113,7 @@ void add_intersect_command(CLI::App& app, const CliContext& ctx) {
     const MissionConfig cfg = load_mission_config(args->config);
     require_intersect_inputs(cfg);  // asked for this stage alone: nothing to do is an error
     const StageLog log = run_stage("intersect", cfg);
-    if (!ctx.quiet) print_stage_summary(log, ctx.verbose);
+    if (!ctx.quiet) std::cout << stage_summary(log, ctx.verbose);
   });
 }
 

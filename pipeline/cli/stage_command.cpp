@@ -5,20 +5,11 @@
 #include <iostream>
 #include <memory>
 
+#include "pipeline/cli/stage_summary.hpp"
 #include "pipeline/io/progress_bar.hpp"
 #include "pipeline/stages/mission_runner.hpp"
 
 namespace rangecal {
-
-void print_stage_summary(const StageLog& log, bool verbose) {
-  std::cout << log.stage << " stage (" << log.wall_time_s << " s)\n";
-  for (const auto& [key, value] : log.counts.items()) {
-    std::string text = value.dump();
-    if (!verbose && text.size() > 300) text = text.substr(0, 297) + "...";
-    std::cout << "  " << key << ": " << text << "\n";
-  }
-  for (const auto& w : log.warnings) std::cout << "  warning: " << w << "\n";
-}
 
 void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& stage,
                        const std::string& description) {
@@ -29,7 +20,7 @@ void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& 
     const MissionConfig cfg = load_mission_config(*config);
     set_progress_bars(!ctx.quiet && ::isatty(2));
     const StageLog log = run_stage(stage, cfg);
-    if (!ctx.quiet) print_stage_summary(log, ctx.verbose);
+    if (!ctx.quiet) std::cout << stage_summary(log, ctx.verbose);
   });
 }
 
@@ -66,7 +57,7 @@ void add_run_command(CLI::App& app, const CliContext& ctx) {
     run_mission(cfg, [&](const StageLog& log) {
       ++done;
       if (progress) std::cerr << "[" << done << "/" << n << "] " << log.stage << " done\n";
-      if (!ctx.quiet) print_stage_summary(log, ctx.verbose);
+      if (!ctx.quiet) std::cout << stage_summary(log, ctx.verbose);
     });
   });
 }

@@ -14,7 +14,4 @@ namespace rangecal {
 void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& stage,
                        const std::string& description);
 
-/// Prints a stage log as an indented summary to stdout (counts as compact JSON lines per key).
-void print_stage_summary(const StageLog& log, bool verbose);
-
 }  // namespace rangecal

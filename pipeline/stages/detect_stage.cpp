@@ -1,7 +1,11 @@
 #include "pipeline/stages/detect_stage.hpp"
 
+#include <algorithm>
 #include <map>
+#include <string>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
@@ -19,6 +23,21 @@
 #include "vision/frames/frame_source.hpp"
 
 namespace rangecal {
+
+namespace {
+
+// "rejected_static 67, no_lamp 3": the reasons frames were not used, most frequent first.
+std::string rejection_summary(const std::map<std::string, int>& by_status) {
+  std::vector<std::pair<int, std::string>> rejected;
+  for (const auto& [status, n] : by_status)
+    if (status != "ok") rejected.emplace_back(n, status);
+  std::sort(rejected.begin(), rejected.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::string s;
+  for (const auto& [n, status] : rejected) s += (s.empty() ? "" : ", ") + status + " " + std::to_string(n);
+  return s;
+}
+
+}  // namespace
 
 StageLog run_detect_stage(const MissionConfig& cfg) {
   StageLog log;
@@ -78,6 +97,13 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
     if (cd.pairs.empty())
       log.warnings.push_back(cam.id + ": the lamp was not found in any of its " +
                              std::to_string(cd.detections.size()) + " aligned frames (see " +
+                             camera_output(cfg, cam.id, kDetectionsCsv) + ")");
+    else if (2 * cd.pairs.size() < cd.detections.size())
+      log.warnings.push_back(cam.id + ": the lamp was found in only " + std::to_string(cd.pairs.size()) +
+                             " of " + std::to_string(cd.detections.size()) + " aligned frames (" +
+                             rejection_summary(by_status) +
+                             "): the lamp is outside the image in most of them, or detect.min_snr is too "
+                             "high (see " +
                              camera_output(cfg, cam.id, kDetectionsCsv) + ")");
     out.push_back(std::move(cd));
   }

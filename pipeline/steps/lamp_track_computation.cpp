@@ -36,6 +36,55 @@ void check_attitude_overlaps(const AttitudeSeries& att, const std::vector<Antenn
                         ": the attitude log is of another flight, or its time is wrong");
 }
 
+const char* quality_name(int q) {
+  switch (q) {
+    case 1:
+      return "fix";
+    case 2:
+      return "float";
+    case 3:
+      return "sbas";
+    case 4:
+      return "dgps";
+    case 5:
+      return "single";
+    case 6:
+      return "ppp";
+    default:
+      return "unknown";
+  }
+}
+
+std::string thousands(std::size_t n) {
+  std::string s = std::to_string(n);
+  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
+  return s;
+}
+
+// A filter that drops most of a flight is usually a processing or configuration problem (a base
+// station too far or mis-set, an sd limit in the wrong unit), not bad luck: say which, and the key.
+void warn_when_most_epochs_dropped(const EpochFilterCounts& c, const EpochFilterOptions& opt,
+                                   std::vector<std::string>* warnings) {
+  if (c.read == 0) return;
+  if (2 * c.dropped_quality > c.read) {
+    int worst_q = 0;
+    std::size_t worst_n = 0;
+    for (const auto& [q, n] : c.dropped_by_quality)
+      if (n > worst_n) worst_q = q, worst_n = n;
+    std::string accept;
+    for (int q : opt.accept_quality) accept += (accept.empty() ? "" : ", ") + std::to_string(q);
+    accept += ", " + std::to_string(worst_q);
+    warnings->push_back(thousands(worst_n) + " of " + thousands(c.read) + " epochs are " +
+                        quality_name(worst_q) + " (Q=" + std::to_string(worst_q) +
+                        ") and were dropped: accept them with gnss.accept_quality [" + accept +
+                        "] or check the base station and the processing");
+  }
+  if (2 * c.dropped_sd > c.read)
+    warnings->push_back(thousands(c.dropped_sd) + " of " + thousands(c.read) +
+                        " epochs have an sd above gnss.max_sd_m = " + format_number("%g", opt.max_sd_m) +
+                        " m and were dropped: check the solution or raise gnss.max_sd_m");
+}
+
 }  // namespace
 
 LampTrackResult compute_lamp_track(const LampTrackInputs& in) {
@@ -86,6 +135,7 @@ LampTrackResult compute_lamp_track(const LampTrackInputs& in) {
     res.track.epochs.push_back(e);
   }
   rep.track_epochs = res.track.epochs.size();
+  warn_when_most_epochs_dropped(rep.filter, in.filter, &rep.warnings);
   if (res.track.epochs.empty()) {
     const EpochFilterCounts& c = rep.filter;
     throw_input_error(in.pos_files.empty() ? "" : in.pos_files.front().path, 0, "",

@@ -18,6 +18,10 @@ struct SimulatedRun {
 /// Simulates `scenario` into <scratch "name">/mission and runs every stage on the written files.
 SimulatedRun simulate_and_run_in_scratch(const Scenario& scenario, const std::string& name);
 
+/// A small two-camera scenario (JSON text) that simulates and runs in seconds: two 200×150
+/// cameras 30 m from three 3 m vertical ascents, a control and a check pole.
+std::string small_two_camera_scenario_text();
+
 /// Copies a mission folder's inputs — everything but its out/ folder — to `dst`, emptied first.
 void copy_mission_inputs(const std::filesystem::path& src, const std::filesystem::path& dst);
 

@@ -1,0 +1,138 @@
+#include "pipeline/cli/stage_summary.hpp"
+
+#include <string>
+
+#include "config/number_format.hpp"
+
+namespace rangecal {
+namespace {
+
+using nlohmann::json;
+
+// 1,878 — counts read at a glance.
+std::string count(const json& v) {
+  if (!v.is_number()) return "0";
+  std::string s = std::to_string(v.get<long long>());
+  const std::size_t first = (s[0] == '-') ? 1 : 0;
+  for (int i = static_cast<int>(s.size()) - 3; i > static_cast<int>(first); i -= 3)
+    s.insert(static_cast<std::size_t>(i), ",");
+  return s;
+}
+
+std::string fixed(const json& v, const char* fmt) {
+  return v.is_number() ? format_number(fmt, v.get<double>()) : std::string("-");
+}
+
+std::string millimetres(const json& metres) {
+  return metres.is_number() ? format_number("%.1f", metres.get<double>() * 1e3) + " mm" : std::string("-");
+}
+
+std::string seconds(double s) {
+  return s < 10 ? format_number("%.2f", s) + " s" : format_number("%.0f", s) + " s";
+}
+
+// "Q1 282, Q2 10" from {"1": 282, "2": 10}.
+std::string by_quality(const json& m) {
+  std::string s;
+  if (!m.is_object()) return s;
+  for (const auto& [q, n] : m.items()) s += (s.empty() ? "" : ", ") + ("Q" + q + " " + count(n));
+  return s;
+}
+
+std::string gnss_lines(const json& c) {
+  std::string s = "  " + count(c.value("epochs_read", json())) + " epochs read (" +
+                  by_quality(c.value("read_by_q", json())) + "), " + count(c.value("epochs_kept", json())) +
+                  " kept";
+  std::string dropped;
+  if (c.value("dropped_quality", 0) > 0)
+    dropped +=
+        count(c["dropped_quality"]) + " for Q (" + by_quality(c.value("dropped_quality_by_q", json())) + ")";
+  if (c.value("dropped_sd", 0) > 0)
+    dropped += (dropped.empty() ? "" : ", ") + count(c["dropped_sd"]) + " for sd";
+  if (c.value("dropped_no_attitude", 0) > 0)
+    dropped += (dropped.empty() ? "" : ", ") + count(c["dropped_no_attitude"]) + " without attitude";
+  if (!dropped.empty()) s += "; dropped " + dropped;
+  s += "\n";
+  if (c.contains("track_start"))
+    s += "  track " + c["track_start"].get<std::string>() + " .. " + c["track_end"].get<std::string>() +
+         " (" + fixed(c.value("track_span_s", json()), "%.1f") + " s), " + count(c.value("gaps", json())) +
+         " gap(s)\n";
+  return s;
+}
+
+std::string align_line(const std::string& cam, const json& c) {
+  std::string s = "  " + cam + ": " + count(c.value("frames_aligned", json())) + " of " +
+                  count(c.value("frames", json())) + " frames aligned to " +
+                  count(c.value("epochs", json())) + " epochs";
+  std::string rejected;
+  for (const char* key : {"rejected_offset", "rejected_gap", "rejected_outside_track"})
+    if (c.value(key, 0) > 0)
+      rejected += (rejected.empty() ? "" : ", ") + std::string(key + 9) + " " + count(c[key]);
+  if (!rejected.empty()) s += " (rejected: " + rejected + ")";
+  if (c.contains("max_abs_dt_s"))
+    s += "; max |dt| " + format_number("%.2f", c.value("max_abs_dt_s", 0.0) * 1e3) +
+         " ms, worst position error " + millimetres(c.value("worst_position_error_m", json()));
+  return s + "\n";
+}
+
+std::string detect_line(const std::string& cam, const json& c) {
+  std::string s = "  " + cam + ": lamp in " + count(c.value("correspondences", json())) + " of " +
+                  count(c.value("frames_examined", json())) + " frames";
+  std::string rejected;
+  if (c.contains("by_status"))
+    for (const auto& [status, n] : c["by_status"].items())
+      if (status != "ok") rejected += (rejected.empty() ? "" : ", ") + status + " " + count(n);
+  if (!rejected.empty()) s += " (" + rejected + ")";
+  return s + "\n";
+}
+
+std::string calibrate_line(const std::string& cam, const json& c) {
+  if (c.contains("failed")) return "  " + cam + ": FAILED\n";
+  return "  " + cam + ": " + c.value("method", std::string("?")) + ", " + count(c.value("n_used", json())) +
+         " points used, " + count(c.value("n_rejected", json())) + " rejected, rms " +
+         fixed(c.value("rms_px", json()), "%.2f") + " px\n";
+}
+
+std::string intersect_lines(const json& c) {
+  std::string s = "  " + count(c.value("poles_triangulated", json())) + " poles triangulated";
+  if (c.contains("cameras_used") && c["cameras_used"].is_array())
+    s += " with " + std::to_string(c["cameras_used"].size()) + " camera(s)";
+  s += "\n";
+  if (c.contains("check") && c["check"].is_object()) {
+    const json& k = c["check"];
+    s += "  " + count(k.value("n", json())) + " check poles: mean dR " +
+         millimetres(k.value("mean_dR_m", json())) + ", max " + millimetres(k.value("max_dR_m", json())) +
+         " (predicted sigma " + millimetres(k.value("mean_sigma_m", json())) + ")\n";
+  }
+  return s;
+}
+
+std::string per_camera(const json& counts, std::string (*line)(const std::string&, const json&)) {
+  std::string s;
+  for (const auto& [key, value] : counts.items())
+    if (value.is_object()) s += line(key, value);
+  return s;
+}
+
+}  // namespace
+
+std::string stage_summary(const StageLog& log, bool verbose) {
+  std::string s = log.stage + " (" + seconds(log.wall_time_s) + ")\n";
+  const json& c = log.counts;
+  if (log.stage == "gnss")
+    s += gnss_lines(c);
+  else if (log.stage == "align")
+    s += per_camera(c, align_line);
+  else if (log.stage == "detect")
+    s += per_camera(c, detect_line);
+  else if (log.stage == "calibrate")
+    s += per_camera(c, calibrate_line);
+  else if (log.stage == "intersect")
+    s += intersect_lines(c);
+  if (verbose)
+    for (const auto& [key, value] : c.items()) s += "  " + key + ": " + value.dump() + "\n";
+  for (const std::string& w : log.warnings) s += "  warning: " + w + "\n";
+  return s;
+}
+
+}  // namespace rangecal
