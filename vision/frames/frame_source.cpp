@@ -8,6 +8,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
+#include <vector>
 
 #include "config/error.hpp"
 #include "config/physical_ranges.hpp"
@@ -88,19 +90,69 @@ bool png_structure_ok(const std::vector<unsigned char>& b) {
   return false;
 }
 
-}  // namespace
+std::uint16_t tiff_u16(const unsigned char* p, bool little) {
+  return little ? std::uint16_t(p[0] | (p[1] << 8)) : std::uint16_t((p[0] << 8) | p[1]);
+}
 
-cv::Mat decode_image_file(const std::string& path, int* bits) {
+std::uint32_t tiff_u32(const unsigned char* p, bool little) {
+  return little
+             ? (std::uint32_t(p[3]) << 24) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[1]) << 8) | p[0]
+             : big_endian_u32(p);
+}
+
+// ImageWidth (256) and ImageLength (257) of a TIFF's first IFD (TIFF 6.0 §2: 8-byte header, then
+// IFD entries of tag, type, count, value; SHORT values sit in the first two bytes of the field).
+std::optional<cv::Size> tiff_header_size(const std::vector<unsigned char>& b) {
+  if (b.size() < 8) return std::nullopt;
+  const bool little = b[0] == 'I' && b[1] == 'I' && b[2] == 42 && b[3] == 0;
+  const bool big = b[0] == 'M' && b[1] == 'M' && b[2] == 0 && b[3] == 42;
+  if (!little && !big) return std::nullopt;
+  const std::uint32_t ifd = tiff_u32(&b[4], little);
+  if (ifd > b.size() || b.size() - ifd < 2) return std::nullopt;
+  const std::uint16_t n = tiff_u16(&b[ifd], little);
+  std::int64_t w = -1, h = -1;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::size_t at = std::size_t(ifd) + 2 + 12 * std::size_t(i);
+    if (at + 12 > b.size()) return std::nullopt;
+    const std::uint16_t tag = tiff_u16(&b[at], little), type = tiff_u16(&b[at + 2], little);
+    if (tag != 256 && tag != 257) continue;
+    const std::int64_t v = type == 3 ? tiff_u16(&b[at + 8], little) : tiff_u32(&b[at + 8], little);
+    (tag == 256 ? w : h) = v;
+  }
+  if (w < 0 || h < 0) return std::nullopt;
+  return cv::Size(static_cast<int>(std::min<std::int64_t>(w, INT32_MAX)),
+                  static_cast<int>(std::min<std::int64_t>(h, INT32_MAX)));
+}
+
+std::vector<unsigned char> read_file_bytes(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
-  if (!f) return cv::Mat();
+  if (!f) return {};
   f.seekg(0, std::ios::end);
   const std::streamoff size = f.tellg();
-  if (size <= 0) return cv::Mat();
+  if (size <= 0) return {};
   f.seekg(0);
   std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
-  if (!f.read(reinterpret_cast<char*>(bytes.data()), size)) return cv::Mat();
+  if (!f.read(reinterpret_cast<char*>(bytes.data()), size)) return {};
+  return bytes;
+}
+
+}  // namespace
+
+std::optional<cv::Size> image_header_size(const std::vector<unsigned char>& bytes) {
+  if (bytes.size() >= 24 && bytes[0] == 0x89 && bytes[1] == 'P' && bytes[12] == 'I' && bytes[13] == 'H')
+    return cv::Size(static_cast<int>(std::min<std::uint32_t>(big_endian_u32(&bytes[16]), INT32_MAX)),
+                    static_cast<int>(std::min<std::uint32_t>(big_endian_u32(&bytes[20]), INT32_MAX)));
+  return tiff_header_size(bytes);
+}
+
+cv::Mat decode_image_bytes(const std::vector<unsigned char>& bytes, int* bits) {
+  if (bytes.empty()) return cv::Mat();
   if (bytes.size() >= 8 && bytes[0] == 0x89 && !png_structure_ok(bytes)) return cv::Mat();
   return to_grey(cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR), bits);
+}
+
+cv::Mat decode_image_file(const std::string& path, int* bits) {
+  return decode_image_bytes(read_file_bytes(path), bits);
 }
 
 FrameSource::FrameSource(FrameSource&&) noexcept = default;
@@ -227,7 +279,19 @@ std::optional<ImageFrame> FrameSource::load(std::size_t i, std::string* skip_rea
       if (!std::filesystem::exists(e.file)) {
         problem = "missing frame file '" + e.file + "'";
       } else {
-        f.image = decode_image_file(e.file, &f.bits);
+        // The header's size is checked before decoding: a CSV that lists a forged 30,000-pixel
+        // image a thousand times must cost a thousand header reads, not a thousand 2 GB decodes.
+        const std::vector<unsigned char> bytes = read_file_bytes(e.file);
+        const std::optional<cv::Size> declared = image_header_size(bytes);
+        if (declared && sensor_w_ > 0 && sensor_h_ > 0 &&
+            (declared->width != sensor_w_ || declared->height != sensor_h_)) {
+          throw_input_error(origin_, e.line, "file",
+                            "frame '" + e.file + "' (frame " + std::to_string(e.frame) + ") is " +
+                                std::to_string(declared->width) + "x" + std::to_string(declared->height) +
+                                " px by its header; the sensor is " + std::to_string(sensor_w_) + "x" +
+                                std::to_string(sensor_h_));
+        }
+        f.image = decode_image_bytes(bytes, &f.bits);
         if (f.image.empty()) problem = "cannot decode frame file '" + e.file + "' as an 8/16-bit PNG or TIFF";
       }
       break;

@@ -93,5 +93,11 @@ FrameFileKind frame_file_kind(const std::string& path);
 /// Decodes one PNG/TIFF image to CV_8UC1/CV_16UC1 (colour → grey); sets *bits. Empty Mat when it
 /// cannot be decoded.
 cv::Mat decode_image_file(const std::string& path, int* bits);
+/// The same from the file's bytes.
+cv::Mat decode_image_bytes(const std::vector<unsigned char>& bytes, int* bits);
+
+/// Width and height (px) a PNG's IHDR or a TIFF's first IFD declares, read without decoding;
+/// nullopt for other files or a header too short to say. Values beyond INT32_MAX are clamped.
+std::optional<cv::Size> image_header_size(const std::vector<unsigned char>& bytes);
 
 }  // namespace rangecal

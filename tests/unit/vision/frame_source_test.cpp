@@ -243,3 +243,38 @@ TEST(FrameSource, ContainersOutOfRangeOrMissing) {
   m = expect_error([&] { alone.load(0); });
   EXPECT_TRUE(contains(m, "c.cine") && contains(m, "640x480")) << m;
 }
+
+// A frame's size is read from its header before it is decoded (PNG IHDR, TIFF first IFD), so a
+// timestamps CSV naming a forged 30,000-pixel image is refused at once instead of costing a
+// multi-gigabyte decode for each of its rows.
+TEST(FrameSource, FrameSizeIsCheckedFromTheHeaderBeforeDecoding) {
+  const fs::path dir = test::scratch_dir("fs_header_size");
+  const auto frames = lamp_frames(1);
+  write_frame_image((dir / "a.png").string(), frames[0]);
+  write_frame_image((dir / "a.tif").string(), frames[0]);
+  for (const char* name : {"a.png", "a.tif"}) {
+    const std::string text = test::read_text(dir / name);
+    const std::optional<cv::Size> size =
+        image_header_size(std::vector<unsigned char>(text.begin(), text.end()));
+    ASSERT_TRUE(size.has_value()) << name;
+    EXPECT_EQ(size->width, kW) << name;
+    EXPECT_EQ(size->height, kH) << name;
+  }
+  // The same PNG with IHDR saying 30000 x 30000 (bytes 16-23, big-endian).
+  std::string forged = test::read_text(dir / "a.png");
+  for (int k : {16, 20}) {
+    forged[k] = 0, forged[k + 1] = 0, forged[k + 2] = char(0x75), forged[k + 3] = char(0x30);
+  }
+  test::write_text(dir / "huge.png", forged);
+  std::string csv = "frame,file,utc\n";
+  for (int k = 0; k < 1000; ++k) csv += std::to_string(k) + ",huge.png," + iso(k) + "\n";
+  test::write_text(dir / "ts.csv", csv);
+  const FrameSource lenient =
+      FrameSource::from_timestamps_csv((dir / "ts.csv").string(), sensor(kW, kH, true));
+  for (std::size_t i : {0u, 999u}) {
+    const std::string m = expect_error([&] { lenient.load(i); });
+    EXPECT_TRUE(contains(m, "ts.csv:" + std::to_string(i + 2)) &&
+                contains(m, "30000x30000 px by its header") && contains(m, "320x200"))
+        << m;
+  }
+}
