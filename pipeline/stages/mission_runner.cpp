@@ -14,11 +14,28 @@
 
 namespace rangecal {
 
+namespace {
+
+// The function that runs the stage called `name`; the order of the stages is
+// mission_stage_names()'s (pipeline/io/stage_outputs.hpp), which also knows their outputs.
+std::function<StageLog(const MissionConfig&)> stage_function(const std::string& name) {
+  if (name == "gnss") return run_gnss_stage;
+  if (name == "align") return run_align_stage;
+  if (name == "detect") return run_detect_stage;
+  if (name == "calibrate") return run_calibrate_stage;
+  if (name == "intersect") return run_intersect_stage;
+  if (name == "report") return run_report_stage;
+  throw Error(ErrorKind::usage, "", 0, "stage", "no function runs the stage '" + name + "'");
+}
+
+}  // namespace
+
 const std::vector<NamedStage>& mission_stages() {
-  static const std::vector<NamedStage> stages = {
-      {"gnss", run_gnss_stage},           {"align", run_align_stage},         {"detect", run_detect_stage},
-      {"calibrate", run_calibrate_stage}, {"intersect", run_intersect_stage}, {"report", run_report_stage},
-  };
+  static const std::vector<NamedStage> stages = [] {
+    std::vector<NamedStage> v;
+    for (const std::string& name : mission_stage_names()) v.push_back({name, stage_function(name)});
+    return v;
+  }();
   return stages;
 }
 
