@@ -18,6 +18,10 @@ struct LampEpoch {
   /// Velocity ENU (m/s) when the .pos file carries velocity columns; otherwise NaN (the align
   /// stage then estimates it from neighbouring epochs).
   Eigen::Vector3d vel_enu = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// Full covariance of E, N, U (m²): the .pos sd and sdne/sdeu/sdun columns rotated to site ENU
+  /// (+ the lever arm's vertical variance); NaN when not known (e.g. read from lamp_track.csv,
+  /// which carries the sd only) — the network bundle then uses diag(sd_enu²).
+  Eigen::Matrix3d cov_enu = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 /// Epochs strictly increasing in time. Gaps (consecutive epochs farther apart than the config's

@@ -17,7 +17,7 @@ namespace rangecal {
 namespace fs = std::filesystem;
 
 const std::vector<std::string>& calibration_method_names() {
-  static const std::vector<std::string> names = {"tsai", "tsai_sassa", "dlt_lmqn", "bundle", "planar"};
+  static const std::vector<std::string> names = {"tsai", "tsai_sassa", "dlt_lmqn", "bundle", "network", "planar"};
   return names;
 }
 

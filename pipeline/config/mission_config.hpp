@@ -99,7 +99,7 @@ struct MissionConfig {
 };
 
 /// The calibration methods calibrate.method and compare may name (SPEC §4.4;
-/// pipeline/steps/calibration_methods.hpp runs them): tsai, tsai_sassa, dlt_lmqn, bundle, planar.
+/// pipeline/steps/calibration_methods.hpp runs them): tsai, tsai_sassa, dlt_lmqn, bundle, network, planar.
 const std::vector<std::string>& calibration_method_names();
 
 /// Loads and validates a mission config. Throws rangecal::Error (kind usage → exit 2) naming the

@@ -1,18 +1,25 @@
 #include "pipeline/stages/calibrate_stage.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
+#include "gnss/formats/lamp_track_csv.hpp"
+#include "optim/network/network_adjustment.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/lamp_track_adjusted_csv.hpp"
+#include "pipeline/io/method_details_json.hpp"
 #include "pipeline/io/methods_csv.hpp"
+#include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/steps/calibration_methods.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
+#include "pipeline/steps/network_problem.hpp"
 #include "vision/camera/opencv_camera_export.hpp"
 
 namespace rangecal {
@@ -107,12 +114,76 @@ void write_camera_calibration(const MissionConfig& cfg, const std::string& id, c
   }
 }
 
+/// One camera's inputs kept for the network.
+struct CameraInputs {
+  std::string id;
+  CalibrationProblem problem;
+  std::vector<Correspondence> pairs;
+};
+
+/// Method `network` (docs/optimisation.md "Network bundle"): the cameras calibrated by the
+/// per-camera bundle (kept as the compared `bundle`) start one joint adjustment through their
+/// shared lamp-track epochs; each camera's result is replaced by its network result, and
+/// network.json and gnss/lamp_track_adjusted.csv are written.
+void run_network(const MissionConfig& cfg, const std::vector<CameraInputs>& inputs,
+                 std::vector<std::pair<std::string, CameraCalibration>>* done, StageLog* log) {
+  LampTrack track;
+  if (std::filesystem::exists(lamp_track_path(cfg)))
+    track = read_lamp_track_csv(lamp_track_path(cfg));
+  else
+    log->warnings.push_back(
+        "network: no " + lamp_track_path(cfg) +
+        ": pairs cannot be keyed to epochs, every camera is calibrated from its own pairs");
+  std::vector<NetworkCameraInput> in;
+  for (auto& [id, cc] : *done)
+    for (const CameraInputs& ci : inputs)
+      if (ci.id == id) in.push_back({&ci.problem, &ci.pairs, cc.main.camera, cc.main.clock_offset_s});
+  const NetworkProblem n = make_network_problem(in, track, cfg.align.max_frame_offset_s);
+  const NetworkResult r = network_adjust(n.cameras, n.points, n.observations);
+  std::vector<std::string> utc(n.points.size());
+  for (std::size_t k = 0; k < n.points.size(); ++k)
+    if (n.epoch_of_point[k] >= 0)
+      utc[k] = format_iso8601_utc(track.epochs[static_cast<std::size_t>(n.epoch_of_point[k])].utc);
+  for (std::size_t c = 0; c < done->size(); ++c) {
+    auto& [id, cc] = (*done)[c];
+    CalibrationResult net = r.cameras[c].calibration;
+    net.camera.id = id;
+    net.details = bundle_details_json(r.cameras[c].details);
+    net.details["network"] = network_statistics_json(r, utc);
+    net.covariance = 0.5 * (net.covariance + net.covariance.transpose()).eval();
+    // Map the network's rejected list (its observations of this camera) onto the problem's order.
+    cc.compared.erase(std::remove_if(cc.compared.begin(), cc.compared.end(),
+                                     [](const CalibrationResult& x) { return x.method == "network"; }),
+                      cc.compared.end());
+    cc.compared.insert(cc.compared.begin(), cc.main);
+    cc.main = net;
+    cc.opencv = fit_opencv_camera(cc.main.camera);
+    for (const CameraInputs& ci : inputs)
+      if (ci.id == id) cc.residuals = residual_rows(ci.problem, ci.pairs, cc.main);
+    log->counts[id]["method"] = "network";
+    log->counts[id]["rms_px"] = net.reprojection.rms_px;
+    log->counts[id]["n_used"] = net.reprojection.n_used;
+    log->counts[id]["n_rejected"] = net.reprojection.n_rejected;
+    for (const std::string& w : net.warnings) log->warnings.push_back(id + ": " + w);
+  }
+  for (const std::string& w : r.warnings) log->warnings.push_back("network: " + w);
+  log->counts["network"] = network_statistics_json(r, utc);
+  write_network_json(mission_output(cfg, "network.json"), network_json(r, utc));
+  if (!track.epochs.empty())
+    write_file_atomic(mission_output(cfg, "gnss/lamp_track_adjusted.csv"),
+                      format_lamp_track_adjusted_csv(track, r, n.epoch_of_point));
+}
+
 }  // namespace
 
 StageLog run_calibrate_stage(const MissionConfig& cfg) {
   StageLog log;
   log.stage = "calibrate";
   std::vector<std::pair<std::string, CameraCalibration>> done;
+  std::vector<CameraInputs> inputs;
+  const bool network = cfg.calibrate.method == "network";
+  CalibrateConfig per_camera = cfg.calibrate;
+  if (network) per_camera.method = "bundle";  // the network's start, kept as the compared bundle
   std::string last_failure, last_failed_file;
   for (const CameraConfig& cam : cfg.cameras) {
     const std::string corr_path = camera_output(cfg, cam.id, kCorrespondencesCsv);
@@ -124,7 +195,8 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
     const CalibrationProblem problem =
         make_calibration_problem(cam, cfg.calibrate, pairs, read_control_pole_views(cfg, cam));
     try {
-      CameraCalibration cc = calibrate_one_camera(cfg.calibrate, problem, pairs);
+      CameraCalibration cc = calibrate_one_camera(per_camera, problem, pairs);
+      if (network) inputs.push_back({cam.id, problem, pairs});
       log.counts[cam.id] = cc.counts;
       for (const std::string& w : cc.warnings) log.warnings.push_back(cam.id + ": " + w);
       done.emplace_back(cam.id, std::move(cc));
@@ -143,6 +215,7 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
     throw Error(ErrorKind::calibration, last_failed_file, 0, "calibrate",
                 cfg.cameras.empty() ? "no cameras in the config"
                                     : "no camera could be calibrated (" + last_failure + ")");
+  if (network) run_network(cfg, inputs, &done, &log);
   for (const auto& [id, cc] : done) write_camera_calibration(cfg, id, cc);
   return log;
 }

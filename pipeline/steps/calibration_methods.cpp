@@ -11,7 +11,9 @@
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/methods/dlt_lmqn.hpp"
 #include "optim/methods/tsai_sassa.hpp"
+#include "optim/network/network_adjustment.hpp"
 #include "pipeline/io/method_details_json.hpp"
+#include "pipeline/steps/network_problem.hpp"
 #include "vision/calibration/dlt.hpp"
 #include "vision/calibration/tsai.hpp"
 
@@ -145,6 +147,22 @@ CalibrationResult run_bundle(const CalibrationProblem& p) {
   return r;
 }
 
+// One camera alone in the network: every pair its own point under its PPK prior, started from the
+// per-camera bundle — the same estimator (docs/optimisation.md "Network bundle"); the calibrate
+// stage joins the cameras through their shared epochs instead (network_problem.hpp).
+CalibrationResult run_network(const CalibrationProblem& p) {
+  const CalibrationResult start = run_bundle(p);
+  const std::vector<Correspondence> pairs(p.observations.size() - p.control_pole_ids.size());
+  NetworkCameraInput in{&p, &pairs, start.camera, start.clock_offset_s};
+  const NetworkProblem n = make_network_problem({in}, LampTrack{}, 0);
+  const NetworkResult r = network_adjust(n.cameras, n.points, n.observations);
+  CalibrationResult out = r.cameras[0].calibration;
+  out.camera.id = p.camera_id;
+  out.camera_id = p.camera_id;
+  out.details = bundle_details_json(r.cameras[0].details);
+  return out;
+}
+
 // A lamp track whose points lie in one plane (e.g. every ascent at the same depth) leaves f and the
 // distance along the optical axis inseparable for every method here: DLT and Tsai need
 // non-coplanar points and the bundle would start from nothing. The initialisers test exact
@@ -186,8 +204,8 @@ struct Method {
 
 const std::vector<Method>& methods() {
   static const std::vector<Method> table = {
-      {"tsai", run_tsai},  {"tsai_sassa", run_tsai_sassa}, {"dlt_lmqn", run_dlt_lmqn}, {"bundle", run_bundle},
-      {"planar", nullptr},
+      {"tsai", run_tsai},     {"tsai_sassa", run_tsai_sassa}, {"dlt_lmqn", run_dlt_lmqn},
+      {"bundle", run_bundle}, {"network", run_network},       {"planar", nullptr},
   };
   return table;
 }
@@ -245,7 +263,8 @@ CalibrationResult calibrate_camera(const std::string& method, const CalibrationP
                 "view of non-coplanar points — use bundle, tsai, tsai_sassa or dlt_lmqn");
   require_depth_beyond_noise(method, problem);
   CalibrationResult r = m->run(problem);
-  if (method != "bundle" && contains(expand_free_parameters(problem.free), CameraParameter::clock_offset))
+  if (method != "bundle" && method != "network" &&
+      contains(expand_free_parameters(problem.free), CameraParameter::clock_offset))
     r.warnings.push_back("clock_offset is estimated by the bundle method only; " + method +
                          " takes the frame time stamps as exact (clock offset 0)");
   // Exact symmetry (round-off makes C and Cᵀ differ in the last bit; readers check symmetry).

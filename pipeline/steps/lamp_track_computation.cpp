@@ -132,6 +132,8 @@ LampTrackResult compute_lamp_track(const LampTrackInputs& in) {
       }
     }
     e.sd_enu = var.cwiseMax(0.0).cwiseSqrt();
+    e.cov_enu = a.cov_enu;
+    e.cov_enu.diagonal() = var;
     res.track.epochs.push_back(e);
   }
   rep.track_epochs = res.track.epochs.size();

@@ -129,7 +129,8 @@ Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera,
   return J;
 }
 
-TriangulationResult triangulate_point(const std::vector<TriangulationView>& views, const std::string& what) {
+TriangulationResult triangulate_point(const std::vector<TriangulationView>& views, const std::string& what,
+                                      const CrossCovariances* cross) {
   const std::size_t n = views.size();
   if (n < 2) {
     throw_calibration_error(
@@ -226,6 +227,7 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
   res.rms_px = std::sqrt(sum_sq / static_cast<double>(n));
   const Eigen::Matrix3d Ninv = N.inverse();
   res.cov_pick_m2 = Ninv;
+  std::vector<Eigen::MatrixXd> dXs(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (param_idx[i].empty()) continue;
     const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
@@ -234,7 +236,18 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
       Jt.col(static_cast<Eigen::Index>(k)) = pds[i].d_params.col(param_idx[i][k]);
     const Eigen::MatrixXd dX = -Ninv * (w * pds[i].d_point.transpose()) * Jt;  // ∂X/∂θ_i, 3×m
     res.cov_calibration_m2 += dX * views[i].calibration.covariance * dX.transpose();
+    dXs[i] = dX;
   }
+  if (cross)
+    for (std::size_t i = 0; i < n && i < cross->size(); ++i)
+      for (std::size_t j = 0; j < n && j < (*cross)[i].size(); ++j) {
+        const Eigen::MatrixXd& C = (*cross)[i][j];
+        if (i == j || C.size() == 0 || dXs[i].size() == 0 || dXs[j].size() == 0) continue;
+        if (C.rows() != dXs[i].cols() || C.cols() != dXs[j].cols())
+          throw_calibration_error(what,
+                                  "a cross-camera covariance block does not match the cameras' parameters");
+        res.cov_calibration_m2 += dXs[i] * C * dXs[j].transpose();
+      }
   res.cov_calibration_m2 = 0.5 * (res.cov_calibration_m2 + res.cov_calibration_m2.transpose()).eval();
   res.cov_m2 = res.cov_pick_m2 + res.cov_calibration_m2;
   res.sigma_m = std::sqrt(res.cov_m2.trace());

@@ -56,13 +56,19 @@ struct TriangulationResult {
   int iterations = 0;  ///< Gauss–Newton iterations
 };
 
+/// Covariances between cameras' calibrations (a network calibration, optim/network): block (i, j),
+/// i ≠ j, is cov(θ_i, θ_j) over view i's and view j's calibration parameters; an empty block (or no
+/// table) means independent cameras. Σ_cal then gains Σ_{i≠j} (∂X/∂θ_i)·Σ_ij·(∂X/∂θ_j)ᵀ.
+using CrossCovariances = std::vector<std::vector<Eigen::MatrixXd>>;
+
 /// Triangulates one point seen by views.size() ≥ 2 cameras. `what` names the point in messages
 /// (e.g. "pole A3"). Throws rangecal::Error (calibration) when fewer than two views are given,
 /// the rays are (nearly) parallel (largest angle between them < 1e-4 rad), the point lies behind
 /// a camera, the solution does not converge, or a covariance is malformed (size, T mixed with C,
 /// non-finite); (input) when a pick σ is not positive or a pixel is not finite.
 TriangulationResult triangulate_point(const std::vector<TriangulationView>& views,
-                                      const std::string& what = "point");
+                                      const std::string& what = "point",
+                                      const CrossCovariances* cross = nullptr);
 
 /// ∂pixel/∂θ (2×n) of `camera` at world point X for `parameters` (perturbation model as above),
 /// and ∂pixel/∂X (2×3) in `d_point` when non-null. Throws like triangulate_point for T mixed with C

@@ -1,0 +1,358 @@
+#include "optim/network/network_adjustment.hpp"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "config/error.hpp"
+#include "optim/bundle/bundle_diagnostics.hpp"
+#include "optim/network/network_cost.hpp"
+#include "optim/network/network_covariance.hpp"
+#include "optim/network/network_input_checks.hpp"
+#include "optim/network/network_outliers.hpp"
+#include "optim/network/network_parameters.hpp"
+
+namespace rangecal {
+namespace {
+
+using Eigen::Vector3d;
+
+using NetworkReprojectionCost =
+    ceres::AutoDiffCostFunction<NetworkReprojectionResidual, 2, kIntrinsicsBlockSize, kDistortionBlockSize,
+                                kPoseBlockSize, kClockBlockSize, kPointBlockSize>;
+using BundleReprojectionCost =
+    ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsicsBlockSize, kDistortionBlockSize,
+                                kPoseBlockSize, kClockBlockSize>;
+using PointPriorCost = ceres::AutoDiffCostFunction<NetworkPointPrior, 3, kPointBlockSize>;
+using PrincipalPointCost = ceres::AutoDiffCostFunction<PrincipalPointPrior, 2, kIntrinsicsBlockSize>;
+using CenterCost = ceres::AutoDiffCostFunction<CenterPrior, 3, kPoseBlockSize>;
+
+// ---------------------------------------------------------------------------------------------
+// Set-up.
+
+NetworkParameterBlocks starting_blocks(const NetworkLayout& l) {
+  NetworkParameterBlocks b;
+  for (std::size_t c = 0; c < l.starts.size(); ++c)
+    b.cameras.push_back(
+        BundleParameterBlocks::from_camera(l.starts[c], (*l.cameras)[c].options.initial_clock_offset_s));
+  for (const NetworkPoint& p : *l.points)
+    b.points.push_back({p.prior_enu.x(), p.prior_enu.y(), p.prior_enu.z()});
+  return b;
+}
+
+ceres::Manifold* subset_manifold(const bool* free, int size) {
+  std::vector<int> constant;
+  for (int i = 0; i < size; ++i)
+    if (!free[i]) constant.push_back(i);
+  if (constant.empty() || static_cast<int>(constant.size()) == size) return nullptr;
+  return new ceres::SubsetManifold(size, constant);
+}
+
+/// Number of cameras with a used observation of each point.
+std::vector<int> cameras_per_point(const NetworkLayout& l, const NetworkSelection& sel) {
+  std::vector<int> n(l.by_point.size(), 0);
+  for (std::size_t k = 0; k < l.by_point.size(); ++k) {
+    std::vector<std::size_t> seen;
+    for (std::size_t i : l.by_point[k])
+      if (sel.observation[i]) seen.push_back((*l.observations)[i].camera);
+    std::sort(seen.begin(), seen.end());
+    n[k] = static_cast<int>(std::unique(seen.begin(), seen.end()) - seen.begin());
+  }
+  return n;
+}
+
+/// A point without a prior needs two cameras' rays; a point without observations leaves the solve.
+void drop_undetermined_points(const NetworkLayout& l, NetworkSelection* sel) {
+  const std::vector<int> n = cameras_per_point(l, *sel);
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    if (n[k] == 0) sel->prior[k] = 0;
+    if (!sel->prior[k] && n[k] < 2)
+      for (std::size_t i : l.by_point[k]) sel->observation[i] = 0;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Solving.
+
+/// The Ceres problem: image residuals (robust loss), point priors (the same loss), camera priors;
+/// what is not free held by SubsetManifold / constant blocks; points eliminated first.
+void build_problem(const NetworkLayout& l, NetworkParameterBlocks& b, const NetworkSelection& sel,
+                   const NetworkOptions& opt, RobustLoss loss, ceres::Problem* problem,
+                   ceres::ParameterBlockOrdering* ordering) {
+  auto make_loss = [&]() -> ceres::LossFunction* {
+    if (loss == RobustLoss::huber) return new ceres::HuberLoss(opt.loss_scale);
+    if (loss == RobustLoss::cauchy) return new ceres::CauchyLoss(opt.loss_scale);
+    return nullptr;
+  };
+  const std::vector<NetworkObservation>& obs = *l.observations;
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    if (!sel.observation[i]) continue;
+    const NetworkObservation& o = obs[i];
+    BundleParameterBlocks& cb = b.cameras[o.camera];
+    const Camera& base = l.starts[o.camera];
+    if (sel.single_view[o.point]) {  // the per-camera bundle's residual (network_parameters.hpp)
+      problem->AddResidualBlock(new BundleReprojectionCost(new ReprojectionResidual{
+                                    (*l.points)[o.point].prior_enu + o.offset_m, o.velocity, o.pixel,
+                                    sel.whitening[i], cb.R0, base.intr.dx_mm, base.intr.dy_mm}),
+                                make_loss(), cb.intr, cb.dist, cb.pose, cb.clock);
+      continue;
+    }
+    problem->AddResidualBlock(
+        new NetworkReprojectionCost(new NetworkReprojectionResidual{
+            o.offset_m, o.velocity, o.pixel, 1 / l.pixel_sigma(i), cb.R0, base.intr.dx_mm, base.intr.dy_mm}),
+        make_loss(), cb.intr, cb.dist, cb.pose, cb.clock, b.points[o.point].data());
+  }
+  for (std::size_t k = 0; k < b.points.size(); ++k) {
+    if (!sel.prior[k] || sel.single_view[k]) continue;
+    problem->AddResidualBlock(
+        new PointPriorCost(new NetworkPointPrior{(*l.points)[k].prior_enu, l.prior_whiten[k]}), make_loss(),
+        b.points[k].data());
+  }
+  for (std::size_t k = 0; k < b.points.size(); ++k)
+    if (problem->HasParameterBlock(b.points[k].data())) ordering->AddElementToGroup(b.points[k].data(), 0);
+  for (std::size_t c = 0; c < b.cameras.size(); ++c) {
+    BundleParameterBlocks& cb = b.cameras[c];
+    const BundleSetup& s = l.setups[c];
+    const BundleOptions& co = (*l.cameras)[c].options;
+    if (!problem->HasParameterBlock(cb.intr)) continue;  // a camera with no observation left
+    if (s.principal_point_prior)
+      problem->AddResidualBlock(new PrincipalPointCost(new PrincipalPointPrior{
+                                    co.priors.principal_point_px, co.priors.principal_point_sigma_px}),
+                                nullptr, cb.intr);
+    if (s.center_prior)
+      problem->AddResidualBlock(
+          new CenterCost(new CenterPrior{co.priors.center_enu_m, co.priors.center_sigma_m}), nullptr,
+          cb.pose);
+    int offset = 0;
+    for (int blk = 0; blk < 4; ++blk) {
+      const bool* fr = s.free.data() + offset;
+      const int size = kBundleBlockSizes[static_cast<std::size_t>(blk)];
+      const int nf = static_cast<int>(std::count(fr, fr + size, true));
+      if (nf == 0)
+        problem->SetParameterBlockConstant(cb.block(blk));
+      else if (ceres::Manifold* m = subset_manifold(fr, size))
+        problem->SetManifold(cb.block(blk), m);
+      ordering->AddElementToGroup(cb.block(blk), 1);
+      offset += size;
+    }
+  }
+}
+
+/// One Levenberg–Marquardt solve (Schur elimination of the points); rotations re-based after.
+int solve(const NetworkLayout& l, NetworkParameterBlocks& b, const NetworkSelection& sel,
+          const NetworkOptions& opt, RobustLoss loss) {
+  ceres::Problem problem;
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  build_problem(l, b, sel, opt, loss, &problem, ordering.get());
+  ceres::Solver::Options so;
+  so.minimizer_type = ceres::TRUST_REGION;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.linear_solver_type = ceres::DENSE_SCHUR;
+  so.linear_solver_ordering = ordering;
+  so.max_num_iterations = opt.max_iterations;
+  so.function_tolerance = 1e-14;
+  so.gradient_tolerance = 1e-16;
+  so.parameter_tolerance = 1e-14;
+  so.num_threads = std::max(1, opt.num_threads);
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  if (!summary.IsSolutionUsable() || !std::isfinite(summary.final_cost))
+    throw_calibration_error("network", "Levenberg–Marquardt failed: " + summary.message);
+  for (std::size_t c = 0; c < b.cameras.size(); ++c) b.cameras[c].rebase_rotation(l.starts[c]);
+  return static_cast<int>(summary.iterations.size());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Results.
+
+double scene_distance(const NetworkLayout& l) {
+  double sum = 0;
+  int n = 0;
+  for (const NetworkObservation& o : *l.observations)
+    sum += (l.starts[o.camera].pose.center() - (*l.points)[o.point].prior_enu).norm(), ++n;
+  return std::max(1.0, n > 0 ? sum / n : 1.0);
+}
+
+double max_speed(const NetworkLayout& l, std::size_t camera) {
+  double v = 0;
+  for (const NetworkObservation& o : *l.observations)
+    if (camera == static_cast<std::size_t>(-1) || o.camera == camera) v = std::max(v, o.velocity.norm());
+  return v;
+}
+
+void count_epochs(const NetworkLayout& l, const NetworkSelection& sel, NetworkStatistics* st) {
+  const std::vector<int> n = cameras_per_point(l, sel);
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    const NetworkPoint& p = (*l.points)[k];
+    if (p.control_pole || n[k] == 0) continue;
+    (n[k] == 1 ? st->epochs_seen_by_1 : n[k] == 2 ? st->epochs_seen_by_2 : st->epochs_seen_by_3_or_more)++;
+    if (p.quality >= 2) ++st->float_epochs_used;
+  }
+  // Cameras sharing no used epoch (or pole) with another camera.
+  std::vector<char> shares(l.starts.size(), 0);
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    if (n[k] < 2) continue;
+    for (std::size_t i : l.by_point[k])
+      if (sel.observation[i]) shares[(*l.observations)[i].camera] = 1;
+  }
+  for (std::size_t c = 0; c < shares.size(); ++c)
+    if (!shares[c]) st->cameras_alone.push_back(c);
+}
+
+/// Camera c's result: its marginal of the joint covariance, residuals and flags of its observations.
+BundleResult camera_result(const NetworkLayout& l, const NetworkParameterBlocks& b, std::size_t c,
+                           const std::vector<std::size_t>& mine, const ImageOutlierTest& test,
+                           const std::vector<bool>& dropped, const NetworkSelection& sel,
+                           const NetworkCovariance& cov, const NetworkStatistics& st, int n_solves) {
+  const NetworkCamera& nc = (*l.cameras)[c];
+  BundleResult out;
+  BundleDetails& d = out.details;
+  CalibrationResult& cal = out.calibration;
+  cal.camera_id = nc.initial.id;
+  cal.method = "network";
+  cal.camera = b.cameras[c].to_camera(l.starts[c]);
+  cal.clock_offset_s = b.cameras[c].clock[0];
+  cal.parameters = l.free[c];
+  d.free = l.free[c];
+  d.chi2 = st.chi2, d.dof = st.dof, d.variance_factor = st.variance_factor;
+  d.iterations = st.iterations;
+  d.solves.resize(static_cast<std::size_t>(n_solves));
+  d.rank_deficient = cov.rank_deficient;
+  d.outlier_threshold_sigma = test.threshold[c];
+  d.pixel_sigma_px = nc.options.pixel_sigma_px;
+  d.covariance_scaled = nc.options.scale_covariance;
+  if (l.setups[c].is_free(CameraParameter::clock_offset)) d.clock_offset_s = cal.clock_offset_s;
+  const int p = l.setups[c].n_free;
+  if (!cov.rank_deficient && cov.joint.size() > 0) {
+    out.covariance_unscaled = cov.joint.block(l.offset[c], l.offset[c], p, p);
+    out.covariance_scaled =
+        out.covariance_unscaled * (std::isfinite(st.variance_factor) ? st.variance_factor : 1.0);
+    cal.covariance = nc.options.scale_covariance ? out.covariance_scaled : out.covariance_unscaled;
+    d.sigma_unscaled = out.covariance_unscaled.diagonal().cwiseSqrt();
+    d.sigma_scaled = out.covariance_scaled.diagonal().cwiseSqrt();
+    Eigen::Matrix3d cc = Eigen::Matrix3d::Zero();
+    for (int a = 0; a < 3; ++a)
+      for (int e = 0; e < 3; ++e) {
+        const int ia = cal.parameter_index(kCenterParameters[a]),
+                  ie = cal.parameter_index(kCenterParameters[e]);
+        if (ia >= 0 && ie >= 0) cc(a, e) = cal.covariance(ia, ie);
+      }
+    cal.center_covariance_m2 = cc;
+  } else {
+    cal.warnings = cov.warnings;
+  }
+  double s2 = 0, s1 = 0, mx = 0;
+  int nu = 0;
+  for (std::size_t j = 0; j < mine.size(); ++j) {
+    const std::size_t i = mine[j];
+    out.residual_px.push_back(test.residual_px[i]);
+    out.whitened_norm.push_back(test.whitened_norm[i]);
+    out.outlier.push_back(dropped[i]);
+    if (dropped[i]) cal.rejected.push_back(j), d.outliers.push_back(j);
+    if (!sel.observation[i]) continue;
+    const double e = test.residual_px[i].norm();
+    s2 += e * e, s1 += e, mx = std::max(mx, e), ++nu;
+  }
+  cal.reprojection.n_used = nu;
+  cal.reprojection.n_rejected = static_cast<int>(mine.size()) - nu;
+  if (nu > 0)
+    cal.reprojection.rms_px = std::sqrt(s2 / nu), cal.reprojection.mean_px = s1 / nu,
+    cal.reprojection.max_px = mx;
+  for (std::string& w : poorly_determined_warnings(cal, max_speed(l, c), nc.options.correlation_warning))
+    cal.warnings.push_back(std::move(w));
+  for (std::string& w : fit_warnings(d)) cal.warnings.push_back(std::move(w));
+  out.chi2 = d.chi2, out.dof = d.dof, out.variance_factor = d.variance_factor;
+  out.rank_deficient = d.rank_deficient, out.iterations = d.iterations;
+  return out;
+}
+
+}  // namespace
+
+NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
+                             const std::vector<NetworkPoint>& points,
+                             const std::vector<NetworkObservation>& obs, const NetworkOptions& opt) {
+  check_network_input(cameras, points, obs);
+  const NetworkLayout l = make_network_layout(cameras, points, obs);
+  NetworkParameterBlocks b = starting_blocks(l);
+  NetworkSelection sel{std::vector<char>(obs.size(), 1), std::vector<char>(points.size(), 1), {}, {}};
+  NetworkResult out;
+  NetworkStatistics& st = out.statistics;
+  out.points.resize(points.size());
+  int n_solves = 0;
+
+  // 1. Robust solve, every prior in; single-view weights at the starting cameras.
+  refresh_single_view(l, b, &sel);
+  st.iterations += solve(l, b, sel, opt, opt.loss), ++n_solves;
+
+  // 2. PPK outliers (multi-ray epochs), then image outliers (the bundle's rule, per camera).
+  st.ppk_outliers = flag_ppk_outliers(l, b, opt.ppk_outlier_probability, &sel, &out.points);
+  ImageOutlierTest test = test_image_observations(l, b, sel, opt.outlier_threshold);
+  std::vector<bool> dropped(obs.size(), false);
+
+  // 3. Plain least squares without them.
+  if (opt.resolve_without_outliers) {
+    for (std::size_t i = 0; i < obs.size(); ++i)
+      if (test.outlier[i]) sel.observation[i] = 0, dropped[i] = true;
+    drop_undetermined_points(l, &sel);
+    for (std::size_t c = 0; c < cameras.size(); ++c) {
+      int used = 0;
+      for (std::size_t i = 0; i < obs.size(); ++i) used += obs[i].camera == c && sel.observation[i] ? 1 : 0;
+      if (2 * used < l.setups[c].n_free)
+        throw_calibration_error("network", cameras[c].initial.id +
+                                               ": after rejecting outliers too few points remain (" +
+                                               std::to_string(used) + ")");
+    }
+    refresh_single_view(l, b, &sel);  // weights at the robust solution, as the per-camera bundle
+    st.iterations += solve(l, b, sel, opt, RobustLoss::none), ++n_solves;
+    test = test_image_observations(l, b, sel, opt.outlier_threshold);
+  } else {
+    dropped = test.outlier;
+  }
+  for (bool d : dropped) st.image_outliers += d ? 1 : 0;
+
+  // 4. Joint covariance (Schur complement) and the points', single-view weights at the solution.
+  refresh_single_view(l, b, &sel);
+  const NetworkCovariance cov =
+      network_covariance(l, b, sel, scene_distance(l), max_speed(l, static_cast<std::size_t>(-1)),
+                         cameras.front().options.rank_tolerance);
+  st.chi2 = cov.chi2;
+  st.dof = cov.residuals - cov.parameters;
+  st.variance_factor = st.dof > 0 ? st.chi2 / st.dof : std::numeric_limits<double>::quiet_NaN();
+  st.rank_deficient = cov.rank_deficient;
+  count_epochs(l, sel, &st);
+  const bool scaled = cameras.front().options.scale_covariance && std::isfinite(st.variance_factor);
+  if (cov.joint.size() > 0)
+    out.joint_covariance = scaled ? Eigen::MatrixXd(cov.joint * st.variance_factor) : cov.joint;
+  out.joint_offset = l.offset;
+  const std::vector<int> seen = cameras_per_point(l, sel);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    NetworkPointResult& pr = out.points[k];
+    pr.enu = cov.point_enu[k];
+    pr.correction = pr.enu - points[k].prior_enu;
+    pr.cov = cov.point_cov[k];
+    pr.cameras = seen[k];
+    pr.prior_used = sel.prior[k] != 0;
+    pr.used = pr.prior_used || seen[k] > 0;
+  }
+  out.warnings = cov.warnings;
+  if (!st.ppk_outliers.empty())
+    out.warnings.push_back(
+        std::to_string(st.ppk_outliers.size()) +
+        " epochs disagree with their PPK fix beyond the whitened test; their priors were dropped");
+  for (std::size_t c : st.cameras_alone)
+    out.warnings.push_back(cameras[c].initial.id +
+                           " shares no epoch with another camera: calibrated from its own epochs alone");
+
+  // 5. Per camera.
+  out.camera_observations.resize(cameras.size());
+  for (std::size_t i = 0; i < obs.size(); ++i) out.camera_observations[obs[i].camera].push_back(i);
+  for (std::size_t c = 0; c < cameras.size(); ++c)
+    out.cameras.push_back(
+        camera_result(l, b, c, out.camera_observations[c], test, dropped, sel, cov, st, n_solves));
+  return out;
+}
+
+}  // namespace rangecal

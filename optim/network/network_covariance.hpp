@@ -1,0 +1,57 @@
+#pragma once
+// The network's covariance (docs/optimisation.md "Network bundle — covariance"). With the whitened
+// Jacobian split into camera columns (c) and point columns (p), the normal matrix is
+//   N = [ U   W ]      U = Σ J_cᵀJ_c + camera priors,   W = Σ J_cᵀJ_p,
+//       [ Wᵀ  V ]      V = blockdiag(V_k),  V_k = Σ J_pᵀJ_p + Σ_prior,k⁻¹,
+// and the cameras' marginal covariance is the inverse of the Schur complement (Triggs et al. 2000
+// §6.1)
+//   S = U − Σ_k W_k·V_k⁻¹·W_kᵀ,      Σ_cc = S⁻¹,
+// which keeps every correlation between cameras that the shared epochs create. Each point's
+// covariance follows as Σ_kk = V_k⁻¹ + V_k⁻¹·W_kᵀ·Σ_cc·W_k·V_k⁻¹; a single-view point
+// (network_parameters.hpp) has Σ − K·J_X·Σ + K·J_θ·Σ_cc·J_θᵀ·Kᵀ, K = Σ·J_Xᵀ·C⁻¹. S is inverted after Jacobi
+// scaling, with the per-camera bundle's rank tests (optim/bundle/bundle_covariance.hpp).
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "optim/network/network_parameters.hpp"
+
+namespace rangecal {
+
+/// One point's share of the normal equations.
+struct PointLinearisation {
+  Eigen::Matrix3d V = Eigen::Matrix3d::Zero();  ///< V_k (m⁻²)
+  /// W_k per observing camera: (camera index, J_cᵀJ_p over that camera's used observations, n_free × 3).
+  std::vector<std::pair<std::size_t, Eigen::MatrixXd>> W;
+  int cameras = 0;  ///< cameras with a used observation of the point
+};
+
+/// V_k and W_k of point k at `blocks` over the selection; when `U` is given, the observations'
+/// J_cᵀJ_c are added to it (joint columns); `chi2`/`rows` accumulate the whitened residuals.
+/// Throws rangecal::Error (calibration) when an observation cannot be projected.
+PointLinearisation linearise_point(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
+                                   const NetworkSelection& selection, std::size_t k, Eigen::MatrixXd* U,
+                                   double* chi2, int* rows);
+
+struct NetworkCovariance {
+  Eigen::MatrixXd S;                       ///< reduced camera system (joint columns)
+  Eigen::MatrixXd joint;                   ///< S⁻¹, a-priori; empty when rank-deficient
+  std::vector<Eigen::Matrix3d> point_cov;  ///< per point (zero for points not used)
+  /// Per point: the adjusted position — its block, or for a single-view point the posterior
+  /// X̄ − Σ·J_Xᵀ·C⁻¹·e given the camera (e its pixel residual at X̄).
+  std::vector<Eigen::Vector3d> point_enu;
+  double chi2 = 0;
+  int residuals = 0;
+  int parameters = 0;
+  bool rank_deficient = false;
+  std::vector<std::string> warnings;
+};
+
+/// The covariance at `blocks` (rotations re-based) for the selection. `scene_distance_m` and
+/// `max_speed_mps` set the physical ranges of the rank test (parameter_range).
+NetworkCovariance network_covariance(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
+                                     const NetworkSelection& selection, double scene_distance_m,
+                                     double max_speed_mps, double rank_tolerance);
+
+}  // namespace rangecal

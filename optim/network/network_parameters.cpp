@@ -1,0 +1,88 @@
+#include "optim/network/network_parameters.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+
+#include "optim/bundle/whitening.hpp"
+
+namespace rangecal {
+
+BundleSetup network_camera_setup(const BundleOptions& opt) {
+  BundleSetup s;
+  for (CameraParameter p : expand_free_parameters(opt.free))
+    s.free[static_cast<std::size_t>(index_of(p))] = true;
+  s.n_free = static_cast<int>(std::count(s.free.begin(), s.free.end(), true));
+  s.principal_point_prior =
+      opt.priors.use_principal_point && (s.is_free(CameraParameter::u0) || s.is_free(CameraParameter::v0));
+  s.center_prior =
+      opt.priors.use_center &&
+      (s.is_free(CameraParameter::CE) || s.is_free(CameraParameter::CN) || s.is_free(CameraParameter::CU));
+  return s;
+}
+
+Camera network_starting_camera(const Camera& initial, const BundleSetup& setup, const BundleOptions& opt) {
+  Camera start = initial;
+  if (opt.priors.use_principal_point && opt.priors.principal_point_px.allFinite()) {
+    if (!setup.is_free(CameraParameter::u0)) start.intr.u0_px = opt.priors.principal_point_px.x();
+    if (!setup.is_free(CameraParameter::v0)) start.intr.v0_px = opt.priors.principal_point_px.y();
+  }
+  return start;
+}
+
+Eigen::Matrix3d prior_whitening(const Eigen::Matrix3d& cov) {
+  const Eigen::Matrix3d L = cov.llt().matrixL();
+  return L.inverse();
+}
+
+std::vector<std::vector<std::size_t>> observations_by_point(std::size_t n_points,
+                                                            const std::vector<NetworkObservation>& obs) {
+  std::vector<std::vector<std::size_t>> by(n_points);
+  for (std::size_t i = 0; i < obs.size(); ++i) by[obs[i].point].push_back(i);
+  return by;
+}
+
+double NetworkLayout::pixel_sigma(std::size_t i) const {
+  const NetworkObservation& o = (*observations)[i];
+  return o.pixel_sigma_px > 0 ? o.pixel_sigma_px : (*cameras)[o.camera].options.pixel_sigma_px;
+}
+
+NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,
+                                  const std::vector<NetworkPoint>& points,
+                                  const std::vector<NetworkObservation>& observations) {
+  NetworkLayout l;
+  l.cameras = &cameras, l.points = &points, l.observations = &observations;
+  for (const NetworkCamera& c : cameras) {
+    l.setups.push_back(network_camera_setup(c.options));
+    l.starts.push_back(network_starting_camera(c.initial, l.setups.back(), c.options));
+    l.free.push_back(l.setups.back().free_parameters());
+    l.offset.push_back(l.n_camera_parameters);
+    l.n_camera_parameters += l.setups.back().n_free;
+  }
+  l.by_point = observations_by_point(points.size(), observations);
+  for (const NetworkPoint& p : points) l.prior_whiten.push_back(prior_whitening(p.prior_cov));
+  return l;
+}
+
+void refresh_single_view(const NetworkLayout& l, const NetworkParameterBlocks& b, NetworkSelection* sel) {
+  const std::vector<NetworkObservation>& obs = *l.observations;
+  sel->single_view.assign(l.by_point.size(), 0);
+  sel->whitening.assign(obs.size(), Eigen::Matrix2d::Zero());
+  std::vector<Camera> cams;
+  for (std::size_t c = 0; c < b.cameras.size(); ++c) cams.push_back(b.cameras[c].to_camera(l.starts[c]));
+  for (std::size_t k = 0; k < l.by_point.size(); ++k) {
+    if (!sel->prior[k]) continue;
+    std::size_t used = 0, last = 0;
+    for (std::size_t i : l.by_point[k])
+      if (sel->observation[i]) ++used, last = i;
+    if (used != 1) continue;
+    sel->single_view[k] = 1;
+    const NetworkObservation& o = obs[last];
+    BundleObservation bo;
+    bo.world = (*l.points)[k].prior_enu + o.offset_m;
+    bo.world_cov = (*l.points)[k].prior_cov;
+    sel->whitening[last] = whitening_matrix(cams[o.camera], bo, l.pixel_sigma(last));
+  }
+}
+
+}  // namespace rangecal

@@ -1,0 +1,31 @@
+#pragma once
+// The network a scenario would give (SPEC §7 `plan`; docs/accuracy_analysis.md): one point per
+// fix GNSS epoch that some camera sees (the align stage's nearest frame within
+// align.max_frame_offset_s, lamp in view), at the true lamp position with the epoch's PPK
+// covariance, and each camera's view of it — the exact pixel, the lamp's displacement from the
+// epoch to the frame and its velocity there; then, when the mission calibrates with control
+// poles, each control pole top in view under its survey σ with the pick σ. Noise-free: the priors
+// are the truth (a Monte Carlo adds the noise), so the Cramér–Rao bound can be evaluated here.
+#include <vector>
+
+#include "optim/network/network_adjustment.hpp"
+#include "pipeline/analysis/route_plan.hpp"
+#include "pipeline/simulate/scenario.hpp"
+
+namespace rangecal {
+
+struct PlannedNetwork {
+  std::vector<Camera> truth;  ///< per scenario camera
+  std::vector<NetworkPoint> points;
+  std::vector<NetworkObservation> observations;
+};
+
+PlannedNetwork planned_network(const Scenario& s, const PlanOptions& options = {});
+
+/// The network's Cramér–Rao bound of every camera's parameters named by `free` (the joint Fisher
+/// information with the points eliminated: the Schur complement of the noise-free network at the
+/// truth, optim/network/network_covariance.hpp): the joint covariance, cameras in order.
+Eigen::MatrixXd network_cramer_rao_bound(const PlannedNetwork& n, const std::vector<std::string>& free,
+                                         double pixel_sigma_px);
+
+}  // namespace rangecal

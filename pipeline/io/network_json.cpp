@@ -1,0 +1,100 @@
+#include "pipeline/io/network_json.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+#include "config/atomic_file.hpp"
+#include "config/error.hpp"
+
+namespace rangecal {
+
+nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc) {
+  const NetworkStatistics& s = r.statistics;
+  nlohmann::json j;
+  j["variance_factor"] = s.variance_factor;
+  j["chi2"] = s.chi2;
+  j["dof"] = s.dof;
+  j["epochs_seen_by_1"] = s.epochs_seen_by_1;
+  j["epochs_seen_by_2"] = s.epochs_seen_by_2;
+  j["epochs_seen_by_3_or_more"] = s.epochs_seen_by_3_or_more;
+  j["float_epochs_used"] = s.float_epochs_used;
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t k : s.ppk_outliers) out.push_back(k < epoch_utc.size() ? epoch_utc[k] : std::to_string(k));
+  j["ppk_outliers"] = out;
+  j["image_outliers"] = s.image_outliers;
+  nlohmann::json alone = nlohmann::json::array();
+  for (std::size_t c : s.cameras_alone) alone.push_back(r.cameras[c].calibration.camera_id);
+  j["cameras_alone"] = alone;
+  j["rank_deficient"] = s.rank_deficient;
+  return j;
+}
+
+nlohmann::json network_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc) {
+  nlohmann::json j;
+  j["method"] = "network";
+  nlohmann::json cams = nlohmann::json::array();
+  for (const BundleResult& c : r.cameras)
+    cams.push_back(
+        {{"id", c.calibration.camera_id}, {"parameters", parameter_names(c.calibration.parameters)}});
+  j["cameras"] = cams;
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < r.joint_covariance.rows(); ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index k = 0; k < r.joint_covariance.cols(); ++k) row.push_back(r.joint_covariance(i, k));
+    rows.push_back(row);
+  }
+  j["joint_covariance"] = rows;
+  j["statistics"] = network_statistics_json(r, epoch_utc);
+  return j;
+}
+
+void write_network_json(const std::string& path, const nlohmann::json& j) {
+  write_file_atomic(path, j.dump(2) + "\n");
+}
+
+CrossCovariances read_network_cross_covariances(const std::string& path,
+                                                const std::vector<std::string>& ids) {
+  if (!std::filesystem::exists(path)) return {};
+  std::ifstream in(path);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw_input_error(path, 0, "", std::string("not valid JSON: ") + e.what());
+  }
+  try {
+    std::vector<int> offset, size;
+    std::vector<std::string> names;
+    int n = 0;
+    for (const auto& c : j.at("cameras")) {
+      names.push_back(c.at("id").get<std::string>());
+      offset.push_back(n);
+      size.push_back(static_cast<int>(c.at("parameters").size()));
+      n += size.back();
+    }
+    const auto& rows = j.at("joint_covariance");
+    if (static_cast<int>(rows.size()) != n) return {};
+    std::vector<int> where;
+    for (const std::string& id : ids) {
+      const auto it = std::find(names.begin(), names.end(), id);
+      if (it == names.end()) return {};
+      where.push_back(static_cast<int>(it - names.begin()));
+    }
+    CrossCovariances x(ids.size(), std::vector<Eigen::MatrixXd>(ids.size()));
+    for (std::size_t a = 0; a < ids.size(); ++a)
+      for (std::size_t b = 0; b < ids.size(); ++b) {
+        if (a == b) continue;
+        const int ca = where[a], cb = where[b];
+        Eigen::MatrixXd m(size[ca], size[cb]);
+        for (int r = 0; r < size[ca]; ++r)
+          for (int c = 0; c < size[cb]; ++c)
+            m(r, c) = rows.at(offset[ca] + r).at(offset[cb] + c).get<double>();
+        x[a][b] = m;
+      }
+    return x;
+  } catch (const nlohmann::json::exception& e) {
+    throw_input_error(path, 0, "", std::string("malformed network.json: ") + e.what());
+  }
+}
+
+}  // namespace rangecal

@@ -1,0 +1,30 @@
+#pragma once
+// `<out>/network.json` (docs/optimisation.md "Network bundle"): the network's statistics and the
+// joint covariance of every camera's free parameters — the per-camera blocks are each camera's
+// calibration.json covariance, the cross blocks what the intersection needs to know that the
+// cameras are correlated. Keys: method, cameras [{id, parameters}], joint_covariance (rows, cameras
+// in order), statistics {variance_factor, chi2, dof, epochs_seen_by_1/2/3_or_more, ppk_outliers
+// (utc), image_outliers, float_epochs_used, cameras_alone}.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "optim/network/network_adjustment.hpp"
+#include "vision/triangulation/triangulation.hpp"
+
+namespace rangecal {
+
+/// The statistics object (also run.json's `network` counts). `epoch_utc` names each point's epoch
+/// ("" for poles).
+nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
+
+/// network.json's text.
+nlohmann::json network_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
+void write_network_json(const std::string& path, const nlohmann::json& j);
+
+/// The cross blocks for the cameras `ids` (in the views' order) read from network.json; empty
+/// when the file is missing, a camera is not in it, or it has no joint covariance. Throws
+/// rangecal::Error (input) for a malformed file.
+CrossCovariances read_network_cross_covariances(const std::string& path, const std::vector<std::string>& ids);
+
+}  // namespace rangecal

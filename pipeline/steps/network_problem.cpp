@@ -1,0 +1,103 @@
+#include "pipeline/steps/network_problem.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+
+#include "pipeline/steps/calibration_methods.hpp"
+
+namespace rangecal {
+
+NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cams, const LampTrack& track,
+                                    double max_frame_offset_s) {
+  NetworkProblem n;
+  const std::int64_t max_ns = static_cast<std::int64_t>(std::llround(max_frame_offset_s * 1e9));
+  std::map<std::size_t, std::size_t> point_of_epoch;
+  std::map<std::string, std::size_t> point_of_pole;
+  n.observation_of.resize(cams.size());
+  for (std::size_t c = 0; c < cams.size(); ++c) {
+    const CalibrationProblem& p = *cams[c].problem;
+    const std::vector<Correspondence>& pairs = *cams[c].pairs;
+    NetworkCamera nc;
+    nc.initial = cams[c].start;
+    nc.options.free = p.free;
+    nc.options.pixel_sigma_px = p.pixel_sigma_px;
+    nc.options.initial_clock_offset_s = cams[c].start_clock_offset_s;
+    const std::vector<CameraParameter> free = expand_free_parameters(p.free);
+    if (p.priors.principal_point_px &&
+        (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
+      nc.options.priors.use_principal_point = true;
+      nc.options.priors.principal_point_px = *p.priors.principal_point_px;
+      nc.options.priors.principal_point_sigma_px = p.priors.principal_point_sigma_px;
+    }
+    if (p.priors.center_enu_m && contains(free, CameraParameter::CE)) {
+      nc.options.priors.use_center = true;
+      nc.options.priors.center_enu_m = *p.priors.center_enu_m;
+      nc.options.priors.center_sigma_m = Eigen::Vector3d::Constant(p.priors.center_sigma_m);
+    }
+    n.cameras.push_back(nc);
+    for (std::size_t i = 0; i < p.observations.size(); ++i) {
+      const BundleObservation& o = p.observations[i];
+      NetworkObservation ob;
+      ob.camera = c;
+      ob.pixel = o.pixel;
+      ob.pixel_sigma_px = o.pixel_sigma_px;
+      ob.velocity = o.velocity;
+      ob.source = p.camera_id + " " + o.source;
+      const bool lamp = i < pairs.size();
+      long epoch = -1;
+      if (lamp && !track.epochs.empty()) {
+        const std::size_t e =
+            nearest_in_time(track.epochs, pairs[i].utc, [](const LampEpoch& le) { return le.utc; });
+        if (e < track.epochs.size() && std::llabs(track.epochs[e].utc.ns - pairs[i].utc.ns) <= max_ns)
+          epoch = static_cast<long>(e);
+      }
+      if (epoch >= 0) {
+        const LampEpoch& le = track.epochs[static_cast<std::size_t>(epoch)];
+        auto it = point_of_epoch.find(static_cast<std::size_t>(epoch));
+        if (it == point_of_epoch.end()) {
+          NetworkPoint pt;
+          pt.prior_enu = le.enu;
+          pt.prior_cov = le.cov_enu.allFinite() && le.cov_enu.trace() > 0
+                             ? le.cov_enu
+                             : Eigen::Matrix3d(le.sd_enu.cwiseProduct(le.sd_enu).asDiagonal());
+          pt.quality = le.quality;
+          pt.source = "epoch " + format_iso8601_utc(le.utc);
+          it = point_of_epoch.emplace(static_cast<std::size_t>(epoch), n.points.size()).first;
+          n.points.push_back(pt);
+          n.epoch_of_point.push_back(epoch);
+        }
+        ob.point = it->second;
+        ob.offset_m = o.world - le.enu;
+      } else if (!lamp) {
+        const std::string id = p.control_pole_ids[i - pairs.size()];
+        auto it = point_of_pole.find(id);
+        if (it == point_of_pole.end()) {
+          NetworkPoint pt;
+          pt.prior_enu = o.world;
+          pt.prior_cov = o.world_cov;
+          pt.control_pole = true;
+          pt.quality = 0;
+          pt.source = "control pole '" + id + "'";
+          it = point_of_pole.emplace(id, n.points.size()).first;
+          n.points.push_back(pt);
+          n.epoch_of_point.push_back(-1);
+        }
+        ob.point = it->second;
+      } else {  // a lone pair: its own point, its own prior
+        NetworkPoint pt;
+        pt.prior_enu = o.world;
+        pt.prior_cov = o.world_cov;
+        pt.source = ob.source;
+        ob.point = n.points.size();
+        n.points.push_back(pt);
+        n.epoch_of_point.push_back(-1);
+      }
+      n.observation_of[c].push_back(n.observations.size());
+      n.observations.push_back(ob);
+    }
+  }
+  return n;
+}
+
+}  // namespace rangecal

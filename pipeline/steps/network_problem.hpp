@@ -1,0 +1,43 @@
+#pragma once
+// The calibrate stage's network (docs/optimisation.md "Network bundle"): the cameras' calibration
+// problems joined through the lamp-track epochs they share. Each lamp pair is keyed to the epoch of
+// gnss/lamp_track.csv nearest its frame (within align.max_frame_offset_s, as the align stage
+// picked it); the epoch's point carries the fix and its covariance as the prior, the pair the
+// interpolant's displacement from the epoch to its frame (pair ENU − epoch ENU) and the velocity.
+// Each `control` pole becomes one point under its survey prior (kControlPoleSigmaM per axis), seen
+// by every camera that picked it; check poles never enter. A pair with no epoch near it (a track
+// read without it) becomes a point of its own: it cannot tie cameras together, and calibrates its
+// camera as the per-camera bundle would.
+#include <string>
+#include <vector>
+
+#include "gnss/track/lamp_track.hpp"
+#include "optim/network/network_adjustment.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/steps/calibration_problem.hpp"
+
+namespace rangecal {
+
+/// One camera's part: its problem (observations: lamp pairs, then control poles) and its pairs.
+struct NetworkCameraInput {
+  const CalibrationProblem* problem = nullptr;
+  const std::vector<Correspondence>* pairs = nullptr;
+  Camera start;  ///< starting camera (the per-camera bundle's result)
+  double start_clock_offset_s = 0;
+};
+
+struct NetworkProblem {
+  std::vector<NetworkCamera> cameras;
+  std::vector<NetworkPoint> points;
+  std::vector<NetworkObservation> observations;
+  /// Per point: the lamp-track epoch it is (index into the track), or −1 (a pole or a lone pair).
+  std::vector<long> epoch_of_point;
+  /// Per camera: network observation index of each of its problem's observations.
+  std::vector<std::vector<std::size_t>> observation_of;
+};
+
+/// Builds the network. `max_frame_offset_s` (s) bounds the pair–epoch pairing.
+NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cameras, const LampTrack& track,
+                                    double max_frame_offset_s);
+
+}  // namespace rangecal
