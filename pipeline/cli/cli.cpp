@@ -50,6 +50,7 @@ int run_cli(int argc, char** argv) {
   add_montecarlo_command(app, ctx);
   add_plan_command(app, ctx);
   add_demo_command(app, ctx);
+  add_inspect_command(app, ctx);
 
   try {
     app.parse(argc, argv);
