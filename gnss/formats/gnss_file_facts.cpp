@@ -81,7 +81,7 @@ std::string pos_time_system(const PosHeader& h, UtcTime first) {
 
 // The `% key : value` header lines a user recognises from RTKLIB, as written.
 void add_pos_header_lines(FileFacts* f, const std::string& text) {
-  std::istringstream in(text);
+  std::istringstream in{std::string(strip_utf8_bom(text))};
   for (std::string line; std::getline(in, line);) {
     if (line.empty() || line[0] != '%') break;
     if (!line.empty() && line.back() == '\r') line.pop_back();
