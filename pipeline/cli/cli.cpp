@@ -75,6 +75,7 @@ int run_cli(int argc, char** argv) {
   add_montecarlo_command(app, ctx);
   add_plan_command(app, ctx);
   add_demo_command(app, ctx);
+  add_inspect_command(app, ctx);
 
   if (const std::string message = unknown_command_message(app, argc, argv); !message.empty()) {
     std::cerr << "rangecal: error: " << message << "\n";

@@ -38,6 +38,10 @@ void add_report_command(CLI::App& app, const CliContext& ctx);
 void add_montecarlo_command(CLI::App& app, const CliContext& ctx);
 void add_plan_command(CLI::App& app, const CliContext& ctx);
 
+/// `rangecal inspect FILE… [--json]`: kind, header facts and UTC span of each input file, and the
+/// overlap of their spans (pipeline/cli/inspect_command.cpp).
+void add_inspect_command(CLI::App& app, const CliContext& ctx);
+
 /// `rangecal demo [--out DIR]`: simulate the built-in scenario, run it, print Tables 1–4
 /// (SPEC §6; pipeline/cli/demo_command.cpp).
 void add_demo_command(CLI::App& app, const CliContext& ctx);

@@ -19,11 +19,13 @@ StageLog run_align_stage(const MissionConfig& cfg) {
   if (cfg.cameras.empty()) throw_config_error(cfg.config_path, "cameras", "no cameras to align");
   std::size_t total = 0;
   std::vector<AlignResult> results;
+  std::vector<CameraFrameSpan> spans;
   for (const CameraConfig& cam : cfg.cameras) {
     const FrameSource source = open_camera_frames(cfg, cam);
     std::vector<FrameStamp> stamps;
     stamps.reserve(source.size());
     for (const auto& e : source.entries()) stamps.push_back({e.frame, e.utc});
+    if (!stamps.empty()) spans.push_back({cam.id, UtcSpan{stamps.front().utc, stamps.back().utc}});
     AlignOptions opt;
     opt.max_frame_offset_s = cfg.align.max_frame_offset_s;
     opt.max_gap_s = cfg.gnss.max_gap_s;
@@ -45,7 +47,9 @@ StageLog run_align_stage(const MissionConfig& cfg) {
           " s of a usable lamp-track epoch (check the frame time stamps and the track span)");
   }
   if (total == 0)
-    throw_input_error(track_path, 0, "", "no camera has a frame that aligns with the lamp track");
+    throw_input_error(track_path, 0, "",
+                      explain_no_alignment(UtcSpan{track.epochs.front().utc, track.epochs.back().utc}, spans,
+                                           cfg.align.max_frame_offset_s));
   for (std::size_t c = 0; c < cfg.cameras.size(); ++c)
     write_aligned_csv(camera_output(cfg, cfg.cameras[c].id, kAlignedCsv), results[c].aligned);
   return log;

@@ -175,4 +175,20 @@ AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& 
   return res;
 }
 
+std::string explain_no_alignment(const UtcSpan& track, const std::vector<CameraFrameSpan>& cameras,
+                                 double max_frame_offset_s) {
+  std::string s =
+      "no camera has a frame that aligns with the lamp track; lamp track " + format_utc_span(track);
+  for (const CameraFrameSpan& c : cameras) {
+    const std::string name = "camera " + c.camera_id + " frames";
+    const SpanComparison cmp = compare_spans(track, c.frames);
+    s += "; " + name + " " + format_utc_span(c.frames) + ": " +
+         describe_span_comparison(cmp, name, "the lamp track");
+    if (cmp.relation == SpanRelation::overlap)
+      s += ", but every frame lies in a track gap or farther than max_frame_offset_s " +
+           format_number("%g", max_frame_offset_s) + " s from every lamp-track epoch";
+  }
+  return s;
+}
+
 }  // namespace rangecal

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "gnss/time/span_comparison.hpp"
 #include "gnss/time/utc_time.hpp"
 #include "gnss/track/lamp_track.hpp"
 #include "pipeline/io/aligned_csv.hpp"
@@ -90,5 +91,19 @@ struct AlignResult {
 /// (usage) non-positive max_frame_offset_s or max_gap_s.
 AlignResult align_frames(const LampTrack& track, const std::vector<FrameStamp>& frames,
                          const AlignOptions& options);
+
+/// One camera's frames as the align stage saw them, for its error message.
+struct CameraFrameSpan {
+  std::string camera_id;
+  UtcSpan frames;  ///< first and last frame stamp (UTC)
+};
+
+/// Why no camera has a frame aligned with the lamp track, for the align stage's error: the lamp
+/// track's UTC span, each camera's frame span and, per camera, the overlap or the gap with its likely
+/// cause (compare_spans, gnss/time/span_comparison.hpp: days apart → camera clock not set, GPS − UTC
+/// leap seconds → GPST vs UTC, whole hours → a time zone). When the spans overlap, it says the frames
+/// fall in track gaps or farther than `max_frame_offset_s` (s) from every epoch.
+std::string explain_no_alignment(const UtcSpan& track, const std::vector<CameraFrameSpan>& cameras,
+                                 double max_frame_offset_s);
 
 }  // namespace rangecal
