@@ -125,6 +125,9 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
         make_calibration_problem(cam, cfg.calibrate, pairs, read_control_pole_views(cfg, cam));
     try {
       CameraCalibration cc = calibrate_one_camera(cfg.calibrate, problem, pairs);
+      // Every calibration.json names the ENU frame its pose is in, so it stands alone.
+      cc.main.site_origin = cfg.origin;
+      for (CalibrationResult& r : cc.compared) r.site_origin = cfg.origin;
       log.counts[cam.id] = cc.counts;
       for (const std::string& w : cc.warnings) log.warnings.push_back(cam.id + ": " + w);
       done.emplace_back(cam.id, std::move(cc));
