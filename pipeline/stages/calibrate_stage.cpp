@@ -1,5 +1,6 @@
 #include "pipeline/stages/calibrate_stage.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -66,9 +67,10 @@ CameraCalibration calibrate_one_camera(const CalibrateConfig& calibrate, const C
                           std::to_string(problem.observations.size()) +
                           " control poles alone (seed 002's baseline setting, far fewer points)");
   cc.opencv = fit_opencv_camera(cc.main.camera);
-  if (cc.opencv.fit_max_px > 0.01)
+  if (std::max(cc.opencv.fit_max_px, cc.opencv.undistort_max_px) > 0.01)
     cc.warnings.push_back("OpenCV model reproduces rangecal only to " + std::to_string(cc.opencv.fit_max_px) +
-                          " px");
+                          " px (cv::projectPoints) and " + std::to_string(cc.opencv.undistort_max_px) +
+                          " px (cv::undistortPoints, default iterations)");
   cc.residuals = residual_rows(problem, pairs, cc.main);
   nlohmann::json times;
   times[cc.main.method] = std::round(cc.main.wall_time_s * 1e4) / 1e4;
@@ -87,6 +89,7 @@ CameraCalibration calibrate_one_camera(const CalibrateConfig& calibrate, const C
   cc.counts["n_used"] = cc.main.reprojection.n_used;
   cc.counts["n_rejected"] = cc.main.reprojection.n_rejected;
   cc.counts["opencv_fit_max_px"] = cc.opencv.fit_max_px;
+  cc.counts["opencv_undistort_max_px"] = cc.opencv.undistort_max_px;
   cc.counts["method_time_s"] = times;
   for (const auto& w : cc.main.warnings) cc.warnings.push_back(w);
   return cc;
