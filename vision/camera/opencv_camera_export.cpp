@@ -20,7 +20,7 @@ OpenCvCamera fit_opencv_camera(const Camera& cam, double tolerance_px) {
   // Fit on a 49 × 31 grid (the mapping is smooth);
   // measure on a 129 × 81 grid offset by half a step (so the evaluation points are mostly not fit
   // points), plus the image corners.
-  const std::vector<DistortionSample> fit_grid = image_grid_samples(cam, 65, 41, 0.0);
+  const std::vector<DistortionSample> fit_grid = image_grid_samples(cam, 49, 31, 0.0);
   std::vector<DistortionSample> eval_grid = image_grid_samples(cam, 129, 81, 0.5);
   const std::vector<DistortionSample> corners = image_grid_samples(cam, 2, 2, 0.0);
   eval_grid.insert(eval_grid.end(), corners.begin(), corners.end());

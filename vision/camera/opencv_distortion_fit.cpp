@@ -62,6 +62,7 @@ struct BothDirections {
   double scale;
   bool equal_focal;
   int iterations;
+  double project_weight;
   double undistort_weight;
 
   template <typename T>
@@ -73,8 +74,8 @@ struct BothDirections {
     const T ya = T(s.normalised.y());
     T xd, yd;
     distort_normalised(c, xa, ya, &xd, &yd);
-    r[0] = fx * xd + intr[2] - T(s.pixel.x());
-    r[1] = fy * yd + intr[3] - T(s.pixel.y());
+    r[0] = (fx * xd + intr[2] - T(s.pixel.x())) * T(project_weight);
+    r[1] = (fy * yd + intr[3] - T(s.pixel.y())) * T(project_weight);
     T xu, yu;
     undistort_normalised(c, (T(s.pixel.x()) - intr[2]) / fx, (T(s.pixel.y()) - intr[3]) / fy, iterations, &xu,
                          &yu);
@@ -89,15 +90,21 @@ struct Errors {
   double worst() const { return std::max(project_max, undistort_max); }
 };
 
+/// The two directions' errors (px) at one sample.
+std::pair<double, double> sample_errors(const DistortionSample& s, const OpenCvDistortionModel& m,
+                                        const Eigen::Matrix2d& A, int iterations) {
+  const Eigen::Vector2d xa = A * s.normalised;
+  const Eigen::Vector2d xu = opencv_undistort_point(m, s.pixel, iterations);
+  return {(opencv_distort(m, xa) - s.pixel).norm(),
+          std::hypot((xu.x() - xa.x()) * m.fx, (xu.y() - xa.y()) * m.fy)};
+}
+
 Errors evaluate(const std::vector<DistortionSample>& samples, const OpenCvDistortionModel& m,
                 const Eigen::Matrix2d& A, int iterations) {
   Errors e;
   double sp = 0, su = 0;
   for (const DistortionSample& s : samples) {
-    const Eigen::Vector2d xa = A * s.normalised;
-    const double ep = (opencv_distort(m, xa) - s.pixel).norm();
-    const Eigen::Vector2d xu = opencv_undistort_point(m, s.pixel, iterations);
-    const double eu = std::hypot((xu.x() - xa.x()) * m.fx, (xu.y() - xa.y()) * m.fy);
+    const auto [ep, eu] = sample_errors(s, m, A, iterations);
     // A NaN (a model that failed) must count as the worst, not vanish in std::max.
     e.project_max = std::isfinite(ep) ? std::max(e.project_max, ep) : std::numeric_limits<double>::infinity();
     e.undistort_max =
@@ -110,13 +117,18 @@ Errors evaluate(const std::vector<DistortionSample>& samples, const OpenCvDistor
   return e;
 }
 
-void solve(const std::vector<DistortionSample>& samples, double scale, const OpenCvFitOptions& o,
-           int n_coeffs, double* intr, double* scaled, double* affine) {
+/// Per-sample weights of the two directions' residuals.
+struct SampleWeights {
+  std::vector<double> project, undistort;
+};
+
+void solve(const std::vector<DistortionSample>& samples, const SampleWeights& w, double scale,
+           const OpenCvFitOptions& o, int n_coeffs, double* intr, double* scaled, double* affine) {
   ceres::Problem problem;
-  for (const DistortionSample& s : samples)
+  for (std::size_t i = 0; i < samples.size(); ++i)
     problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<BothDirections, 4, 4, kMaxCoefficients, 2>(
-            new BothDirections{s, scale, o.equal_focal, o.undistort_iterations, o.undistort_weight}),
+        new ceres::AutoDiffCostFunction<BothDirections, 4, 4, kMaxCoefficients, 2>(new BothDirections{
+            samples[i], scale, o.equal_focal, o.undistort_iterations, w.project[i], w.undistort[i]}),
         nullptr, intr, scaled, affine);
   if (o.equal_focal) problem.SetManifold(intr, new ceres::SubsetManifold(4, {1}));
   if (n_coeffs < kMaxCoefficients) {
@@ -205,16 +217,34 @@ OpenCvFit fit_opencv_distortion(const std::vector<DistortionSample>& fit_samples
     std::copy(scaled, scaled + kMaxCoefficients, sc2);
     std::copy(affine, affine + 2, af2);
     for (int i = n; i < kMaxCoefficients; ++i) sc2[i] = 0;
-    solve(fit_samples, scale, options, n, in2, sc2, af2);
-    const OpenCvDistortionModel m = model_of(in2, sc2, n);
-    const Errors e = evaluate(eval_samples, m, affine_of(af2), options.undistort_iterations);
-    if (e.worst() < best_err.worst()) {
-      best_err = e;
-      best.model = m;
-      best.affine = affine_of(af2);
-      std::copy(in2, in2 + 4, intr);
-      std::copy(sc2, sc2 + kMaxCoefficients, scaled);
-      std::copy(af2, af2 + 2, affine);
+    SampleWeights w{std::vector<double>(fit_samples.size(), 1.0),
+                    std::vector<double>(fit_samples.size(), options.undistort_weight)};
+    // Least squares, then Lawson's reweighting towards the least maximum error (each sample's
+    // squared weight multiplied by its error relative to the largest), keeping the best round.
+    for (int round = 0; round <= options.minimax_rounds; ++round) {
+      solve(fit_samples, w, scale, options, n, in2, sc2, af2);
+      const OpenCvDistortionModel m = model_of(in2, sc2, n);
+      const Errors e = evaluate(eval_samples, m, affine_of(af2), options.undistort_iterations);
+      if (e.worst() < best_err.worst()) {
+        best_err = e;
+        best.model = m;
+        best.affine = affine_of(af2);
+        std::copy(in2, in2 + 4, intr);
+        std::copy(sc2, sc2 + kMaxCoefficients, scaled);
+        std::copy(af2, af2 + 2, affine);
+      }
+      if (round == options.minimax_rounds) break;
+      double worst = 0;
+      std::vector<std::pair<double, double>> errs;
+      for (const DistortionSample& s : fit_samples) {
+        errs.push_back(sample_errors(s, m, affine_of(af2), options.undistort_iterations));
+        worst = std::max({worst, errs.back().first, errs.back().second});
+      }
+      if (!(worst > 0) || !std::isfinite(worst)) break;
+      for (std::size_t i = 0; i < fit_samples.size(); ++i) {
+        w.project[i] *= std::sqrt(std::max(errs[i].first / worst, 1e-3));
+        if (options.undistort_weight > 0) w.undistort[i] *= std::sqrt(std::max(errs[i].second / worst, 1e-3));
+      }
     }
     if (best_err.worst() <= options.tolerance_px) break;
   }

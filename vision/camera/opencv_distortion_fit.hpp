@@ -68,6 +68,9 @@ struct OpenCvFitOptions {
   /// Weight of the cv::undistortPoints residuals against the cv::projectPoints ones (0: fit the
   /// projection alone, exact for an iteration count that converges).
   double undistort_weight = 1.0;
+  /// Rounds of Lawson's reweighting after the least-squares fit, towards the least maximum
+  /// error over the samples (the tolerances are maxima); the best round is kept.
+  int minimax_rounds = 0;
 };
 
 struct OpenCvFit {

@@ -180,8 +180,21 @@ TEST(OpenCvCameraExport, DemoLensBothDirectionsWithinTolerance) {
   EXPECT_LT(max_projectpoints_error(cam, oc), 0.01);
   const double back = max_undistortpoints_error(cam, oc);
   EXPECT_LT(back, 0.01);
-  // The report is OpenCV's own figure (the fit emulates its algorithm).
-  EXPECT_NEAR(back, oc.undistort_max_px, 1e-6);
+  // The report is OpenCV's own figure on its (offset) grid: the fit emulates OpenCV's algorithm,
+  // to the last bits on any pixel.
+  EXPECT_LE(back, oc.undistort_max_px + 1e-9);
+  EXPECT_GT(back, 0.9 * oc.undistort_max_px);
+  cv::Mat K(3, 3, CV_64F);
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) K.at<double>(i, k) = oc.camera_matrix(i, k);
+  const std::vector<cv::Point2d> px = {{-0.5, -0.5}, {1279.5, 799.5}, {100.25, 700.75}, {640, 400}};
+  std::vector<cv::Point2d> und;
+  cv::undistortPoints(px, und, K, oc.distortion_coefficients);
+  for (std::size_t i = 0; i < px.size(); ++i) {
+    const Eigen::Vector2d mine = opencv_undistort_point(opencv_distortion_model(oc), {px[i].x, px[i].y});
+    EXPECT_NEAR(mine.x(), und[i].x, 1e-13);
+    EXPECT_NEAR(mine.y(), und[i].y, 1e-13);
+  }
 }
 
 // Seed 002's lens with its principal point 13 px off centre: 5 fixed-point iterations cannot
@@ -192,7 +205,9 @@ TEST(OpenCvCameraExport, UndistortPointsIterationCountIsTheLimitAndIsReported) {
   const OpenCvCamera oc = fit_opencv_camera(cam);
   EXPECT_LT(oc.fit_max_px, 1e-4);
   EXPECT_GT(oc.undistort_max_px, 0.01);
-  EXPECT_NEAR(max_undistortpoints_error(cam, oc), oc.undistort_max_px, 1e-6);
+  const double back = max_undistortpoints_error(cam, oc);
+  EXPECT_LE(back, oc.undistort_max_px + 1e-9);
+  EXPECT_GT(back, 0.9 * oc.undistort_max_px);
   EXPECT_LT(max_undistortpoints_error(cam, oc, 10), 1e-3);
 }
 
