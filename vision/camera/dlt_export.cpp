@@ -36,7 +36,7 @@ DltCamera dlt_camera(const Camera& cam) {
     throw_calibration_error(
         "DLT export", "camera '" + cam.id + "' has no valid image size, focal length, pixel pitch or sx");
   const int H = in.height_px;
-  const std::vector<DistortionSample> fit = in_dlt_frame(image_grid_samples(cam, 49, 31, 0.0), H);
+  const std::vector<DistortionSample> fit = in_dlt_frame(image_grid_samples(cam, 33, 21, 0.0), H);
   std::vector<DistortionSample> eval = in_dlt_frame(image_grid_samples(cam, 129, 81, 0.5), H);
   const std::vector<DistortionSample> corners = in_dlt_frame(image_grid_samples(cam, 2, 2, 0.0), H);
   eval.insert(eval.end(), corners.begin(), corners.end());
@@ -52,7 +52,7 @@ DltCamera dlt_camera(const Camera& cam) {
   options.layouts = {5};  // Argus' pinhole profile has k1 k2 t1 t2 k3 only
   options.equal_focal = true;
   options.free_affine = true;
-  options.minimax_rounds = 10;  // the 5-term profile's error is set by its worst corner
+  options.minimax_rounds = 6;  // the 5-term profile's error is set by its worst corner
   const OpenCvFit pf = fit_opencv_distortion(fit, eval, start, options);
 
   DltCamera d;
