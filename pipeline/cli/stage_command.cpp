@@ -37,9 +37,10 @@ void add_detect_command(CLI::App& app, const CliContext& ctx) {
 }
 
 void add_calibrate_command(CLI::App& app, const CliContext& ctx) {
-  add_stage_command(app, ctx, "calibrate",
-                    "Calibrate each camera from <cam>/correspondences.csv (writes calibration.json, "
-                    "camera_opencv.yml, residuals.csv, methods.csv)");
+  add_stage_command(
+      app, ctx, "calibrate",
+      "Calibrate each camera from <cam>/correspondences.csv (writes calibration.json, "
+      "camera_opencv.yml, dlt_coefficients.csv, argus_profile.txt, residuals.csv, methods.csv)");
 }
 
 void add_run_command(CLI::App& app, const CliContext& ctx) {

@@ -11,6 +11,7 @@
 #include "config/error.hpp"
 #include "config/json_format.hpp"
 #include "config/json_view.hpp"
+#include "config/physical_ranges.hpp"
 
 namespace rangecal {
 namespace {
@@ -18,6 +19,13 @@ namespace {
 using ojson = nlohmann::ordered_json;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kFormat = "rangecal.calibration/1";
+// The world frame's description (docs/outputs.md "world_frame"): the local ENU frame of
+// gnss/geodesy/local_enu.hpp, GeographicLib::LocalCartesian about the site origin.
+constexpr const char* kFrameKind = "local_enu";
+constexpr const char* kEllipsoid = "WGS84";
+constexpr const char* kFrameAxes =
+    "x east, y north, z up along the ellipsoid normal at the origin, metres; the tangent frame at "
+    "the origin (GeographicLib LocalCartesian)";
 
 const std::array<const char*, 7>& kDistKeys = distortion_json_keys();
 
@@ -73,6 +81,16 @@ ojson calibration_to_json(const CalibrationResult& r) {
   j["format"] = kFormat;
   j["camera"] = r.camera_id;
   j["method"] = r.method;
+  if (r.site_origin) {
+    ojson w;
+    w["kind"] = kFrameKind;
+    w["ellipsoid"] = kEllipsoid;
+    w["origin_lat_deg"] = r.site_origin->lat_deg;
+    w["origin_lon_deg"] = r.site_origin->lon_deg;
+    w["origin_h_m"] = r.site_origin->h_m;
+    w["axes"] = kFrameAxes;
+    j["world_frame"] = w;
+  }
   j["image_size_px"] = {in.width_px, in.height_px};
   j["pixel_size_um"] = {num(in.dx_mm * 1000.0), num(in.dy_mm * 1000.0)};
   // The exact pitch the model uses (µm → mm is not exact in binary floating point).
@@ -135,6 +153,7 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
   root.check_keys({"format",
                    "camera",
                    "method",
+                   "world_frame",
                    "image_size_px",
                    "pixel_size_um",
                    "pixel_pitch_mm",
@@ -160,6 +179,32 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
   r.camera_id = root.at("camera", "the camera id (a string)").nonempty_string("the camera id (a string)");
   r.method = root.at("method", "the method name (a string)").nonempty_string("the method name (a string)");
   r.camera.id = r.camera_id;
+  // Files written before the world frame was recorded have none: they still read, but their
+  // poses cannot be placed on the Earth (rangecal project/intersect --geodetic say so).
+  if (auto wf = root.find("world_frame")) {
+    const std::string form =
+        "an object {\"kind\": \"local_enu\", \"ellipsoid\": \"WGS84\", \"origin_lat_deg\", "
+        "\"origin_lon_deg\", \"origin_h_m\", \"axes\"}";
+    wf->require_object(form);
+    wf->check_keys({"kind", "ellipsoid", "origin_lat_deg", "origin_lon_deg", "origin_h_m", "axes"});
+    const JsonView kind = wf->at("kind", "\"local_enu\"");
+    if (kind.string("\"local_enu\"") != kFrameKind) kind.fail_expected("\"local_enu\"");
+    const JsonView ell = wf->at("ellipsoid", "\"WGS84\"");
+    if (ell.string("\"WGS84\"") != kEllipsoid) ell.fail_expected("\"WGS84\"");
+    GeodeticOrigin o;
+    const auto number_in = [&](const char* key, double lo, double hi, const std::string& what) {
+      const JsonView v = wf->at(key, what);
+      const double x = v.number(what);
+      if (!(x >= lo && x <= hi)) v.fail_expected(what);
+      return x;
+    };
+    o.lat_deg = number_in("origin_lat_deg", -90, 90, "a WGS84 latitude in degrees, [-90, 90]");
+    o.lon_deg = number_in("origin_lon_deg", -180, 180, "a WGS84 longitude in degrees, [-180, 180]");
+    o.h_m = number_in("origin_h_m", ranges::kMinHeightM, ranges::kMaxHeightM,
+                      "an ellipsoidal height in metres, [-1000, 20000]");
+    if (auto ax = wf->find("axes")) ax->string("a description of the axes (text)");
+    r.site_origin = o;
+  }
   CameraIntrinsics& in = r.camera.intr;
 
   const std::string size_form = "an array of 2 positive integers [width, height] in pixels";
@@ -340,6 +385,15 @@ CalibrationResult read_calibration_json(const std::string& path) {
     throw_input_error(path, 0, "",
                       "calibration file not found (expected a calibration.json written by rangecal)");
   return calibration_from_json_text(read_file_text(path), path);
+}
+
+const GeodeticOrigin& require_site_origin(const CalibrationResult& r, const std::string& path) {
+  if (!r.site_origin)
+    throw_input_error(path, 0, "world_frame",
+                      "has no world_frame (the site origin of its ENU frame; files written by older rangecal "
+                      "versions lack it), so geodetic coordinates are unavailable: give E,N,U coordinates "
+                      "without --geodetic, or rerun the calibrate stage");
+  return *r.site_origin;
 }
 
 }  // namespace rangecal

@@ -35,4 +35,9 @@ void write_calibration_json(const std::string& path, const CalibrationResult& r)
 /// file is an input error naming it).
 CalibrationResult read_calibration_json(const std::string& path);
 
+/// The site origin of `r`'s world frame, for geodetic input and output. Throws rangecal::Error
+/// (input, naming `path` and the key world_frame) when the file has none — one written before
+/// calibration.json recorded it — so geodetic coordinates are unavailable for it.
+const GeodeticOrigin& require_site_origin(const CalibrationResult& r, const std::string& path);
+
 }  // namespace rangecal

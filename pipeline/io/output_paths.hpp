@@ -23,7 +23,9 @@ inline constexpr const char* kDetectionsCsv = "detections.csv";            ///< 
 inline constexpr const char* kCorrespondencesCsv = "correspondences.csv";  ///< detect stage → calibrate
 inline constexpr const char* kCalibrationJson = "calibration.json";        ///< calibrate stage
 inline constexpr const char* kCameraOpencvYml = "camera_opencv.yml";       ///< calibrate stage
-inline constexpr const char* kResidualsCsv = "residuals.csv";              ///< calibrate stage
+inline constexpr const char* kDltCoefficientsCsv = "dlt_coefficients.csv";  ///< calibrate stage (DLTdv/Argus)
+inline constexpr const char* kArgusProfileTxt = "argus_profile.txt";        ///< calibrate stage (DLTdv/Argus)
+inline constexpr const char* kResidualsCsv = "residuals.csv";               ///< calibrate stage
 inline constexpr const char* kMethodsCsv = "methods.csv";  ///< calibrate stage, with `compare`
 /// calibrate stage, with `compare`: the full result of each compared method.
 inline std::string compare_calibration_json(const std::string& method) {

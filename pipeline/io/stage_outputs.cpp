@@ -29,7 +29,8 @@ std::vector<std::string> stage_output_files(const MissionConfig& cfg, const std:
   if (stage == "align") return per_camera(cfg, {kAlignedCsv});
   if (stage == "detect") return per_camera(cfg, {kDetectionsCsv, kCorrespondencesCsv});
   if (stage == "calibrate") {
-    std::vector<std::string> files = {kCalibrationJson, kCameraOpencvYml, kResidualsCsv, kMethodsCsv};
+    std::vector<std::string> files = {kCalibrationJson, kCameraOpencvYml, kDltCoefficientsCsv,
+                                      kArgusProfileTxt, kResidualsCsv,    kMethodsCsv};
     for (const std::string& m : calibration_method_names()) files.push_back(compare_calibration_json(m));
     return per_camera(cfg, files);
   }

@@ -20,6 +20,7 @@
 #include "pipeline/steps/calibration_methods.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/steps/network_problem.hpp"
+#include "vision/camera/dlt_export.hpp"
 #include "vision/camera/opencv_camera_export.hpp"
 
 namespace rangecal {
@@ -30,6 +31,7 @@ struct CameraCalibration {
   CalibrationResult main;
   std::vector<CalibrationResult> compared;  ///< the `compare` methods that succeeded, config order
   OpenCvCamera opencv;
+  DltCamera dlt;  ///< DLT-11 + Argus profile (DLTdv, Argus, easyWand)
   std::vector<ResidualRow> residuals;
   nlohmann::json counts;
   std::vector<std::string> warnings;  ///< without the camera id prefix
@@ -73,9 +75,14 @@ CameraCalibration calibrate_one_camera(const CalibrateConfig& calibrate, const C
                           std::to_string(problem.observations.size()) +
                           " control poles alone (seed 002's baseline setting, far fewer points)");
   cc.opencv = fit_opencv_camera(cc.main.camera);
-  if (cc.opencv.fit_max_px > 0.01)
+  if (std::max(cc.opencv.fit_max_px, cc.opencv.undistort_max_px) > 0.01)
     cc.warnings.push_back("OpenCV model reproduces rangecal only to " + std::to_string(cc.opencv.fit_max_px) +
-                          " px");
+                          " px (cv::projectPoints) and " + std::to_string(cc.opencv.undistort_max_px) +
+                          " px (cv::undistortPoints, default iterations)");
+  cc.dlt = dlt_camera(cc.main.camera);
+  if (std::max(cc.dlt.profile_max_px, cc.dlt.undistort_max_px) > 0.05)
+    cc.warnings.push_back("DLT-11 + Argus profile reproduce rangecal only to " +
+                          std::to_string(std::max(cc.dlt.profile_max_px, cc.dlt.undistort_max_px)) + " px");
   cc.residuals = residual_rows(problem, pairs, cc.main);
   nlohmann::json times;
   times[cc.main.method] = std::round(cc.main.wall_time_s * 1e4) / 1e4;
@@ -94,6 +101,10 @@ CameraCalibration calibrate_one_camera(const CalibrateConfig& calibrate, const C
   cc.counts["n_used"] = cc.main.reprojection.n_used;
   cc.counts["n_rejected"] = cc.main.reprojection.n_rejected;
   cc.counts["opencv_fit_max_px"] = cc.opencv.fit_max_px;
+  cc.counts["opencv_undistort_max_px"] = cc.opencv.undistort_max_px;
+  cc.counts["dlt_only_rms_px"] = cc.dlt.dlt_only_rms_px;
+  cc.counts["dlt_only_max_px"] = cc.dlt.dlt_only_max_px;
+  cc.counts["dlt_profile_max_px"] = std::max(cc.dlt.profile_max_px, cc.dlt.undistort_max_px);
   cc.counts["method_time_s"] = times;
   for (const auto& w : cc.main.warnings) cc.warnings.push_back(w);
   return cc;
@@ -102,6 +113,10 @@ CameraCalibration calibrate_one_camera(const CalibrateConfig& calibrate, const C
 void write_camera_calibration(const MissionConfig& cfg, const std::string& id, const CameraCalibration& cc) {
   write_calibration_json(camera_output(cfg, id, kCalibrationJson), cc.main);
   write_opencv_camera_yml(camera_output(cfg, id, kCameraOpencvYml), cc.opencv);
+  // One camera per file, numbered 1: `paste -d, cam1/dlt_coefficients.csv cam2/…` gives DLTdv's
+  // multi-camera file (docs/outputs.md).
+  write_file_atomic(camera_output(cfg, id, kDltCoefficientsCsv), dlt_coefficients_csv({cc.dlt}));
+  write_file_atomic(camera_output(cfg, id, kArgusProfileTxt), argus_profile_txt({cc.dlt}));
   write_residuals_csv(camera_output(cfg, id, kResidualsCsv), cc.residuals);
   // Each compared method's full result, so any method's cameras can be used downstream (e.g. the
   // demo's intersection with Tsai beside the bundle, seed 002 Table 4).
@@ -156,8 +171,10 @@ void run_network(const MissionConfig& cfg, const std::vector<CameraInputs>& inpu
                                      [](const CalibrationResult& x) { return x.method == "network"; }),
                       cc.compared.end());
     cc.compared.insert(cc.compared.begin(), cc.main);
+    net.site_origin = cfg.origin;
     cc.main = net;
     cc.opencv = fit_opencv_camera(cc.main.camera);
+    cc.dlt = dlt_camera(cc.main.camera);
     for (const CameraInputs& ci : inputs)
       if (ci.id == id) cc.residuals = residual_rows(ci.problem, ci.pairs, cc.main);
     log->counts[id]["method"] = "network";
@@ -197,6 +214,9 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
     try {
       CameraCalibration cc = calibrate_one_camera(per_camera, problem, pairs);
       if (network) inputs.push_back({cam.id, problem, pairs});
+      // Every calibration.json names the ENU frame its pose is in, so it stands alone.
+      cc.main.site_origin = cfg.origin;
+      for (CalibrationResult& r : cc.compared) r.site_origin = cfg.origin;
       log.counts[cam.id] = cc.counts;
       for (const std::string& w : cc.warnings) log.warnings.push_back(cam.id + ": " + w);
       done.emplace_back(cam.id, std::move(cc));

@@ -13,9 +13,11 @@
 #include <cstddef>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "gnss/geodesy/geodetic_origin.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
 
@@ -38,6 +40,10 @@ struct CalibrationResult {
   /// Camera clock − GNSS time (s): estimated when `clock_offset` is a free parameter, else 0. The
   /// lamp pixels of this camera were seen at stamp − clock_offset_s (optim/bundle/bundle_adjustment.hpp).
   double clock_offset_s = 0;
+  /// The site origin the camera's world ENU frame is tangent at (gnss/geodesy/local_enu.hpp), so
+  /// that the pose can be placed on the Earth; set by the calibrate stage from the mission's
+  /// site.origin, empty for results that were never tied to a site (and in older files).
+  std::optional<GeodeticOrigin> site_origin;
 
   /// The estimated parameters, in covariance order.
   std::vector<CameraParameter> parameters;

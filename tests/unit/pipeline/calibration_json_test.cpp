@@ -236,5 +236,45 @@ TEST(CalibrationIo, BadFilesNameFileAndKey) {
   }
 }
 
+// The world frame is self-describing: the site origin round-trips exactly, files without it (older
+// ones) still read, and a malformed one is an input error naming the key.
+TEST(CalibrationIo, WorldFrameRoundTripsAndIsOptional) {
+  CalibrationResult r = sample_result();
+  EXPECT_FALSE(nlohmann::json::parse(calibration_to_json_text(r)).contains("world_frame"));
+  EXPECT_FALSE(calibration_from_json_text(calibration_to_json_text(r), "old.json").site_origin);
+  try {
+    require_site_origin(r, "old.json");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::input);
+    EXPECT_EQ(e.file(), "old.json");
+    EXPECT_EQ(e.field(), "world_frame");
+    EXPECT_NE(std::string(e.what()).find("geodetic coordinates are unavailable"), std::string::npos);
+  }
+  r.site_origin = GeodeticOrigin{53.0 + 1.0 / 3.0, -9.0 - 1.0 / 7.0, 21.0 + 1.0 / 9.0};
+  const std::string text = calibration_to_json_text(r);
+  const auto j = nlohmann::json::parse(text);
+  EXPECT_EQ(j["world_frame"]["kind"], "local_enu");
+  EXPECT_EQ(j["world_frame"]["ellipsoid"], "WGS84");
+  EXPECT_EQ(j["world_frame"]["origin_lat_deg"].get<double>(), r.site_origin->lat_deg);
+  const CalibrationResult b = calibration_from_json_text(text, "cal.json");
+  ASSERT_TRUE(b.site_origin);
+  EXPECT_EQ(b.site_origin->lat_deg, r.site_origin->lat_deg);
+  EXPECT_EQ(b.site_origin->lon_deg, r.site_origin->lon_deg);
+  EXPECT_EQ(b.site_origin->h_m, r.site_origin->h_m);
+  EXPECT_EQ(&require_site_origin(b, "cal.json"), &*b.site_origin);
+  EXPECT_EQ(calibration_to_json_text(b), text);
+
+  auto bad = j;
+  bad["world_frame"]["origin_lat_deg"] = 95.0;
+  expect_bad("frame_lat", bad, "world_frame.origin_lat_deg", "[-90, 90]");
+  bad = j;
+  bad["world_frame"]["ellipsoid"] = "GRS80";
+  expect_bad("frame_ellipsoid", bad, "world_frame.ellipsoid", "WGS84");
+  bad = j;
+  bad["world_frame"].erase("origin_h_m");
+  expect_bad("frame_h", bad, "world_frame.origin_h_m", "missing required key");
+}
+
 }  // namespace
 }  // namespace rangecal
