@@ -1,5 +1,5 @@
 #pragma once
-// Outputs are written atomically (SPEC §5): the content goes to a temporary file in the same
+// Outputs are written atomically (docs/outputs.md): the content goes to a temporary file in the same
 // folder, which is then renamed over the target, so a killed run never leaves a half-written file.
 #include <cstddef>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// A small CSV reader for the project's input tables (SPEC §3): a header line naming the columns,
+// A small CSV reader for the project's input tables (docs/formats.md): a header line naming the columns,
 // then one record per line, comma separated, no quoting (none of our formats needs it). Blank
 // lines and lines starting with '#' are skipped; CRLF line ends and a UTF-8 byte-order mark are
 // accepted; a byte that is not UTF-8 in a record is an error naming its line and column. Every accessor that

@@ -1,5 +1,5 @@
 #pragma once
-// Platform-independent random numbers (SPEC §5: "fixed seeds for every random search" →
+// Platform-independent random numbers (docs/outputs.md: "fixed seeds for every random search" →
 // byte-identical outputs). The distributions are written out once here, because the standard
 // library's std::uniform_real_distribution and std::normal_distribution are not specified to the
 // bit (libstdc++, libc++ and MSVC draw different sequences):

@@ -2,7 +2,7 @@
 // The one project error type. Every failure a user can cause (bad usage, bad config, bad or
 // insufficient input data, a calibration that cannot be determined) is thrown as rangecal::Error,
 // carrying where it happened (file, line, field) and why; the CLI maps its kind to an exit code
-// (SPEC §6: 2 usage/config, 3 input data, 4 calibration failed or degenerate).
+// (docs/cli.md: 2 usage/config, 3 input data, 4 calibration failed or degenerate).
 #include <stdexcept>
 #include <string>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Reader of the hand-made attitude CSV `utc,roll_deg,pitch_deg,yaw_deg` (SPEC §3.3): utc ISO 8601
+// Reader of the hand-made attitude CSV `utc,roll_deg,pitch_deg,yaw_deg` (docs/formats.md): utc ISO 8601
 // with `Z` (up to 9 fraction digits), angles in degrees in the conventions of
 // gnss/track/attitude.hpp (body FRD → NED, yaw clockwise from north, 0–360 yaw accepted).
 // Autopilot logs (PX4 ULog, ArduPilot DataFlash) are read by their own readers;

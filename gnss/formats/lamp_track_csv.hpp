@@ -1,5 +1,5 @@
 #pragma once
-// `gnss/lamp_track.csv` (SPEC §5): `utc,E,N,U,sdE,sdN,sdU,quality` — utc ISO 8601 with 9 fraction
+// `gnss/lamp_track.csv` (docs/outputs.md): `utc,E,N,U,sdE,sdN,sdU,quality` — utc ISO 8601 with 9 fraction
 // digits (ns, so times survive a write/read round trip exactly), E/N/U and sds in metres with 4
 // decimals (0.1 mm), quality the RTKLIB Q. The gnss stage writes it; the align stage reads it.
 #include <string>

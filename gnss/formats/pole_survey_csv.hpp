@@ -1,5 +1,5 @@
 #pragma once
-// The pole survey (SPEC §3.5): `poles.csv` with header `id,role,lat,lon,h` (WGS84 degrees,
+// The pole survey (docs/formats.md): `poles.csv` with header `id,role,lat,lon,h` (WGS84 degrees,
 // ellipsoidal metres) or `id,role,E,N,U` (site ENU metres). Role `control` poles may serve as
 // calibration points (seed 002's Tsai baseline used them); `check` poles only ever serve the
 // intersection check, never calibration.
@@ -29,7 +29,7 @@ std::vector<SurveyedPole> read_pole_survey(const std::string& path, const Geodet
 std::vector<SurveyedPole> parse_pole_survey(const std::string& text, const std::string& path,
                                             const GeodeticOrigin& origin);
 
-/// A pole-top pixel picked in one camera's images (SPEC §3.5 `<cam>/poles_px.csv`: `id,u,v`).
+/// A pole-top pixel picked in one camera's images (docs/formats.md `<cam>/poles_px.csv`: `id,u,v`).
 struct PolePick {
   std::string id;
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();

@@ -1,5 +1,5 @@
 #pragma once
-// Reader of RTKLIB `.pos` solution files (SPEC §3.2), as written by rnx2rtkp / RTKPOST 2.4.3 and
+// Reader of RTKLIB `.pos` solution files (docs/formats.md), as written by rnx2rtkp / RTKPOST 2.4.3 and
 // the demo5 fork: `%` header lines, a column header line whose first word is the time system
 // (`GPST`, `UTC` or `JST`), then one epoch per line. Every variant is read:
 //   - time as `yyyy/mm/dd hh:mm:ss.sss` or `week tow` (GPS week, seconds of week);

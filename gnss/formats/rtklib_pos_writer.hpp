@@ -1,11 +1,11 @@
 #pragma once
-// Writes PPK solutions as RTKLIB 2.4.3 rnx2rtkp writes them (SPEC §3.2; external/gnss/SOURCE.md
+// Writes PPK solutions as RTKLIB 2.4.3 rnx2rtkp writes them (docs/formats.md; external/gnss/SOURCE.md
 // §4): `%` header lines (program, input files, obs start/end, ref pos, `%`, legend, column
 // header), then one epoch a line in GPST calendar time (`yyyy/mm/dd hh:mm:ss.sss`) with
 // lat/lon in degrees (%14.9f), ellipsoidal height (%10.4f), Q, ns, sdn sde sdu sdne sdeu sdun
 // (%8.4f; the cross terms are signed square roots of the covariances), age (%6.2f) and ratio
 // (%6.1f). Line endings are RTKLIB's mixed ones: the first header lines end in LF, the legend,
-// the column header and every data line in CRLF. Used by the simulator (SPEC §8).
+// the column header and every data line in CRLF. Used by the simulator (docs/simulator.md).
 #include <optional>
 #include <string>
 #include <vector>

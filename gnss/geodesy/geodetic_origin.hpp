@@ -1,5 +1,5 @@
 #pragma once
-// The site origin (SPEC §2): the point the local ENU world frame is tangent at, on the WGS84
+// The site origin (docs/conventions.md): the point the local ENU world frame is tangent at, on the WGS84
 // ellipsoid. Every ENU coordinate in rangecal is about one such origin (config `site.origin`).
 
 namespace rangecal {

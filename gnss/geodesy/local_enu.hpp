@@ -1,5 +1,5 @@
 #pragma once
-// The world frame (SPEC §2): local ENU (x east, y north, z up, metres) about site.origin (WGS84
+// The world frame (docs/conventions.md): local ENU (x east, y north, z up, metres) about site.origin (WGS84
 // lat, lon in degrees, ellipsoidal height in metres), via GeographicLib::LocalCartesian. Also the
 // conversion of every RTKLIB .pos position format (and its covariance) into that frame.
 #include <Eigen/Core>

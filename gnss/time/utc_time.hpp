@@ -1,5 +1,5 @@
 #pragma once
-// Time as rangecal carries it (SPEC §2): UTC as integer nanoseconds since 1970-01-01T00:00:00Z,
+// Time as rangecal carries it (docs/conventions.md): UTC as integer nanoseconds since 1970-01-01T00:00:00Z,
 // never a bare double. GPS time (GPST) is a separate type, integer nanoseconds since the GPS
 // epoch 1980-01-06T00:00:00 (GPST), converted to UTC with the full leap-second table
 // (GPS−UTC = 0 s in 1980 … 18 s since 2017-01-01). Leap seconds themselves are not representable

@@ -1,6 +1,6 @@
 #pragma once
 // Antenna epochs: the solutions of every .pos file of a mission, in site ENU, merged into one
-// time-ordered sequence (SPEC §4.1). This is the input of filtering and of the lever arm.
+// time-ordered sequence (docs/gnss.md). This is the input of filtering and of the lever arm.
 #include <Eigen/Core>
 #include <limits>
 #include <string>

@@ -48,7 +48,7 @@ Eigen::Matrix3d rotation_nb(const Attitude& a) {
   Rz << cy, -sy, 0, sy, cy, 0, 0, 0, 1;
   Ry << cp, 0, sp, 0, 1, 0, -sp, 0, cp;
   Rx << 1, 0, 0, 0, cr, -sr, 0, sr, cr;
-  return Rz * Ry * Rx;  // SPEC §2; seed 002 eq. 3 with φ = yaw, θ = pitch, ψ = roll
+  return Rz * Ry * Rx;  // docs/conventions.md; seed 002 eq. 3 with φ = yaw, θ = pitch, ψ = roll
 }
 
 Attitude attitude_from_quaternion(double w, double x, double y, double z) {

@@ -1,5 +1,5 @@
 #pragma once
-// UAV attitude (SPEC §2, §3.3): roll, pitch, yaw in degrees as flight controllers log them —
+// UAV attitude (docs/conventions.md, docs/formats.md): roll, pitch, yaw in degrees as flight controllers log them —
 // body frame FRD (x forward, y right, z down), navigation frame NED, yaw clockwise from north —
 // on the UTC axis, interpolated to GNSS epochs, and turned into R_nb = Rz(yaw)·Ry(pitch)·Rx(roll)
 // (seed 002 eq. 3–4 with the angle names put right: φ is the yaw, θ the pitch, ψ the roll;
@@ -41,7 +41,7 @@ double wrap_deg_180(double a);
 /// than `max_gap_s` apart (a hole in the attitude log is not bridged).
 std::optional<Attitude> interpolate_attitude(const AttitudeSeries& s, UtcTime t, double max_gap_s);
 
-/// R_nb = Rz(yaw)·Ry(pitch)·Rx(roll) (SPEC §2): v_NED = R_nb · v_FRD.
+/// R_nb = Rz(yaw)·Ry(pitch)·Rx(roll) (docs/conventions.md): v_NED = R_nb · v_FRD.
 Eigen::Matrix3d rotation_nb(const Attitude& a);
 
 /// Roll, pitch, yaw (degrees, yaw in (-180, 180]) of the unit Hamilton quaternion q = [w, x, y, z]

@@ -1,5 +1,5 @@
 #pragma once
-// Filtering of PPK epochs (SPEC §3.2): epochs whose Q is not accepted, or whose sd exceeds
+// Filtering of PPK epochs (docs/formats.md): epochs whose Q is not accepted, or whose sd exceeds
 // max_sd_m in any of E, N, U, are dropped and counted; gaps longer than max_gap_s (across which
 // nothing may be interpolated) are found and listed.
 #include <cstddef>

@@ -1,5 +1,5 @@
 #pragma once
-// Cubic Hermite interpolation of the lamp track (SPEC §4.2; seed 002 §2.4): the lamp position at
+// Cubic Hermite interpolation of the lamp track (docs/alignment.md; seed 002 §2.4): the lamp position at
 // any UTC instant between two GNSS epochs, never across a gap.
 //
 // Between epochs k and k+1 (times t0 < t1, h = t1 − t0, s = (t − t0)/h ∈ [0, 1]):

@@ -1,5 +1,5 @@
 #pragma once
-// The lamp track: the gnss stage's output (SPEC §4.1, §5 `gnss/lamp_track.csv`) and the align
+// The lamp track: the gnss stage's output (docs/gnss.md, docs/outputs.md `gnss/lamp_track.csv`) and the align
 // stage's input. Positions are the lamp centre (antenna + lever arm) in local ENU metres about
 // site.origin; times are UTC.
 #include <Eigen/Core>

@@ -11,7 +11,7 @@ namespace rangecal {
 
 Eigen::Vector3d lamp_enu_full(const Eigen::Vector3d& antenna_enu, const Eigen::Matrix3d& R_nb,
                               const Eigen::Vector3d& lever_frd_m) {
-  // seed 002 eq. 4 in NED, then NED → ENU (SPEC §2).
+  // seed 002 eq. 4 in NED, then NED → ENU (docs/conventions.md).
   return antenna_enu + ned_to_enu(R_nb * lever_frd_m);
 }
 

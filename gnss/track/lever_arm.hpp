@@ -1,5 +1,5 @@
 #pragma once
-// Lever arm (SPEC §2, §3.5; seed 002 §2.2–2.3): from the antenna phase centre to the lamp centre.
+// Lever arm (docs/conventions.md, docs/formats.md; seed 002 §2.2–2.3): from the antenna phase centre to the lamp centre.
 //  - full form: the lever is a body FRD vector (m); lamp_NED = antenna_NED + R_nb·lever
 //    (seed 002 eq. 4), then NED → ENU;
 //  - vertical form (seed 002 eq. 5): the lamp is `vertical_m` straight below the antenna; exact
@@ -33,7 +33,7 @@ Eigen::Vector3d lamp_enu_vertical(const Eigen::Vector3d& antenna_enu, double ver
 /// R_nb: |R_nb·(0,0,d) − (0,0,d)| = |d|·√(2 − 2·cos(tilt)), metres.
 double vertical_form_error_m(const Eigen::Matrix3d& R_nb, double vertical_m);
 
-/// The vertical offset measured with a total station (SPEC §3.5).
+/// The vertical offset measured with a total station (docs/formats.md).
 struct TotalStationOffset {
   double vertical_m = 0;              ///< mean over sessions of U(antenna) − U(lamp), m
   double sd_m = 0;                    ///< sample sd of the per-session values (n − 1); 0 with one session

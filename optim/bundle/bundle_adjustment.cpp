@@ -55,7 +55,7 @@ BundleSetup make_bundle_setup(const BundleOptions& opt) {
   return s;
 }
 
-/// SPEC §4.4: a fixed principal point stays at its prior when one is given.
+/// docs/optimisation.md: a fixed principal point stays at its prior when one is given.
 Camera starting_camera(const Camera& initial, const BundleSetup& setup, const BundleOptions& opt) {
   Camera start = initial;
   if (opt.priors.use_principal_point && opt.priors.principal_point_px.allFinite()) {

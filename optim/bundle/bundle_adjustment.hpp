@@ -1,5 +1,5 @@
 #pragma once
-// Single-camera bundle adjustment (SPEC §4.4 `bundle`): Ceres Levenberg–Marquardt over a chosen
+// Single-camera bundle adjustment (docs/optimisation.md `bundle`): Ceres Levenberg–Marquardt over a chosen
 // subset of the camera's parameters, from (world ENU point, pixel) pairs, with
 //   - weights: each pixel residual whitened by its effective image covariance
 //       C_i = σ_px²·I + J_X·Σ_X·J_Xᵀ    (optim/bundle/whitening.hpp)

@@ -1,5 +1,5 @@
 #pragma once
-// The bundle's warnings (SPEC §4.4: "warnings when a parameter is poorly determined (σ large or
+// The bundle's warnings (docs/optimisation.md: "warnings when a parameter is poorly determined (σ large or
 // |correlation| > 0.99)"; thresholds in docs/optimisation.md). Warnings, not errors: the
 // calibration may still serve the intersection, which depends on combinations of parameters that
 // are often far better determined than each one alone.

@@ -1,5 +1,5 @@
 #pragma once
-// What the bundle refuses before solving (SPEC §9 "bad input": degenerate geometry is a clear
+// What the bundle refuses before solving (docs/accuracy_analysis.md, Quality bars "bad input": degenerate geometry is a clear
 // error naming the cause, exit 4): non-finite observations, fewer equations than unknowns, points
 // all on one line (a single vertical ascent leaves the rotation about it free), points behind the
 // starting camera, a free clock offset with no lamp velocity, priors without a finite value or σ.

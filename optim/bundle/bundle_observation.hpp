@@ -1,5 +1,5 @@
 #pragma once
-// One observation of a camera calibration (SPEC §4.4): a world point with its covariance and the
+// One observation of a camera calibration (docs/optimisation.md): a world point with its covariance and the
 // pixel where the camera saw it, with its σ — a lamp position from the PPK track, or a surveyed
 // control pole. The bundle, the LM-QN method, the Monte Carlo and the route planner all take these.
 #include <Eigen/Core>

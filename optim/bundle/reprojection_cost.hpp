@@ -31,7 +31,7 @@ static_assert(index_of(CameraParameter::k1) == kIntrinsicsBlockSize &&
 /// Whitened reprojection residual of one point:
 ///   X  = Xw − v·δ                                   (the lamp at the true exposure time, δ the clock
 ///                                                    offset; optim/bundle/bundle_observation.hpp)
-///   Xc = exp([w]×)·R0·(X − C)                       (SPEC §2, T = −R·C)
+///   Xc = exp([w]×)·R0·(X − C)                       (docs/conventions.md, T = −R·C)
 ///   (u, v) = project_camera_point(intr, dist, Xc)   (seed 002 eqs. 6–7 + seed 000 eq. 7)
 ///   r = W·((u, v) − (u_obs, v_obs)),  W = L⁻¹, C_eff = L·Lᵀ  (optim/bundle/whitening.hpp)
 struct ReprojectionResidual {

@@ -1,5 +1,5 @@
 #pragma once
-// `dlt_lmqn` (SPEC §4.4; seed 000): the normalised DLT with RANSAC (vision/calibration/dlt.hpp)
+// `dlt_lmqn` (docs/optimisation.md; seed 000): the normalised DLT with RANSAC (vision/calibration/dlt.hpp)
 // gives K, R, C; the free distortion terms start from their linear least-squares values (seed 000
 // eq. 8, vision/calibration/linear_distortion.hpp); then the LM / quasi-Newton hybrid
 // (optim/search/lm_qn.hpp, seed 000 §3) minimises the same whitened reprojection residuals as the

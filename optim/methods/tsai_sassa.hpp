@@ -1,5 +1,5 @@
 #pragma once
-// `tsai_sassa` (SPEC §4.4; seed 002 §3.2.3): the paper's method — Tsai step 1 (R, Tx, Ty, sx
+// `tsai_sassa` (docs/optimisation.md; seed 002 §3.2.3): the paper's method — Tsai step 1 (R, Tx, Ty, sx
 // linearly, vision/calibration/tsai.hpp), then f, Tz, k1 by simulated-annealing sparrow search (SA-SSA,
 // optim/search/sparrow_search.hpp) minimising the eq. 13 residual, finished by a local Levenberg–Marquardt
 // polish. As seeds/SSA.md requires, the search runs in normalised coordinates θ = θ0 + S·z around

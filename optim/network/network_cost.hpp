@@ -13,7 +13,7 @@ namespace rangecal {
 
 /// Image residual of camera c at point k, in units of the pixel σ:
 ///   X  = X_k + offset − v·δ_c                      (the lamp at camera c's exposure)
-///   Xc = exp([w]×)·R0·(X − C)                       (SPEC §2, T = −R·C)
+///   Xc = exp([w]×)·R0·(X − C)                       (docs/conventions.md, T = −R·C)
 ///   (u, v) = project_camera_point(intr, dist, Xc)   (seed 002 eqs. 6–7 + seed 000 eq. 7)
 ///   r = ((u, v) − (u_obs, v_obs)) / σ_px
 /// Unlike the per-camera bundle, the PPK noise is not folded into the weight: X_k is a parameter

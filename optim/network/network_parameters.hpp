@@ -60,7 +60,7 @@ void refresh_single_view(const NetworkLayout& layout, const NetworkParameterBloc
 BundleSetup network_camera_setup(const BundleOptions& options);
 
 /// The starting camera: `initial` with a fixed principal point at its prior when one is given
-/// (SPEC §4.4, as the per-camera bundle).
+/// (docs/optimisation.md, as the per-camera bundle).
 Camera network_starting_camera(const Camera& initial, const BundleSetup& setup, const BundleOptions& options);
 
 /// L⁻¹ with L·Lᵀ = Σ (Σ positive definite; m⁻¹).

@@ -1,5 +1,5 @@
 #pragma once
-// Monte Carlo accuracy analysis of a finished calibration (SPEC §7; seed 001 §4 and its Table 2,
+// Monte Carlo accuracy analysis of a finished calibration (docs/accuracy_analysis.md; seed 001 §4 and its Table 2,
 // taken further; docs/accuracy_analysis.md). The reference calibration is taken as the truth of a
 // simulated world: every trial regenerates the exact pixels of the problem's world points through
 // the reference camera, adds Gaussian noise to the world points (their PPK covariance) and to the

@@ -1,5 +1,5 @@
 #pragma once
-// The network a scenario would give (SPEC §7 `plan`; docs/accuracy_analysis.md): one point per
+// The network a scenario would give (docs/accuracy_analysis.md `plan`; docs/accuracy_analysis.md): one point per
 // fix GNSS epoch that some camera sees (the align stage's nearest frame within
 // align.max_frame_offset_s, lamp in view), at the true lamp position with the epoch's PPK
 // covariance, and each camera's view of it — the exact pixel, the lamp's displacement from the

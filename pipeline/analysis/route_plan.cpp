@@ -22,7 +22,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-/// Frames of one camera with their epochs: what the align stage keeps (SPEC §4.2: for every
+/// Frames of one camera with their epochs: what the align stage keeps (docs/alignment.md: for every
 /// lamp-track epoch the nearest frame, kept within max_frame_offset_s), lamp in view.
 std::vector<BundleObservation> observations_of(const SimMission& m, const SimCamera& cam,
                                                const PlanOptions& o) {

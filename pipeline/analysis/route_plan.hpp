@@ -1,5 +1,5 @@
 #pragma once
-// Flight planning before flying (SPEC §7 `plan`; docs/accuracy_analysis.md): from a scenario's
+// Flight planning before flying (docs/accuracy_analysis.md `plan`; docs/accuracy_analysis.md): from a scenario's
 // camera stations and routes alone — no images — the Cramér–Rao bound of every calibration
 // parameter and the predicted intersection 1σ at the poles, so a range can choose routes.
 //
@@ -35,7 +35,7 @@ struct PlanOptions {
   double max_frame_offset_s = 0.005;  ///< align.max_frame_offset_s default
   double correlation_limit = 0.99;    ///< |ρ| above this → poorly determined (as the bundle warns)
   /// σ(u0) or σ(v0) above this (px) → poorly determined: a principal point not known to a pixel
-  /// shifts every ray by more than the lamp centroids' own noise could explain (SPEC §4.4).
+  /// shifts every ray by more than the lamp centroids' own noise could explain (docs/optimisation.md).
   double principal_point_limit_px = 1.0;
   /// A clock offset whose σ moves the fastest lamp point by more than this (m) is poorly
   /// determined: the bundle's warning (optim/bundle/bundle_adjustment.cpp), twice one epoch's PPK noise.

@@ -1,5 +1,5 @@
 #pragma once
-// The rangecal command line (SPEC §6). Exit codes: 0 ok; 2 bad usage or config; 3 bad or
+// The rangecal command line (docs/cli.md). Exit codes: 0 ok; 2 bad usage or config; 3 bad or
 // insufficient input data; 4 calibration failed or degenerate.
 namespace rangecal {
 

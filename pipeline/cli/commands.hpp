@@ -20,20 +20,20 @@ void add_calibrate_command(CLI::App& app, const CliContext& ctx);
 /// `rangecal run CONFIG`: every stage (pipeline/cli/stage_command.cpp).
 void add_run_command(CLI::App& app, const CliContext& ctx);
 
-/// `rangecal simulate SCENARIO.json --out DIR` (SPEC §8; pipeline/cli/simulate_command.cpp).
+/// `rangecal simulate SCENARIO.json --out DIR` (docs/simulator.md; pipeline/cli/simulate_command.cpp).
 void add_simulate_command(CLI::App& app, const CliContext& ctx);
 
-/// `rangecal project --calibration CAL.json --points PTS.csv` (SPEC §6; pipeline/cli/project_command.cpp).
+/// `rangecal project --calibration CAL.json --points PTS.csv` (docs/cli.md; pipeline/cli/project_command.cpp).
 void add_project_command(CLI::App& app, const CliContext& ctx);
 
 /// `rangecal intersect CONFIG` and `rangecal intersect --calibration A.json --observations A.csv
-/// ...` (SPEC §6; pipeline/cli/intersect_command.cpp).
+/// ...` (docs/cli.md; pipeline/cli/intersect_command.cpp).
 void add_intersect_command(CLI::App& app, const CliContext& ctx);
 
-/// `rangecal report CONFIG`: report.html and summary.json (SPEC §4.6; pipeline/cli/report_command.cpp).
+/// `rangecal report CONFIG`: report.html and summary.json (docs/outputs.md; pipeline/cli/report_command.cpp).
 void add_report_command(CLI::App& app, const CliContext& ctx);
 
-/// `rangecal montecarlo CONFIG` and `rangecal plan SCENARIO.json ...` (SPEC §7;
+/// `rangecal montecarlo CONFIG` and `rangecal plan SCENARIO.json ...` (docs/accuracy_analysis.md;
 /// pipeline/cli/montecarlo_command.cpp, pipeline/cli/plan_command.cpp).
 void add_montecarlo_command(CLI::App& app, const CliContext& ctx);
 void add_plan_command(CLI::App& app, const CliContext& ctx);
@@ -43,7 +43,7 @@ void add_plan_command(CLI::App& app, const CliContext& ctx);
 void add_inspect_command(CLI::App& app, const CliContext& ctx);
 
 /// `rangecal demo [--out DIR]`: simulate the built-in scenario, run it, print Tables 1–4
-/// (SPEC §6; pipeline/cli/demo_command.cpp).
+/// (docs/cli.md; pipeline/cli/demo_command.cpp).
 void add_demo_command(CLI::App& app, const CliContext& ctx);
 
 }  // namespace rangecal

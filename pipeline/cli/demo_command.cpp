@@ -1,6 +1,6 @@
-// `rangecal demo [--out DIR] [--scenario FILE]` (SPEC §6): simulates the built-in scenario
+// `rangecal demo [--out DIR] [--scenario FILE]` (docs/cli.md): simulates the built-in scenario
 // mirroring seed 002's experiment, runs every stage on it and prints Tables 1–4 with the paper's
-// figures beside ours, then the accuracy bars of SPEC §9 with pass/fail.
+// figures beside ours, then the accuracy bars of docs/accuracy_analysis.md, Quality bars with pass/fail.
 #include <unistd.h>
 
 #include <cmath>
@@ -39,9 +39,9 @@ void add_demo_command(CLI::App& app, const CliContext& ctx) {
       if (!r.intersections.empty()) std::cout << "\n" << format_demo_table4(r.intersections);
     }
 
-    // SPEC §9 accuracy bars, measured against the simulated truth.
+    // docs/accuracy_analysis.md, Quality bars accuracy bars, measured against the simulated truth.
     bool ok = true;
-    std::cout << "\nAccuracy bars (SPEC §9):\n";
+    std::cout << "\nAccuracy bars (docs/accuracy_analysis.md, Quality bars):\n";
     for (const DemoCamera& c : r.cameras) {
       for (const ParameterCheck& p : bundle_parameter_checks(c)) {
         const bool pass = std::abs(p.z()) <= 3;
@@ -69,7 +69,7 @@ void add_demo_command(CLI::App& app, const CliContext& ctx) {
                 << "/mission.json   (how far to trust these σ: bias and sd per parameter)\n"
                 << "         rangecal plan config/examples/demo_scenario.json "
                    "config/examples/plan_mixed_routes.json   (routes compared before flying)\n";
-    if (!ok) throw_calibration_error("demo", "an accuracy bar of SPEC §9 failed (see above)");
+    if (!ok) throw_calibration_error("demo", "an accuracy bar of docs/accuracy_analysis.md, Quality bars failed (see above)");
   });
 }
 

@@ -1,4 +1,4 @@
-// `rangecal gnss CONFIG` (SPEC §4.1, §6): runs the gnss stage alone, merges its section into
+// `rangecal gnss CONFIG` (docs/gnss.md, docs/cli.md): runs the gnss stage alone, merges its section into
 // run.json and prints a short summary (unless --quiet).
 #include <cstdio>
 #include <iostream>

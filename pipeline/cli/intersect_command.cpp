@@ -1,4 +1,4 @@
-// `rangecal intersect` (SPEC §6), both forms on one subcommand:
+// `rangecal intersect` (docs/cli.md), both forms on one subcommand:
 //   rangecal intersect CONFIG      the mission's intersect stage (pipeline/stages/intersect_stage.hpp)
 //   rangecal intersect --calibration A.json --observations A.csv --calibration B.json
 //                      --observations B.csv [...]

@@ -1,4 +1,4 @@
-// `rangecal montecarlo CONFIG [--trials N] [--seed S] [--threads T] [--pick-sigma PX]` (SPEC §6,
+// `rangecal montecarlo CONFIG [--trials N] [--seed S] [--threads T] [--pick-sigma PX]` (docs/cli.md,
 // §7): re-runs the calibration of a finished mission (each camera's correspondences.csv and
 // calibration.json) under simulated noise (pipeline/analysis/monte_carlo.hpp), prints a seed 001
 // Table 2-style table per camera and the check poles' intersection statistics, and writes

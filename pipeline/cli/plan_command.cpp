@@ -1,4 +1,4 @@
-// `rangecal plan SCENARIO.json [MORE.json ...] [--free LIST] [--pixel-sigma PX] [--html FILE]` (SPEC §6, §7):
+// `rangecal plan SCENARIO.json [MORE.json ...] [--free LIST] [--pixel-sigma PX] [--html FILE]` (docs/cli.md, docs/accuracy_analysis.md):
 // the Cramér–Rao bound of each calibration parameter and the predicted intersection 1σ at the
 // poles from the scenario's camera stations and routes alone (pipeline/analysis/route_plan.hpp). Several
 // scenarios are candidate route sets, compared side by side. The scenario format has no room for

@@ -1,4 +1,4 @@
-// `rangecal project --calibration CAL.json --points PTS.csv [--geodetic]` (SPEC §6): `id,E,N,U`
+// `rangecal project --calibration CAL.json --points PTS.csv [--geodetic]` (docs/cli.md): `id,E,N,U`
 // (world ENU, metres) — or with --geodetic `id,lat,lon,h` (WGS84 degrees, ellipsoidal metres,
 // converted about the site origin calibration.json names) — in, `id,u,v` (pixels, centre of the
 // top-left pixel = (0, 0)) out on stdout.

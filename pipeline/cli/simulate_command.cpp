@@ -1,4 +1,4 @@
-// `rangecal simulate SCENARIO.json --out DIR` (SPEC §6, §8): renders a complete synthetic mission
+// `rangecal simulate SCENARIO.json --out DIR` (docs/cli.md, docs/simulator.md): renders a complete synthetic mission
 // (RTKLIB .pos, attitude CSV, PNG frames with timestamps, pole survey and picks, mission config,
 // truth.json) from a scenario; docs/simulator.md describes the scenario and the files.
 #include <unistd.h>

@@ -311,7 +311,7 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
 
   const nlohmann::json doc = parse_json_text(json_text, path, ErrorKind::usage);
   const JsonView root(doc, path, "", ErrorKind::usage);
-  root.require_object("a mission config object (SPEC §3.1)");
+  root.require_object("a mission config object (docs/config.md)");
   root.check_keys({"mission", "site", "gnss", "attitude", "lever_arm", "poles", "cameras", "align", "detect",
                    "calibrate", "intersect", "output_dir"});
   const Loader L{path, abs.parent_path(), check_files};

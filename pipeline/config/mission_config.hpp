@@ -1,5 +1,5 @@
 #pragma once
-// The mission config (SPEC §3.1), loaded and validated. All paths are absolute after loading
+// The mission config (docs/config.md), loaded and validated. All paths are absolute after loading
 // (relative ones resolve against the config file's folder). Defaults are documented at each
 // field and in docs/config.md.
 #include <Eigen/Core>
@@ -98,7 +98,7 @@ struct MissionConfig {
   std::string output_dir;  ///< absolute; default "<config_dir>/out"
 };
 
-/// The calibration methods calibrate.method and compare may name (SPEC §4.4;
+/// The calibration methods calibrate.method and compare may name (docs/optimisation.md;
 /// pipeline/steps/calibration_methods.hpp runs them): tsai, tsai_sassa, dlt_lmqn, bundle, network, planar.
 const std::vector<std::string>& calibration_method_names();
 

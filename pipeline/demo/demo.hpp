@@ -1,5 +1,5 @@
 #pragma once
-// `rangecal demo` (SPEC §6): simulate a scenario (by default the built-in one mirroring
+// `rangecal demo` (docs/cli.md): simulate a scenario (by default the built-in one mirroring
 // seed 002's experiment), run every stage on the written files as `rangecal run` would, and
 // gather the results beside the simulated truth for the printed tables (pipeline/demo/demo_tables.hpp).
 #include <functional>

@@ -1,5 +1,5 @@
 #pragma once
-// The built-in demo scenario (SPEC §6 `rangecal demo`): the text of
+// The built-in demo scenario (docs/cli.md `rangecal demo`): the text of
 // config/examples/demo_scenario.json, compiled in by CMake (generated/demo_scenario_text.cpp).
 
 namespace rangecal {

@@ -1,5 +1,5 @@
 #pragma once
-// `<cam>/calibration.json` (SPEC §5): the one result format every calibration method writes and
+// `<cam>/calibration.json` (docs/outputs.md): the one result format every calibration method writes and
 // every consumer (project, intersect, report) reads. Field names, units and conventions are in
 // docs/outputs.md. Writing is deterministic (same result → byte-identical text) and numbers are
 // printed in the shortest form that reads back to the same double, so write → read is exact.

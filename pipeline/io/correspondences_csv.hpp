@@ -1,5 +1,5 @@
 #pragma once
-// `<cam>/correspondences.csv` (SPEC §5): the (lamp ENU, lamp pixel) pairs the calibrate stage
+// `<cam>/correspondences.csv` (docs/outputs.md): the (lamp ENU, lamp pixel) pairs the calibrate stage
 // uses, written by align+detect — or by a user who already has point pairs.
 //
 // Columns: utc,E,N,U,u,v,residual_px,used[,sdE,sdN,sdU][,vE,vN,vU]
@@ -8,7 +8,7 @@
 //   u,v      lamp pixel (u right, v down, top-left pixel centre = (0,0))
 //   residual_px  reprojection residual after calibration (blank before it)
 //   used     1 if the calibration used the pair, 0 if it rejected it as an outlier (blank before it)
-//   sdE,sdN,sdU  optional (our extension of SPEC §5): the world point's 1σ in metres, from the PPK
+//   sdE,sdN,sdU  optional (our extension of docs/outputs.md): the world point's 1σ in metres, from the PPK
 //                sd interpolated to the frame; when absent the calibrate stage uses its default.
 //   vE,vN,vU     optional (our extension): the lamp velocity at the frame, m/s, for the bundle's
 //                clock-offset parameter; when absent the clock offset cannot be estimated.

@@ -1,5 +1,5 @@
 #pragma once
-// `intersection.csv` (SPEC §5): `id,E,N,U,E_survey,N_survey,U_survey,dE,dN,dU,dR,sigma_m`, one row
+// `intersection.csv` (docs/outputs.md): `id,E,N,U,E_survey,N_survey,U_survey,dE,dN,dU,dR,sigma_m`, one row
 // per `check` pole triangulated by the intersect stage (seed 002 Table 4 without its mean row,
 // which a reader computes from the rows: intersection_means). Metres, fixed 4 decimals (0.1 mm,
 // far below the ~1 cm a 1 px pick error makes at the range's 64 m), so reruns are byte-identical.

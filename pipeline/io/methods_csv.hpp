@@ -1,5 +1,5 @@
 #pragma once
-// `<cam>/methods.csv` (SPEC §5), written by the calibrate stage when `compare` is set: one row per
+// `<cam>/methods.csv` (docs/outputs.md), written by the calibrate stage when `compare` is set: one row per
 // method (the configured one first, then the compared ones in config order) in seed 002 Table 1's
 // layout — u0, v0, f, sx, k1, R, T, σ f, reprojection rms, points used and rejected. Columns:
 //   method,u0_px,v0_px,f_mm,sx,k1_per_mm2,r11,…,r33,Tx_m,Ty_m,Tz_m,sigma_f_mm,rms_px,n_used,n_rejected

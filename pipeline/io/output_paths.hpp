@@ -1,5 +1,5 @@
 #pragma once
-// Every file the stages write under output_dir (SPEC §5; docs/outputs.md), named once, with the
+// Every file the stages write under output_dir (docs/outputs.md; docs/outputs.md), named once, with the
 // stage that writes it — each file has one writing stage, except run.json, where every stage
 // merges its own section (pipeline/io/run_log.hpp). Readers and writers take names from here.
 #include <filesystem>

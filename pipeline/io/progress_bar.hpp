@@ -1,5 +1,5 @@
 #pragma once
-// Progress bars on stderr for long stages (SPEC §6: "progress bars on stderr for long stages when
+// Progress bars on stderr for long stages (docs/cli.md: "progress bars on stderr for long stages when
 // stderr is a terminal"). Off unless the CLI turns them on (it does so only for a terminal and
 // without --quiet), so tests, pipes and batch logs never see them.
 #include <atomic>

@@ -1,5 +1,5 @@
 #pragma once
-// run.json (SPEC §5): versions, config hash, per-stage status, wall time, counts and warnings. Each
+// run.json (docs/outputs.md): versions, config hash, per-stage status, wall time, counts and warnings. Each
 // stage can run alone, so each stage updates its own section of the file in the output folder
 // (read, replace the section, drop the sections of the later stages — their outputs were removed
 // with this stage's, pipeline/io/stage_outputs.hpp — write atomically). A stage that fails records

@@ -1,5 +1,5 @@
 #pragma once
-// Text into HTML / SVG (report.html, SPEC §4.6): every piece of text that comes from a file or the
+// Text into HTML / SVG (report.html, docs/outputs.md): every piece of text that comes from a file or the
 // config (mission, camera ids, warnings, pole ids) goes through html_escape, so it shows as written
 // and cannot break the page.
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// What the report stage (SPEC §4.6) shows, read only from the files the earlier stages wrote in the
+// What the report stage (docs/outputs.md) shows, read only from the files the earlier stages wrote in the
 // output folder, so `rangecal report CONFIG` runs alone. Any per-camera file may be missing (a
 // camera that failed calibration, a run without `compare`, no intersect stage yet): the data says
 // what is missing instead of failing. A file that is present but malformed is an input error naming

@@ -1,5 +1,5 @@
 #pragma once
-// report.html (SPEC §4.6): one self-contained page (inline CSS and SVG, no scripts, no external
+// report.html (docs/outputs.md): one self-contained page (inline CSS and SVG, no scripts, no external
 // resources) built from ReportData. Sections: mission and warnings; an overview; per camera the
 // parameters with 1σ, the reprojection tables (seed 002 Tables 2–3), the lamp track on the image
 // (Fig. 6), residual vectors and a residual histogram, and the methods table (Table 1); the

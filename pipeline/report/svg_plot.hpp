@@ -1,5 +1,5 @@
 #pragma once
-// Small inline-SVG plots for report.html (SPEC §4.6): the lamp track on the image (seed 002
+// Small inline-SVG plots for report.html (docs/outputs.md): the lamp track on the image (seed 002
 // Fig. 6), residual vectors and a histogram. Pure functions of their inputs returning SVG text;
 // every coordinate is printed with "%.2f", so the same data gives the same bytes. Elements carry
 // class names (documented per function) so styles and tests can find them.

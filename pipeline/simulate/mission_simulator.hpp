@@ -1,18 +1,18 @@
 #pragma once
-// The mission simulator (SPEC §8). `simulate_mission` is pure: Scenario → SimMission, the whole
+// The mission simulator (docs/simulator.md). `simulate_mission` is pure: Scenario → SimMission, the whole
 // synthetic truth and every observation (GNSS epochs with noise, attitude log, exported frames
 // with the true lamp pixel, surveyed poles, pole picks). `write_mission` then writes it in
-// exactly the input formats of SPEC §3 plus `truth.json`:
+// exactly the input formats of docs/formats.md plus `truth.json`:
 //   gnss/rover.pos            RTKLIB 2.4.3 .pos, GPST calendar time, lat/lon/h degrees
 //   gnss/attitude.csv         utc,roll_deg,pitch_deg,yaw_deg
 //   <cam>/timestamps.csv      frame,file,utc (only every export_step-th frame)
 //   <cam>/frames/<cam>_NNNNNNN.png   8- or 16-bit grey PNG
 //   <cam>/poles_px.csv        id,u,v (poles in view, with pick noise)
 //   survey/poles.csv          id,role,lat,lon,h (or id,role,E,N,U), with survey noise
-//   mission.json              mission config (SPEC §3.1) pointing at all of it
+//   mission.json              mission config (docs/config.md) pointing at all of it
 //   truth.json                true cameras, lamp/antenna per epoch and frame, poles, noise levels
 //
-// Truth model (SPEC §2): the antenna flies the routes in order, joined by transit legs, with a
+// Truth model (docs/conventions.md): the antenna flies the routes in order, joined by transit legs, with a
 // trapezoidal speed profile (accelerate, cruise, decelerate) and hovers at each route's ends;
 // attitude = a seeded multirotor wobble (+ lean into horizontal accelerations); the lamp is
 // antenna + ENU(R_nb·lever); a GNSS epoch carries the ANTENNA position + noise; a frame n of a

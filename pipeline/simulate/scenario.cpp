@@ -281,7 +281,7 @@ ScenarioPole parse_pole(const JsonView& v) {
   return p;
 }
 
-// The lamp offset from the antenna in ENU for a level UAV with heading yaw (SPEC §2: R_nb·lever in
+// The lamp offset from the antenna in ENU for a level UAV with heading yaw (docs/conventions.md: R_nb·lever in
 // NED, then NED → ENU).
 Eigen::Vector3d level_lamp_offset_enu(const Eigen::Vector3d& lever_frd, double yaw_deg) {
   Attitude a;
@@ -466,7 +466,7 @@ Scenario parse_scenario(const std::string& json_text, const std::string& path) {
   if (auto x = root.find("pick_noise_px")) s.pick_noise_px = non_negative(*x, "px");
   if (auto x = root.find("mission_calibrate")) {
     // Copied into the written mission's "calibrate" section; the mission loader validates it.
-    x->require_object("an object, written as the mission config's \"calibrate\" section (SPEC §3.1)");
+    x->require_object("an object, written as the mission config's \"calibrate\" section (docs/config.md)");
     s.mission_calibrate = x->json();
   }
 

@@ -1,5 +1,5 @@
 #pragma once
-// A simulation scenario (SPEC §8): everything `rangecal simulate` needs to render a synthetic
+// A simulation scenario (docs/simulator.md): everything `rangecal simulate` needs to render a synthetic
 // mission — site, GNSS, lever arm, attitude, lamp, sky, cameras, routes, poles — loaded from
 // JSON and validated. Every key is documented in docs/simulator.md. Errors are rangecal::Error
 // (kind usage → exit 2) naming the scenario file and the JSON path (`cameras[1].f_mm`); unknown

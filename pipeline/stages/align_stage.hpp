@@ -1,5 +1,5 @@
 #pragma once
-// The align stage (SPEC §4.2): per camera, lamp_track.csv + the camera's frame list → the frames to
+// The align stage (docs/alignment.md): per camera, lamp_track.csv + the camera's frame list → the frames to
 // use and the lamp at each one's exact UTC (pipeline/steps/align_frames.hpp) → <cam>/aligned.csv.
 // A camera that aligns no frame is reported with a warning and the others go on; the stage fails
 // (input error) only when no camera aligns anything.

@@ -1,5 +1,5 @@
 #pragma once
-// The calibrate stage (SPEC §4.4): per camera, `<cam>/correspondences.csv` (+ `control` poles when
+// The calibrate stage (docs/optimisation.md): per camera, `<cam>/correspondences.csv` (+ `control` poles when
 // calibrate.use_control_poles) → the configured method and every method in `compare`
 // (pipeline/steps/calibration_methods.hpp); everything is computed first, then written:
 // `<cam>/calibration.json`, `<cam>/camera_opencv.yml`, `<cam>/residuals.csv` (each pair's residual

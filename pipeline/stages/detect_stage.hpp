@@ -1,5 +1,5 @@
 #pragma once
-// The detect stage (SPEC §4.3): per camera, aligned.csv + the frames (only those aligned are
+// The detect stage (docs/frames_and_detection.md): per camera, aligned.csv + the frames (only those aligned are
 // decoded) → the lamp in each frame (vision/detection/lamp_detector.hpp) → <cam>/detections.csv
 // and the (lamp ENU, lamp pixel) pairs <cam>/correspondences.csv for the calibrate stage; and the
 // check for whole-second errors in the frame time stamps (pipeline/steps/timestamp_check.hpp).

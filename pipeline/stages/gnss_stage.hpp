@@ -1,6 +1,6 @@
 #pragma once
-// The gnss stage (SPEC §4.1): RTKLIB .pos files → filter → GPST→UTC → site ENU → lever arm →
-// lamp track, written to `<output_dir>/gnss/lamp_track.csv` (SPEC §5). The computation is a pure
+// The gnss stage (docs/gnss.md): RTKLIB .pos files → filter → GPST→UTC → site ENU → lever arm →
+// lamp track, written to `<output_dir>/gnss/lamp_track.csv` (docs/outputs.md). The computation is a pure
 // function of parsed inputs (pipeline/steps/lamp_track_computation.hpp); run_gnss_stage reads the
 // .pos files, the attitude and the lever arm, calls it, and writes the track.
 #include <Eigen/Core>

@@ -44,7 +44,7 @@ nlohmann::json means_json(const IntersectionMeans& m) {
 void require_intersect_inputs(const MissionConfig& cfg) {
   if (cfg.poles_file.empty())
     throw_input_error(cfg.config_path, 0, "poles",
-                      "no pole survey in the config; the intersect stage needs \"poles\" (SPEC §3.5) and "
+                      "no pole survey in the config; the intersect stage needs \"poles\" (docs/formats.md) and "
                       "cameras' \"pole_observations\"");
   if (!any_camera_has_picks(cfg))
     throw_input_error(cfg.config_path, 0, "cameras[].pole_observations",
@@ -115,7 +115,7 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
   log.counts["check_poles"] = result.check.n;
   log.counts["control_poles"] = result.control.n;
   log.counts["unsurveyed_poles"] = unsurveyed;
-  // The headline figures (SPEC §5 summary: intersection mean and max dR) over check poles.
+  // The headline figures (docs/outputs.md summary: intersection mean and max dR) over check poles.
   log.counts["mean_dR_m"] = um(result.check.mean_dR);
   log.counts["max_dR_m"] = um(result.check.max_dR);
   log.counts["mean_sigma_m"] = um(result.check.mean_sigma_m);

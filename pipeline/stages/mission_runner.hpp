@@ -1,5 +1,5 @@
 #pragma once
-// `rangecal run CONFIG` and `rangecal STAGE CONFIG` (SPEC §6): the stages in order, each writing the
+// `rangecal run CONFIG` and `rangecal STAGE CONFIG` (docs/cli.md): the stages in order, each writing the
 // files the next one reads (so any stage can be rerun alone), each timed here — the stages do not
 // time themselves — and merged into run.json as it finishes.
 #include <functional>

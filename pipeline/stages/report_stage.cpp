@@ -36,7 +36,7 @@ std::string format_summary_json(const ReportData& data) {
       e["rms_px"] = nullptr;
       e["n_used"] = nullptr;
       e["n_rejected"] = nullptr;
-      // SPEC §5 leaves a failed camera's entry open; saying why saves a look into run.json.
+      // docs/outputs.md leaves a failed camera's entry open; saying why saves a look into run.json.
       e["failure"] = c.calibration_failure.empty() ? ojson(nullptr) : ojson(c.calibration_failure);
     }
     cams[c.id] = e;

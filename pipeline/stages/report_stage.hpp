@@ -1,5 +1,5 @@
 #pragma once
-// The report stage (SPEC §4.6, §5): reads what the earlier stages wrote in the output folder
+// The report stage (docs/outputs.md): reads what the earlier stages wrote in the output folder
 // (pipeline/report/report_data.hpp) and writes `<output_dir>/report.html` (pipeline/report/report_html.hpp)
 // and
 // `<output_dir>/summary.json`. Runs alone; a camera without calibration is reported, not an error.
@@ -11,7 +11,7 @@
 
 namespace rangecal {
 
-/// summary.json text (SPEC §5): per camera method, rms_px, n_used (null when not calibrated);
+/// summary.json text (docs/outputs.md): per camera method, rms_px, n_used (null when not calibrated);
 /// intersection mean and max dR in metres (null when intersection.csv is missing or has no dR).
 /// Deterministic (fixed key order, numbers as read).
 std::string format_summary_json(const ReportData& data);

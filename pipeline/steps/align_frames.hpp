@@ -1,5 +1,5 @@
 #pragma once
-// The align stage (SPEC §4.2; seed 002 §2.4 "boundary alignment and frame decimation"): for one
+// The align stage (docs/alignment.md; seed 002 §2.4 "boundary alignment and frame decimation"): for one
 // camera, which frames to use and where the lamp was at each frame's exact UTC.
 //
 // Method (documented in docs/alignment.md):

@@ -29,7 +29,7 @@ std::vector<PointCorrespondence> to_points(const std::vector<BundleObservation>&
   return pts;
 }
 
-/// Principal point used when it is not estimated: the prior, else the image centre (SPEC §4.4).
+/// Principal point used when it is not estimated: the prior, else the image centre (docs/optimisation.md).
 Eigen::Vector2d default_principal_point(const CalibrationProblem& p) {
   if (p.priors.principal_point_px) return *p.priors.principal_point_px;
   return {p.sensor.center_u_px(), p.sensor.center_v_px()};

@@ -1,5 +1,5 @@
 #pragma once
-// The calibrate stage's methods (SPEC §4.4) behind one function: the same problem in, the same
+// The calibrate stage's methods (docs/optimisation.md) behind one function: the same problem in, the same
 // CalibrationResult out, so `compare` can run several on the same data (seed 002 Table 1).
 //   tsai        Tsai two-step (vision/calibration/tsai.hpp): R, Tx, Ty, sx linearly, then f, Tz, k1.
 //   tsai_sassa  seed 002's method: Tsai step 1, then f, Tz, k1 by SA-sparrow search, LM polish

@@ -1,5 +1,5 @@
 #pragma once
-// One camera's calibration problem (SPEC §4.4): its lamp pairs (from correspondences.csv) and,
+// One camera's calibration problem (docs/optimisation.md): its lamp pairs (from correspondences.csv) and,
 // when calibrate.use_control_poles, the `control` pole tops it picked, as observations with their
 // noise; its sensor, priors and free parameters. Every calibration method, the Monte Carlo and the
 // demo start from this. Noise defaults where the inputs carry no σ: docs/optimisation.md.

@@ -92,7 +92,7 @@ IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
       p.sigma_m = t.sigma_m;
     } catch (const Error& e) {
       // One pole that cannot be triangulated (parallel rays, behind a camera) must not stop the
-      // others (SPEC §4.5 "every pole seen by ≥ 2 calibrated cameras").
+      // others (docs/intersection.md "every pole seen by ≥ 2 calibrated cameras").
       if (e.kind() != ErrorKind::calibration) throw;
       out.warnings.push_back("pole '" + id + "' (cameras " + join(s.cameras) +
                              "): triangulation failed: " + e.what());

@@ -1,5 +1,5 @@
 #pragma once
-// The intersection check (SPEC §4.5; seed 002 §4.2 Table 4) as a pure function: calibrated
+// The intersection check (docs/intersection.md; seed 002 §4.2 Table 4) as a pure function: calibrated
 // cameras and their pole-top picks in, one triangulated point per pole seen by ≥ 2 cameras out,
 // compared with the survey where the pole is surveyed, with its predicted 1σ (calibration
 // covariance + pick noise, vision/triangulation/triangulation.hpp). File I/O is in
@@ -22,7 +22,7 @@ struct IntersectCamera {
   std::string id;                ///< camera id (names the camera in warnings)
   Camera camera;                 ///< calibrated model
   CameraCovariance calibration;  ///< its parameter covariance (empty = taken as exact)
-  std::vector<PolePick> picks;   ///< `id,u,v` picks (SPEC §3.5)
+  std::vector<PolePick> picks;   ///< `id,u,v` picks (docs/formats.md)
 };
 
 /// The covariance of a calibration result in the form triangulation takes; empty when the result

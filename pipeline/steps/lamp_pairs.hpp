@@ -1,5 +1,5 @@
 #pragma once
-// The (lamp ENU, lamp pixel) pairs of one camera (SPEC §4.3 → §4.4): each aligned frame in which
+// The (lamp ENU, lamp pixel) pairs of one camera (docs/frames_and_detection.md → §4.4): each aligned frame in which
 // the lamp was found, with the lamp's interpolated position, its 1σ and its velocity at the frame's
 // UTC (pipeline/steps/align_frames.hpp) and the detected centroid.
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// The lamp track (SPEC §4.1): antenna epochs of every .pos file in site ENU, merged and filtered
+// The lamp track (docs/gnss.md): antenna epochs of every .pos file in site ENU, merged and filtered
 // (Q, sd; gnss/track/epoch_filter.hpp), GPST → UTC, the lever arm applied — with the attitude in
 // the body-frame form (lamp = antenna + ENU(R_nb·lever), seed 002 eqs. 3–4), or straight down in
 // the vertical form (seed 002 eq. 5) — and the σ of each epoch carried (plus the total station's
@@ -34,7 +34,7 @@ struct LampTrackInputs {
   ResolvedLeverArm lever;
   GeodeticOrigin origin;  ///< site.origin
   EpochFilterOptions filter;
-  /// Attitude samples farther apart than this are not interpolated across (s). SPEC is silent;
+  /// Attitude samples farther apart than this are not interpolated across (s). Not fixed by any format;
   /// 1 s bridges any flight-controller log rate (≥ 5 Hz) with margin, not a dropout.
   double max_attitude_gap_s = 1.0;
 };

@@ -1,4 +1,4 @@
-// Align-stage speed (SPEC §4.2): a 20 Hz, 1-hour lamp track (72,000 epochs, no .pos velocity, so
+// Align-stage speed (docs/alignment.md): a 20 Hz, 1-hour lamp track (72,000 epochs, no .pos velocity, so
 // tangents come from finite differences) against 1,000 and 100,000 frame stamps spread over the
 // hour (a 1000 fps camera exporting every n-th frame).
 #include <benchmark/benchmark.h>

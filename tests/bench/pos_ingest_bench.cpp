@@ -1,4 +1,4 @@
-// End-to-end PPK ingest (SPEC §4.1): a one-hour 20 Hz RTKLIB .pos (72,000 epochs, lat/lon/h in
+// End-to-end PPK ingest (docs/gnss.md): a one-hour 20 Hz RTKLIB .pos (72,000 epochs, lat/lon/h in
 // degrees, GPST calendar time, RTKLIB's columns and mixed LF/CRLF), generated into a temp file at
 // start; measured: read + parse + filter + site ENU + lever arm (body FRD with interpolated
 // attitude) → lamp track. Target: well under 0.2 s.

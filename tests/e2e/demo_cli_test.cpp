@@ -1,4 +1,4 @@
-// The demo scenario end to end (SPEC §9 quality bars): simulate seed 002's experiment, run
+// The demo scenario end to end (docs/accuracy_analysis.md, Quality bars quality bars): simulate seed 002's experiment, run
 // every stage on the written files, and hold the results against the simulated truth. Then prove
 // the bar can fail: the same mission with its lever arm ignored, or its GPST read as UTC, misses it.
 #include <gtest/gtest.h>

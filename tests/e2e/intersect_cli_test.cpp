@@ -1,4 +1,4 @@
-// The intersect stage (SPEC §4.5, §5 intersection.csv, §6 `rangecal intersect`): triangulated
+// The intersect stage (docs/intersection.md, docs/outputs.md intersection.csv, §6 `rangecal intersect`): triangulated
 // poles against the truth of synthetic seed-002-like cameras (1280×800, 20 µm, 135 mm, ~64 m from
 // the poles), Table 4's mean row against hand computation, the predicted sigma_m against Monte
 // Carlo, warnings that do not stop the other poles, the CSV format, and both CLI forms.

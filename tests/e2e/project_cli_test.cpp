@@ -1,4 +1,4 @@
-// `rangecal project` (SPEC §6): id,E,N,U in → id,u,v out, equal to the camera model's `project`;
+// `rangecal project` (docs/cli.md): id,E,N,U in → id,u,v out, equal to the camera model's `project`;
 // points behind the camera and malformed lines are errors naming file, line and field.
 #include <gtest/gtest.h>
 

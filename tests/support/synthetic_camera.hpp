@@ -2,11 +2,11 @@
 // Synthetic cameras and point sets for calibration tests and benchmarks (shared by every
 // calibration helper). Everything is deterministic by seed (config/deterministic_random.hpp).
 //
-// The range scene mirrors seed 002's experiment (SPEC §8): a 1280×800 camera with 20 µm pixels and
+// The range scene mirrors seed 002's experiment (docs/simulator.md): a 1280×800 camera with 20 µm pixels and
 // a 135 mm lens (≈ 10.8° × 6.8° field of view) on a tripod at (0, 0, 1.5) ENU, looking roughly
 // north and slightly up at three vertical lamp ascents 60–68 m away, plus a few surveyed pole tops;
 // the points are non-coplanar because the ascents stand at different depths.
-// Conventions are SPEC §2 (world ENU m, Xc = R·Xw + T, camera x right / y down / z forward).
+// Conventions are docs/conventions.md (world ENU m, Xc = R·Xw + T, camera x right / y down / z forward).
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>

@@ -126,7 +126,7 @@ Camera camera_from_krc(const KrcDecomposition& krc, const SensorGeometry& sensor
   cam.intr.height_px = sensor.height_px;
   cam.intr.dx_mm = sensor.dx_mm;
   cam.intr.dy_mm = sensor.dy_mm;
-  // u = u0 + sx·f/dx·Xc/Zc, v = v0 + f/dy·Yc/Zc (SPEC §2)  ⇒  fx = sx·f/dx, fy = f/dy.
+  // u = u0 + sx·f/dx·Xc/Zc, v = v0 + f/dy·Yc/Zc (docs/conventions.md)  ⇒  fx = sx·f/dx, fy = f/dy.
   cam.intr.f_mm = krc.K(1, 1) * sensor.dy_mm;
   cam.intr.sx = krc.K(0, 0) * sensor.dx_mm / cam.intr.f_mm;
   cam.intr.u0_px = krc.K(0, 2);

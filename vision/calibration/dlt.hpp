@@ -6,13 +6,13 @@
 //   (eq. 1; G·M' = 0 of eq. 2, two rows per point, solved as the right singular vector of the
 //   smallest singular value after normalising pixels to mean distance √2 and world points to √3).
 // P is split by RQ decomposition (eqs. 3–6) into K, R (proper rotation, world → camera) and C, and
-// mapped to SPEC §2's model: f = fy·dy, sx = fx·dx/(fy·dy), (u0, v0) = (K13, K23); the skew s is
+// mapped to docs/conventions.md's model: f = fy·dy, sx = fx·dx/(fy·dy), (u0, v0) = (K13, K23); the skew s is
 // not in rangecal's model and is reported, not kept. The sign of P is chosen so det(K·R) > 0 and the
 // points lie in front of the camera. The DLT model has no distortion: with a distorted lens, f and the
 // principal point absorb part of it, and vision/calibration/linear_distortion.hpp (eq. 8) gives initial
 // values.
 //
-// World points in any length unit (C and T come back in it); pixels per SPEC §2.
+// World points in any length unit (C and T come back in it); pixels per docs/conventions.md.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>

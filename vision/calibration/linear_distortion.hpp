@@ -1,6 +1,6 @@
 #pragma once
 // Linear least-squares distortion initial values (seed 000 eq. 8; seed 001 eqs. 14–16), given a
-// camera estimated without distortion (DLT, homography method). Distortion is SPEC §2's
+// camera estimated without distortion (DLT, homography method). Distortion is docs/conventions.md's
 // distorted → undistorted correction Δ of vision/camera/camera_model.hpp (seed 000 eq. 7), sensor mm.
 #include <array>
 #include <utility>

@@ -7,13 +7,13 @@
 //    view, v12ᵀb = 0 and (v11 − v22)ᵀb = 0, b = [B11, B22, B13, B23, B33] (seed 001 eq. 8 with
 //    NOTES.md's V_ij), solved by SVD in pixel coordinates normalised about the image centre; then
 //    u0 = −B13/B11, v0 = −B23/B22, λ = B33 − B13²/B11 − B23²/B22, α = √(λ/B11), β = √(λ/B22).
-//    Mapped to SPEC §2: f = β·dy, sx = α·dx/(β·dy).
+//    Mapped to docs/conventions.md: f = β·dy, sx = α·dx/(β·dy).
 // 3. Per view r1 = κ·C⁻¹h1, r2 = κ·C⁻¹h2, r3 = r1 × r2, t = κ·C⁻¹h3, κ = 2/(‖C⁻¹h1‖ + ‖C⁻¹h2‖), sign
 //    so the target is in front (t_z > 0), R projected onto the nearest rotation.
 // 4. Radial k1, k2 by linear least squares (seed 001 eqs. 14–16, distorted → undistorted, sensor mm).
 // 5. Ceres Levenberg–Marquardt over f, sx, u0, v0, k1, k2 and every view's pose, minimising pixel
 //    reprojection error with camera_model.hpp's exact projection.
-// World units are the target's (T per view comes back in them); pixels per SPEC §2.
+// World units are the target's (T per view comes back in them); pixels per docs/conventions.md.
 #include <Eigen/Core>
 #include <vector>
 

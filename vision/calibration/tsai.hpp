@@ -2,11 +2,11 @@
 // Tsai's two-step calibration for non-coplanar points with unknown scale factor sx
 // (Tsai 1987, §III.B; seed 002 eqs. 11–13 as corrected in seeds/NOTES.md).
 //
-// Model: SPEC §2 / vision/camera/camera_model.hpp with radial k1 only (distorted → undistorted):
+// Model: docs/conventions.md / vision/camera/camera_model.hpp with radial k1 only (distorted → undistorted):
 //   Xc = R·Xw + T;  xu = f·Xc/Zc, yu = f·Yc/Zc;  xu = xd(1 + k1 rd²), yu = yd(1 + k1 rd²);
 //   u = u0 + sx·xd/dx,  v = v0 + yd/dy.
 // The principal point (u0, v0) is not estimated: it is given (default: the image centre,
-// ((width−1)/2, (height−1)/2) in SPEC §2 pixels).
+// ((width−1)/2, (height−1)/2) in docs/conventions.md pixels).
 //
 // Step 1 (linear, immune to radial distortion — the radial alignment constraint, eq. 11):
 //   with Xd' = (u−u0)·dx = sx·xd and Yd = (v−v0)·dy, one row per point (eq. 12):
@@ -133,7 +133,7 @@ TsaiResult tsai_step2(const std::vector<PointCorrespondence>& pts, const TsaiSen
 /// Full refinement (Willson's "nccal_fo" stage, beyond Tsai's two steps): all of f, sx, u0, v0, k1,
 /// R, T by Ceres Levenberg–Marquardt on the same eq. 13 residuals (undistorted sensor mm), with the
 /// principal point free. Starts from `start` (e.g. tsai_calibrate's camera). With a narrow field of
-/// view u0, v0 trade against R and are poorly determined (SPEC §4.4); use on wide views / rigs.
+/// view u0, v0 trade against R and are poorly determined (docs/optimisation.md); use on wide views / rigs.
 TsaiResult tsai_full_refinement(const std::vector<PointCorrespondence>& pts, const Camera& start,
                                 int max_iterations = 200);
 

@@ -1,5 +1,5 @@
 #pragma once
-// The result every calibration method returns (SPEC §4.4, §5): the calibrated camera, the
+// The result every calibration method returns (docs/optimisation.md, docs/outputs.md): the calibrated camera, the
 // covariance of the estimated parameters, reprojection statistics, warnings and method-specific
 // details. One value type for every method, written to `<cam>/calibration.json` by
 // pipeline/io/calibration_json.hpp.

@@ -114,7 +114,7 @@ inline bool is_translation(CameraParameter p) {
 std::vector<CameraParameter> expand_free_parameters(const std::vector<std::string>& free,
                                                     const std::string& file = "",
                                                     const std::string& field = "calibrate.free");
-/// The default free set (SPEC §4.4): f, k1, pose. With a narrow field of view the principal point,
+/// The default free set (docs/optimisation.md): f, k1, pose. With a narrow field of view the principal point,
 /// rotation, f and Tz are nearly inseparable, so u0, v0 stay at the image centre (or their prior)
 /// and sx at 1 unless the user frees them (docs/optimisation.md).
 const std::vector<std::string>& default_free_parameters();
@@ -145,7 +145,7 @@ Camera camera_with_parameters(const Camera& base, const std::vector<CameraParame
 Eigen::VectorXd parameter_values(const Camera& cam, const std::vector<CameraParameter>& parameters,
                                  double clock_offset_s = 0);
 
-/// Holds every intrinsic parameter that is not in `free` at its fixed value (SPEC §4.4; with a
+/// Holds every intrinsic parameter that is not in `free` at its fixed value (docs/optimisation.md; with a
 /// narrow field of view the principal point, rotation, f and Tz are nearly inseparable, so by
 /// default they are not estimated): u0, v0 = `principal_point_px` (the prior, else the image
 /// centre), sx = 1, distortion terms 0.

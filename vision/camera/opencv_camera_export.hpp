@@ -1,5 +1,5 @@
 #pragma once
-// Export of a rangecal camera to OpenCV's camera model (SPEC §5 `camera_opencv.yml`).
+// Export of a rangecal camera to OpenCV's camera model (docs/outputs.md `camera_opencv.yml`).
 //
 // The two models run in opposite directions: rangecal's distortion maps distorted → undistorted
 // sensor millimetres (Tsai; seed 000 eq. 7), OpenCV's maps undistorted → distorted normalised

@@ -1,6 +1,6 @@
 #pragma once
 // Import of an OpenCV camera (cv::calibrateCamera's K, distortion, rvec, tvec) into rangecal's
-// model (SPEC §2), the inverse of vision/camera/opencv_camera_export.hpp — e.g. to intersect with a
+// model (docs/conventions.md), the inverse of vision/camera/opencv_camera_export.hpp — e.g. to intersect with a
 // camera calibrated elsewhere, or to compare a lab calibration with the range's.
 //
 // Intrinsics map exactly, given the sensor's pixel pitch (OpenCV has none):

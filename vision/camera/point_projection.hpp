@@ -1,5 +1,5 @@
 #pragma once
-// `rangecal project` (SPEC §6) as functions: world points through a calibrated camera to pixels
+// `rangecal project` (docs/cli.md) as functions: world points through a calibrated camera to pixels
 // (`id,u,v`), the points given in site ENU (`id,E,N,U`, metres) or, when the camera's
 // calibration names its site origin, as WGS84 geodetic coordinates (`id,lat,lon,h`). File I/O
 // stays in the caller (pipeline/cli/project_command.cpp).

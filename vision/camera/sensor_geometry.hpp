@@ -1,6 +1,6 @@
 #pragma once
 // The known sensor geometry a calibration initialiser is given (from the mission config's
-// `sensor` block): image size and pixel pitch. Pixels per SPEC §2 (centre of the top-left pixel
+// `sensor` block): image size and pixel pitch. Pixels per docs/conventions.md (centre of the top-left pixel
 // is (0, 0)), so the image centre is ((width−1)/2, (height−1)/2).
 namespace rangecal {
 

@@ -1,5 +1,5 @@
 #pragma once
-// `<cam>/detections.csv` (SPEC §5): `frame,utc,u,v,peak,area,snr,status`, one line per frame the
+// `<cam>/detections.csv` (docs/outputs.md): `frame,utc,u,v,peak,area,snr,status`, one line per frame the
 // detect stage looked at, in frame order. Formatting is fixed so the same detections give the same
 // bytes: utc ISO 8601 with 9 fraction digits, u v with 4 decimals (px), peak with 1 decimal (DN
 // above the local background), area integer (pixels above the growth threshold), snr with 2
@@ -35,7 +35,7 @@ inline constexpr const char* kMissingFrame = "missing_frame";
 struct LampDetection {
   std::int64_t frame = 0;
   UtcTime utc;
-  double u = NAN, v = NAN;  ///< sub-pixel centroid (px; SPEC §2 pixel convention); NaN = none
+  double u = NAN, v = NAN;  ///< sub-pixel centroid (px; docs/conventions.md pixel convention); NaN = none
   double peak = NAN;        ///< brightest pixel minus local background (DN)
   int area = 0;             ///< connected pixels above the growth threshold
   double snr = NAN;         ///< peak / frame noise σ

@@ -1,5 +1,5 @@
 #pragma once
-// Lamp detection (SPEC §4.3; seed 002 §2.2 — a bright point lamp on the UAV): per frame a
+// Lamp detection (docs/frames_and_detection.md; seed 002 §2.2 — a bright point lamp on the UAV): per frame a
 // full-frame search for point-like candidates with sub-pixel centroids, then a sequence-level pass
 // that rejects static lights and resolves frames with several candidates by the lamp's motion.
 // Algorithm and thresholds: docs/frames_and_detection.md.

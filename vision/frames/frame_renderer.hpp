@@ -1,5 +1,5 @@
 #pragma once
-// Synthetic camera frames for tests and the simulator (SPEC §8): the one place that renders a
+// Synthetic camera frames for tests and the simulator (docs/simulator.md): the one place that renders a
 // lamp. Model of a frame, in DN:
 //   sky(u, v)   = sky_level + sky_gradient_u·(u − W/2) + sky_gradient_v·(v − H/2)
 //   spot(u, v)  = F·Ex(u)·Ey(v),  F = peak·2πσ²,  Ex(u) = ½[erf((u+½−u0)/(√2σ)) − erf((u−½−u0)/(√2σ))]
@@ -20,7 +20,7 @@ namespace rangecal {
 /// A Gaussian spot: the lamp or a distractor light. `peak` is the amplitude of the continuous
 /// Gaussian at its centre (DN above the sky); pixel values are its integral over each pixel.
 struct PsfSpot {
-  double u = 0, v = 0;    ///< centre (px, SPEC §2 convention)
+  double u = 0, v = 0;    ///< centre (px, docs/conventions.md convention)
   double sigma_px = 1.2;  ///< PSF standard deviation (px)
   double peak = 100;      ///< DN
 };

@@ -1,5 +1,5 @@
 #pragma once
-// A camera's frames with their UTC times (SPEC §3.4), random access by position, decoding only
+// A camera's frames with their UTC times (docs/formats.md), random access by position, decoding only
 // the frames asked for. Three kinds of entries, chosen by the file extension:
 //   images  .png .tif .tiff — 8/16-bit grey or colour (converted to grey at the same depth);
 //   video   .avi .mkv .mp4 .mov .m4v .mpg .mpeg .webm .wmv — decoded with cv::VideoCapture,

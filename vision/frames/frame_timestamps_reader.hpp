@@ -1,5 +1,5 @@
 #pragma once
-// The frames timestamps CSV (SPEC §3.4): header `frame,file,utc`, one frame a line.
+// The frames timestamps CSV (docs/formats.md): header `frame,file,utc`, one frame a line.
 //   frame  integer ≥ 0, strictly increasing down the file (frames need not be contiguous); for a
 //          video, .cine or .mraw it is the 0-based index of the frame in that file
 //   file   an image (PNG/TIFF), a video, a .cine or a Photron .mraw, relative to the CSV's folder

@@ -1,5 +1,5 @@
 #pragma once
-// The uniform frame value type every frame source returns (SPEC §3.4). Pixels keep their native
+// The uniform frame value type every frame source returns (docs/formats.md). Pixels keep their native
 // depth — no conversion pass, so the detector's full-frame search reads 8-bit frames at one byte
 // per pixel — in a single-channel cv::Mat:
 //   CV_8UC1   8-bit sources (PNG/TIFF 8-bit, video, .cine 8-bit);

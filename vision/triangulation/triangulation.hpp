@@ -1,5 +1,5 @@
 #pragma once
-// N-camera triangulation of one point (SPEC §4.5; seed 002 §4.2 Table 4) with its predicted
+// N-camera triangulation of one point (docs/intersection.md; seed 002 §4.2 Table 4) with its predicted
 // covariance from the pick noise and the cameras' calibration covariances. Method and choices:
 // docs/intersection.md.
 //

@@ -1,4 +1,4 @@
-// Mission config loader (SPEC §3.1): the full example, defaults, path resolution, and one test per
+// Mission config loader (docs/config.md): the full example, defaults, path resolution, and one test per
 // error class, each asserting the message names the config file and the JSON path.
 #include <gtest/gtest.h>
 

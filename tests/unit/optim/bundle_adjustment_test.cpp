@@ -224,7 +224,7 @@ TEST(BundleAdjustment, PriorsBoundTheSigmas) {
 }
 
 TEST(BundleAdjustment, PrincipalPointFreeWithNarrowLensWarnsNamingThePair) {
-  // SPEC §4.4: with a 10° field u0 and the rotation about the camera's y axis are nearly the same
+  // docs/optimisation.md: with a 10° field u0 and the rotation about the camera's y axis are nearly the same
   // thing; without a prior the bundle must say so.
   const Camera truth = narrow_fov_camera();
   const auto pts = synthetic_points(truth, 60, 41);

@@ -1,4 +1,4 @@
-// calibration.json (SPEC §5): exact write → read round trip, deterministic bytes, the SPEC keys,
+// calibration.json (docs/outputs.md): exact write → read round trip, deterministic bytes, the documented keys,
 // σ from the covariance, centre covariance propagation, and bad files naming file and key.
 #include <gtest/gtest.h>
 

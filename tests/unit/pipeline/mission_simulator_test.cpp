@@ -176,7 +176,7 @@ TEST(MissionSimulator, PosTimesAreGpstUtcPlus18) {
   EXPECT_NE(test::read_text(dir / "gnss" / "rover.pos").find("%  GPST "), std::string::npos);
 }
 
-// R_nb = Rz(yaw)·Ry(pitch)·Rx(roll), written out element by element (SPEC §2).
+// R_nb = Rz(yaw)·Ry(pitch)·Rx(roll), written out element by element (docs/conventions.md).
 Eigen::Matrix3d hand_rnb(double roll_deg, double pitch_deg, double yaw_deg) {
   const double r = roll_deg * M_PI / 180, p = pitch_deg * M_PI / 180, y = yaw_deg * M_PI / 180;
   const double cr = std::cos(r), sr = std::sin(r), cp = std::cos(p), sp = std::sin(p), cy = std::cos(y),

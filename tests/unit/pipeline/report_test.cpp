@@ -1,4 +1,4 @@
-// The report stage (SPEC §4.6, §5): an output folder built from synthetic data with the project's
+// The report stage (docs/outputs.md): an output folder built from synthetic data with the project's
 // own writers → summary.json numbers equal the inputs', report.html has the tables and one <svg>
 // per plot, reruns are byte-identical, a camera without calibration is reported (not an error), a
 // malformed input names file and line, and a headless browser renders the page (issue acceptance).

@@ -1,5 +1,5 @@
 // camera_opencv.yml: OpenCV's model fitted to rangecal's camera must make cv::projectPoints
-// reproduce rangecal's `project` within 0.01 px over the whole image (SPEC §5), and
+// reproduce rangecal's `project` within 0.01 px over the whole image (docs/outputs.md), and
 // cv::undistortPoints with its default settings (5 iterations) take rangecal's pixels back to its
 // rays within 0.01 px where the lens allows it; where it does not, the report says so and more
 // iterations remove the error.
