@@ -91,7 +91,7 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
   a.height = 440;
   equal_aspect(&a, padded_range(es, 0.12, 10), padded_range(ns, 0.12, 10));
   const double scale = a.width / (a.x1 - a.x0);  // drawing units per metre
-  std::string s = svg_open(a.right() + 16, a.bottom() + 90, id, "Site map, plan view");
+  std::string s = svg_open(a.right() + 16, a.bottom() + 104, id, "Site map, plan view");
   s += "<g class=\"data\">\n";
   // Viewing wedges, then the track, then the markers on top.
   for (std::size_t i = 0; i < m.cameras.size(); ++i) {
@@ -166,10 +166,9 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
        cross(kx + 176, ky - 4, 3, "key-outlier", "#d62728") + text(kx + 183, ky, "rejected lamp pair") + "\n";
   const double ky2 = ky + 16;
   s += text(a.left, ky2,
-            "check-pole error (red) and predicted 1σ of ΔR (dashed circle) magnified " + tick_label(gain_p) +
-                "x; camera centre 1σ ellipse magnified " + tick_label(gain_c) + "x") +
-       "\n";
-  const double ky3 = ky2 + 16;
+            "check-pole error (red) and predicted 1σ of ΔR (dashed circle) magnified " + tick_label(gain_p) + "x") +
+       text(a.left, ky2 + 14, "camera centre 1σ ellipse magnified " + tick_label(gain_c) + "x") + "\n";
+  const double ky3 = ky2 + 30;
   for (int k = 0; k < 10; ++k)
     s += "<rect x=\"" + n2(a.left + k * 12) + "\" y=\"" + n2(ky3 - 8) + "\" width=\"12\" height=\"9\" fill=\"" +
          sequential_colour((k + 0.5) / 10) + "\"/>";
@@ -260,7 +259,7 @@ std::string svg_residual_scatter(const std::vector<double>& x, const std::vector
   for (std::size_t i = 0; i < x.size() && i < y.size(); ++i) {
     if (!std::isfinite(x[i]) || !std::isfinite(y[i])) continue;
     const bool ok = used.empty() || used[i];
-    s += "<circle class=\"" + std::string(ok ? "point" : "rejected") + "\" cx=\"" + n2(a.X(x[i])) + "\" cy=\"" +
+    s += "<circle class=\"" + std::string(ok ? "point" : "rejected-point") + "\" cx=\"" + n2(a.X(x[i])) + "\" cy=\"" +
          n2(a.Y(y[i])) + "\" r=\"1.80\" fill=\"" + (ok ? "#1f5fa8" : "none") + "\" stroke=\"" +
          (ok ? "none" : "#d62728") + "\"/>\n";
   }
@@ -452,7 +451,7 @@ std::string svg_slice_map(const IntersectionSigmaSlice& sl, const std::vector<Ei
   const std::vector<double> t = nice_ticks(0, vmax > 0 ? vmax : 1, 4);
   double top_v = vmax > 0 ? vmax : 1;
   if (t.size() >= 2 && t.back() < top_v) top_v = t.back() + (t[1] - t[0]);
-  std::string s = svg_open(std::max(a.right() + 100, 480.0), a.bottom() + 56, id,
+  std::string s = svg_open(std::max(a.right() + 100, 600.0), a.bottom() + 56, id,
                            "Predicted intersection σ over a horizontal slice");
   s += "<g class=\"data\">\n" + svg_cells(a, sl.e_m, sl.n_m, cm, top_v) +
        svg_contours(a, sl.e_m, sl.n_m, cm, contour_levels(cm, 6));
