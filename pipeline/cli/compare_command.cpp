@@ -38,7 +38,9 @@ void add_compare_command(CLI::App& app, const CliContext& /*ctx*/) {
     double depth = args->distance_m;
     if (depth == 0) depth = site_origin_depth_m(a.camera);
     if (!(depth > 0) || !std::isfinite(depth))
-      throw Error(ErrorKind::usage, "", 0, "--distance", "the site origin is behind camera A (or --distance is not positive); give --distance M > 0");
+      throw Error(
+          ErrorKind::usage, "", 0, "--distance",
+          "the site origin is behind camera A (or --distance is not positive); give --distance M > 0");
     if (args->grid.size() != 2 || args->grid[0] < 1 || args->grid[1] < 1 || args->grid[0] > 200 ||
         args->grid[1] > 200)
       throw Error(ErrorKind::usage, "", 0, "--grid", "two cell counts between 1 and 200");

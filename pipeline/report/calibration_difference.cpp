@@ -72,8 +72,8 @@ double site_origin_depth_m(const Camera& cam) {
 
 std::string format_difference_table(const CalibrationDifference& d) {
   std::string s = "|q_B - q_A| (px) at depth " + format_number("%.2f", d.depth_m) +
-                  " m; '*': exceeds the combined sigma (Mahalanobis > " + format_number("%.3f", kDifferenceExceeds) +
-                  ", 5 % expected from noise alone)\n";
+                  " m; '*': exceeds the combined sigma (Mahalanobis > " +
+                  format_number("%.3f", kDifferenceExceeds) + ", 5 % expected from noise alone)\n";
   s += "   v \\ u";
   for (int i = 0; i < d.nx; ++i) s += format_number("%9.0f", d.cells[static_cast<std::size_t>(i)].uv_px.x());
   s += "\n";
@@ -87,7 +87,8 @@ std::string format_difference_table(const CalibrationDifference& d) {
     s += "\n";
   }
   s += "max " + format_number("%.4f", d.max_diff_px) + " px, RMS " + format_number("%.4f", d.rms_diff_px) +
-       " px, " + format_number("%.1f", 100 * d.fraction_exceeding) + " % of cells exceed the combined sigma\n";
+       " px, " + format_number("%.1f", 100 * d.fraction_exceeding) +
+       " % of cells exceed the combined sigma\n";
   return s;
 }
 

@@ -20,9 +20,9 @@ inline constexpr double kDifferenceExceeds = 2.447746830680816;
 struct DifferenceCell {
   Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();    ///< cell centre (px), in A's image
   Eigen::Vector2d diff_px = Eigen::Vector2d::Zero();  ///< q_B − q_A (px); NaN where B cannot project
-  double sigma_px = 0;      ///< √λmax(S): the combined 1σ in the worst direction (px)
-  double mahalanobis = 0;   ///< √(Δᵀ S⁻¹ Δ); 0 when Δ = 0, infinite when Δ ≠ 0 and S = 0
-  bool exceeds = false;     ///< mahalanobis > kDifferenceExceeds
+  double sigma_px = 0;     ///< √λmax(S): the combined 1σ in the worst direction (px)
+  double mahalanobis = 0;  ///< √(Δᵀ S⁻¹ Δ); 0 when Δ = 0, infinite when Δ ≠ 0 and S = 0
+  bool exceeds = false;    ///< mahalanobis > kDifferenceExceeds
 };
 
 struct CalibrationDifference {

@@ -24,9 +24,8 @@ PredictedIntersection predict_intersection(const std::vector<const CalibrationRe
     View v;
     const auto n = static_cast<Eigen::Index>(c->parameters.size());
     const bool has_cov = n > 0 && c->covariance.rows() == n && c->covariance.cols() == n;
-    const Eigen::MatrixXd K =
-        pixel_jacobian_wrt_parameters(c->camera, has_cov ? c->parameters : std::vector<CameraParameter>{},
-                                      X_enu_m, &v.Jx);
+    const Eigen::MatrixXd K = pixel_jacobian_wrt_parameters(
+        c->camera, has_cov ? c->parameters : std::vector<CameraParameter>{}, X_enu_m, &v.Jx);
     v.S = has_cov ? Eigen::Matrix2d(K * c->covariance * K.transpose()) : Eigen::Matrix2d::Zero();
     N += v.Jx.transpose() * v.Jx;
     views.push_back(v);
@@ -44,7 +43,8 @@ PredictedIntersection predict_intersection(const std::vector<const CalibrationRe
 
 IntersectionSigmaSlice intersection_sigma_slice(const std::vector<const CalibrationResult*>& cams,
                                                 const Eigen::Vector2d& e_range_m,
-                                                const Eigen::Vector2d& n_range_m, double up_m, int nx, int ny) {
+                                                const Eigen::Vector2d& n_range_m, double up_m, int nx,
+                                                int ny) {
   IntersectionSigmaSlice s;
   s.up_m = up_m;
   for (int i = 0; i < nx; ++i) s.e_m.push_back(e_range_m[0] + (i + 0.5) * (e_range_m[1] - e_range_m[0]) / nx);
@@ -52,7 +52,8 @@ IntersectionSigmaSlice intersection_sigma_slice(const std::vector<const Calibrat
   s.sigma_m.resize(ny, nx);
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
-      const PredictedIntersection p = predict_intersection(cams, Eigen::Vector3d(s.e_m[i], s.n_m[j], up_m), 0);
+      const PredictedIntersection p =
+          predict_intersection(cams, Eigen::Vector3d(s.e_m[i], s.n_m[j], up_m), 0);
       s.sigma_m(j, i) = p.n_cameras >= 2 ? std::sqrt(p.cov_calibration_m2.trace())
                                          : std::numeric_limits<double>::quiet_NaN();
     }

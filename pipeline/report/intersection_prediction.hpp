@@ -35,6 +35,7 @@ struct IntersectionSigmaSlice {
 };
 IntersectionSigmaSlice intersection_sigma_slice(const std::vector<const CalibrationResult*>& cams,
                                                 const Eigen::Vector2d& e_range_m,
-                                                const Eigen::Vector2d& n_range_m, double up_m, int nx, int ny);
+                                                const Eigen::Vector2d& n_range_m, double up_m, int nx,
+                                                int ny);
 
 }  // namespace rangecal

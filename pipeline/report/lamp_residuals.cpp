@@ -25,7 +25,8 @@ std::vector<LampResidual> lamp_residuals(const std::vector<Correspondence>& pair
     r.used = used[i];
     if (calibration) {
       const Camera& cam = calibration->camera;
-      const Eigen::Vector3d seen = p.enu - p.vel_enu.value_or(Eigen::Vector3d::Zero()) * calibration->clock_offset_s;
+      const Eigen::Vector3d seen =
+          p.enu - p.vel_enu.value_or(Eigen::Vector3d::Zero()) * calibration->clock_offset_s;
       r.projected = project(cam, seen, &r.reprojected);
       if (r.projected) {
         r.residual = r.observed - r.reprojected;

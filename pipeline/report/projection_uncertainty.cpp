@@ -28,7 +28,8 @@ Eigen::Matrix2d projection_covariance_px2(const CalibrationResult& cal, const Ei
 double projection_sigma_px(const CalibrationResult& cal, const Eigen::Vector2d& uv_px, double depth_m) {
   const Eigen::Matrix2d S = projection_covariance_px2(cal, point_on_pixel_ray(cal.camera, uv_px, depth_m));
   if (!S.allFinite()) return std::numeric_limits<double>::quiet_NaN();
-  const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(S, Eigen::EigenvaluesOnly).eigenvalues();
+  const Eigen::Vector2d ev =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(S, Eigen::EigenvaluesOnly).eigenvalues();
   return std::sqrt(std::max(0.0, ev.maxCoeff()));
 }
 

@@ -41,7 +41,8 @@ const char* kStyle =
     "tr.mean td{font-weight:bold;background:#f6f6f6}"
     ".missing{color:#a33;font-weight:bold}.warn{color:#8a5a00}"
     "figure{display:inline-block;margin:8px 16px 8px 0;vertical-align:top}"
-    "figcaption{font-size:12px;color:#555;max-width:640px}.ok{color:#1b7a1b}.bad{color:#b00020;font-weight:bold}"
+    "figcaption{font-size:12px;color:#555;max-width:640px}.ok{color:#1b7a1b}.bad{color:#b00020;font-weight:"
+    "bold}"
     "@media print{figure,table{break-inside:avoid}body{margin:0}}";
 
 std::string mission_section(const ReportData& d) {
@@ -300,7 +301,8 @@ CameraFigures camera_figures(const CameraReportData& c, double pixel_sigma_px) {
       cal->covariance.rows() == static_cast<Eigen::Index>(cal->parameters.size())) {
     f.uncertainty = projection_uncertainty_map(*cal, f.depth_m, 41, 25);
     const CameraIntrinsics& in = cal->camera.intr;
-    f.centre_sigma_px = projection_sigma_px(*cal, Eigen::Vector2d((in.width_px - 1) / 2.0, (in.height_px - 1) / 2.0), f.depth_m);
+    f.centre_sigma_px = projection_sigma_px(
+        *cal, Eigen::Vector2d((in.width_px - 1) / 2.0, (in.height_px - 1) / 2.0), f.depth_m);
   }
   return f;
 }
@@ -332,15 +334,16 @@ std::string diagnostic_plots(const CameraReportData& c, const CameraFigures& f) 
     }
   }
   if (!t.empty()) {
-    s += "<p>Observed &#8722; reprojected against time and against image row, with the &#177;2&#963; band the "
-         "noise model expects (lamp centroid &#963; and the PPK sd projected into the image). A clock offset "
-         "shows as residuals that follow the lamp's image speed (a trend with time along each ascent); a "
-         "lever-arm or height error as a trend with image row.</p>\n";
-    s += figure(svg_residual_scatter(t, du, su, used, "time since first pair (s)", "Δu (px)", base + "-du-time",
-                                     "u residual against time"),
+    s +=
+        "<p>Observed &#8722; reprojected against time and against image row, with the &#177;2&#963; band the "
+        "noise model expects (lamp centroid &#963; and the PPK sd projected into the image). A clock offset "
+        "shows as residuals that follow the lamp's image speed (a trend with time along each ascent); a "
+        "lever-arm or height error as a trend with image row.</p>\n";
+    s += figure(svg_residual_scatter(t, du, su, used, "time since first pair (s)", "Δu (px)",
+                                     base + "-du-time", "u residual against time"),
                 "&#916;u against time");
-    s += figure(svg_residual_scatter(t, dv, sv, used, "time since first pair (s)", "Δv (px)", base + "-dv-time",
-                                     "v residual against time"),
+    s += figure(svg_residual_scatter(t, dv, sv, used, "time since first pair (s)", "Δv (px)",
+                                     base + "-dv-time", "v residual against time"),
                 "&#916;v against time");
     s += figure(svg_residual_scatter(v, du, su, used, "image row v (px)", "Δu (px)", base + "-du-height",
                                      "u residual against image height"),
@@ -357,7 +360,8 @@ std::string diagnostic_plots(const CameraReportData& c, const CameraFigures& f) 
                 "Projection uncertainty: 1&#963; (px, worst direction) of where a point " +
                     fmt("%.1f", f.depth_m) +
                     " m in front of the camera (the median lamp depth) lands, from the parameter covariance "
-                    "(centre: " + fmt("%.3f", f.centre_sigma_px) + " px)");
+                    "(centre: " +
+                    fmt("%.3f", f.centre_sigma_px) + " px)");
   } else {
     s += "<p>No covariance in calibration.json: no projection-uncertainty map.</p>\n";
   }
@@ -492,9 +496,9 @@ SliceStats slice_stats(const IntersectionSigmaSlice& sl) {
 
 std::string verdict_section(const ReportData& d, const std::vector<CameraFigures>& figs,
                             const std::optional<IntersectionSigmaSlice>& slice) {
-  std::string s = "<section id=\"verdict\">\n<h2>Verdict</h2>\n<table class=\"verdict\">\n<tr>" + th("Camera") +
-                  th("Method") + th("RMS /px") + th("RMS expected /px") + th("ratio") + th("projection &#963; at centre /px") +
-                  th("reading") + "</tr>\n";
+  std::string s = "<section id=\"verdict\">\n<h2>Verdict</h2>\n<table class=\"verdict\">\n<tr>" +
+                  th("Camera") + th("Method") + th("RMS /px") + th("RMS expected /px") + th("ratio") +
+                  th("projection &#963; at centre /px") + th("reading") + "</tr>\n";
   for (std::size_t i = 0; i < d.cameras.size(); ++i) {
     const CameraReportData& c = d.cameras[i];
     const CameraFigures& f = figs[i];
@@ -511,12 +515,13 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
     else if (ratio <= 1.5)
       reading = "<span class=\"ok\">residuals as the noise model expects</span>";
     else
-      reading = "<span class=\"bad\">residuals " + fmt("%.1f", ratio) +
-                "&#215; the noise model's: look at the residual plots (a trend with time: clock offset; with image "
-                "row: lever arm or heights)</span>";
+      reading =
+          "<span class=\"bad\">residuals " + fmt("%.1f", ratio) +
+          "&#215; the noise model's: look at the residual plots (a trend with time: clock offset; with image "
+          "row: lever arm or heights)</span>";
     s += td(html_escape(c.calibration->method), "txt") + td(fmt("%.3f", f.consistency.rms_px)) +
-         td(fmt("%.3f", f.consistency.expected_rms_px)) + td(fmt("%.2f", ratio)) + td(fmt("%.3f", f.centre_sigma_px)) +
-         td(reading, "txt") + "</tr>\n";
+         td(fmt("%.3f", f.consistency.expected_rms_px)) + td(fmt("%.2f", ratio)) +
+         td(fmt("%.3f", f.centre_sigma_px)) + td(reading, "txt") + "</tr>\n";
   }
   s += "</table>\n";
   const SliceStats st = slice ? slice_stats(*slice) : SliceStats{};
@@ -527,16 +532,16 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
          "): mean &#916;R " + fmt("%.2f", m.mean_dR * 100) + " cm, max " + fmt("%.2f", m.max_dR * 100) +
          " cm, RMS " + fmt("%.2f", m.rms_dR * 100) + " cm against the predicted 1&#963; " +
          fmt("%.2f", m.mean_sigma_m * 100) + " cm (mean); bar: mean &#916;R &#8804; " +
-         fmt("%.1f", d.bar_mean_dR_m * 100) + " cm (rangecal's quality bar, docs/accuracy_analysis.md): " +
-         (pass ? "met" : "NOT met") + ".</p>\n";
+         fmt("%.1f", d.bar_mean_dR_m * 100) +
+         " cm (rangecal's quality bar, docs/accuracy_analysis.md): " + (pass ? "met" : "NOT met") + ".</p>\n";
   } else {
     s += "<p class=\"missing\">No check poles intersected: the calibration is not checked against an "
          "independent survey.</p>\n";
   }
   if (st.n > 0)
     s += "<p>Predicted intersection &#963; from the calibrations alone over the flight volume at U = " +
-         fmt("%.1f", slice->up_m) + " m: " + fmt("%.2f", st.min * 100) + "&#8211;" + fmt("%.2f", st.max * 100) +
-         " cm (median " + fmt("%.2f", st.median * 100) + " cm).</p>\n";
+         fmt("%.1f", slice->up_m) + " m: " + fmt("%.2f", st.min * 100) + "&#8211;" +
+         fmt("%.2f", st.max * 100) + " cm (median " + fmt("%.2f", st.median * 100) + " cm).</p>\n";
   // Each camera's calibration warnings, then once what they mean for the intersection: a poorly
   // determined or strongly correlated parameter matters only through where it moves the flown points.
   std::string w;
@@ -557,20 +562,26 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
       w += "<p class=\"" + std::string(small ? "ok" : "bad") + "\">" +
            (small ? "Harmless for the intersection. " : "This matters for the intersection. ") +
            "What the images fix is the combination of these parameters that places a point of the flight "
-           "volume; that combination is " + (small ? "well" : "poorly") + " determined: a point at the flight "
-           "distance (" + fmt("%.1f", f.depth_m) + " m) projects with 1&#963; " + fmt("%.3f", f.centre_sigma_px) +
+           "volume; that combination is " +
+           (small ? "well" : "poorly") +
+           " determined: a point at the flight "
+           "distance (" +
+           fmt("%.1f", f.depth_m) + " m) projects with 1&#963; " + fmt("%.3f", f.centre_sigma_px) +
            " px at the image centre (up to " + fmt("%.2f", worst) +
            " px in the corners, where no lamp was seen; see the uncertainty map)";
       if (st.n > 0)
-        w += ", and the predicted intersection &#963; from the calibrations is " + fmt("%.2f", st.median * 100) +
-             " cm (median over the flight volume), against the bar of " + fmt("%.1f", d.bar_mean_dR_m * 100) + " cm";
+        w += ", and the predicted intersection &#963; from the calibrations is " +
+             fmt("%.2f", st.median * 100) + " cm (median over the flight volume), against the bar of " +
+             fmt("%.1f", d.bar_mean_dR_m * 100) + " cm";
       w += ".</p>\n";
     } else if (weak) {
       w += "<p>No covariance: their effect on the intersection cannot be judged.</p>\n";
     }
     w += "</li>\n";
   }
-  if (!w.empty()) s += "<h3>Calibration warnings and what they mean</h3>\n<ul class=\"verdict-warnings\">\n" + w + "</ul>\n";
+  if (!w.empty())
+    s +=
+        "<h3>Calibration warnings and what they mean</h3>\n<ul class=\"verdict-warnings\">\n" + w + "</ul>\n";
   return s + "</section>\n";
 }
 
@@ -586,7 +597,8 @@ std::string site_section(const ReportData& d, const std::vector<CameraFigures>& 
     sc.center = cam.pose.center();
     sc.center_cov_m2 = c.calibration->center_covariance_m2;
     sc.left_ray = pixel_ray_world(cam, Eigen::Vector2d(-0.5, (cam.intr.height_px - 1) / 2.0));
-    sc.right_ray = pixel_ray_world(cam, Eigen::Vector2d(cam.intr.width_px - 0.5, (cam.intr.height_px - 1) / 2.0));
+    sc.right_ray =
+        pixel_ray_world(cam, Eigen::Vector2d(cam.intr.width_px - 0.5, (cam.intr.height_px - 1) / 2.0));
     double reach = 0;
     if (c.pairs)
       for (const Correspondence& p : *c.pairs)
@@ -624,9 +636,10 @@ std::string site_section(const ReportData& d, const std::vector<CameraFigures>& 
     }
   if (m.cameras.empty() && m.track.empty() && m.poles.empty())
     return s + "<p class=\"missing\">Nothing to map: no calibration, lamp track or survey.</p>\n</section>\n";
-  s += figure(svg_site_plan(m, "site-plan"),
-              "Plan view: cameras with viewing wedges (image width) and 1&#963; centre ellipses, the lamp track "
-              "coloured by time, poles; check-pole errors and their predicted &#963; magnified");
+  s += figure(
+      svg_site_plan(m, "site-plan"),
+      "Plan view: cameras with viewing wedges (image width) and 1&#963; centre ellipses, the lamp track "
+      "coloured by time, poles; check-pole errors and their predicted &#963; magnified");
   s += figure(svg_site_side(m, "site-side"), "Side view: distance against height");
   return s + "</section>\n";
 }
@@ -643,12 +656,14 @@ std::string funnel_section(const ReportData& d) {
     std::string why;
     for (const FunnelDrop& x : r.dropped)
       why += (why.empty() ? "" : "; ") + html_escape(x.reason) + ": " + std::to_string(x.count);
-    s += "<tr>" + td(html_escape(r.stage), "txt") + td(r.camera.empty() ? kDash : html_escape(r.camera), "txt") +
-         td(html_escape(r.unit), "txt") + td(std::to_string(r.in)) + td(std::to_string(r.kept)) +
-         td(std::to_string(r.in - r.kept)) + td(why.empty() ? kDash : why, "txt") + "</tr>\n";
+    s += "<tr>" + td(html_escape(r.stage), "txt") +
+         td(r.camera.empty() ? kDash : html_escape(r.camera), "txt") + td(html_escape(r.unit), "txt") +
+         td(std::to_string(r.in)) + td(std::to_string(r.kept)) + td(std::to_string(r.in - r.kept)) +
+         td(why.empty() ? kDash : why, "txt") + "</tr>\n";
   }
   s += "</table>\n";
-  s += figure(svg_funnel(rows, "funnel-bars"), "Share kept (green) and dropped by reason (other colours) per stage");
+  s += figure(svg_funnel(rows, "funnel-bars"),
+              "Share kept (green) and dropped by reason (other colours) per stage");
   return s + "</section>\n";
 }
 
@@ -662,9 +677,10 @@ std::string intersection_plots(const ReportData& d, const std::optional<Intersec
       ids.push_back(r.id);
       dcm.push_back(r.d_enu * 100.0);
       const PredictedIntersection p = predict_intersection(cams, r.survey_enu, d.pick_sigma_px);
-      scm.push_back(p.n_cameras >= 2
-                        ? Eigen::Vector3d((p.cov_calibration_m2 + p.cov_pick_m2).diagonal().cwiseSqrt() * 100.0)
-                        : Eigen::Vector3d::Constant(std::nan("")));
+      scm.push_back(
+          p.n_cameras >= 2
+              ? Eigen::Vector3d((p.cov_calibration_m2 + p.cov_pick_m2).diagonal().cwiseSqrt() * 100.0)
+              : Eigen::Vector3d::Constant(std::nan("")));
     }
     s += figure(svg_pole_bars(ids, dcm, scm, "intersection-bars"),
                 "Per check pole: &#916;E, &#916;N, &#916;U (cm) over the predicted &#177;1&#963; per axis "
@@ -675,10 +691,11 @@ std::string intersection_plots(const ReportData& d, const std::optional<Intersec
     std::vector<Eigen::Vector2d> poles;
     if (d.intersection)
       for (const IntersectionRow& r : *d.intersection) poles.emplace_back(r.survey_enu.x(), r.survey_enu.y());
-    s += figure(svg_slice_map(*slice, poles, "intersection-slice"),
-                "Predicted intersection &#963; (&#8730;trace of the covariance, cm) from the calibrations alone "
-                "over a horizontal slice at the check poles' height: what a target flown through the calibrated "
-                "volume can expect before pick noise");
+    s += figure(
+        svg_slice_map(*slice, poles, "intersection-slice"),
+        "Predicted intersection &#963; (&#8730;trace of the covariance, cm) from the calibrations alone "
+        "over a horizontal slice at the check poles' height: what a target flown through the calibrated "
+        "volume can expect before pick noise");
   }
   return s;
 }
@@ -686,7 +703,8 @@ std::string intersection_plots(const ReportData& d, const std::optional<Intersec
 std::string network_section(const ReportData& d) {
   if (!d.network_track) return "";
   return "<section id=\"network\">\n<h2>Network adjustment</h2>\n<p>gnss/lamp_track_adjusted.csv is present: "
-         "the lamp track was adjusted by the network bundle. Its corrections per axis over time are not drawn "
+         "the lamp track was adjusted by the network bundle. Its corrections per axis over time are not "
+         "drawn "
          "yet.</p>\n</section>\n";
 }
 

@@ -26,9 +26,9 @@ std::string text(double x, double y, const std::string& s, const char* extra = "
 }
 
 std::string cross(double x, double y, double a, const char* cls, const char* colour) {
-  return std::string("<path class=\"") + cls + "\" d=\"M" + n2(x - a) + " " + n2(y - a) + "L" + n2(x + a) + " " +
-         n2(y + a) + "M" + n2(x - a) + " " + n2(y + a) + "L" + n2(x + a) + " " + n2(y - a) + "\" stroke=\"" + colour +
-         "\" stroke-width=\"1.2\"/>\n";
+  return std::string("<path class=\"") + cls + "\" d=\"M" + n2(x - a) + " " + n2(y - a) + "L" + n2(x + a) +
+         " " + n2(y + a) + "M" + n2(x - a) + " " + n2(y + a) + "L" + n2(x + a) + " " + n2(y - a) +
+         "\" stroke=\"" + colour + "\" stroke-width=\"1.2\"/>\n";
 }
 
 // Data range [lo, hi] of values, widened to `min_span` and padded by `pad` of the span each side.
@@ -99,19 +99,23 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
     const Eigen::Vector2d hl = horizontal(c.left_ray) * c.wedge_m, hr = horizontal(c.right_ray) * c.wedge_m;
     s += "<polygon class=\"wedge\" points=\"" + n2(a.X(c.center.x())) + "," + n2(a.Y(c.center.y())) + " " +
          n2(a.X(c.center.x() + hl.x())) + "," + n2(a.Y(c.center.y() + hl.y())) + " " +
-         n2(a.X(c.center.x() + hr.x())) + "," + n2(a.Y(c.center.y() + hr.y())) + "\" fill=\"" + camera_colour(i) +
-         "\" fill-opacity=\"0.12\" stroke=\"" + camera_colour(i) + "\" stroke-width=\"0.6\"/>\n";
+         n2(a.X(c.center.x() + hr.x())) + "," + n2(a.Y(c.center.y() + hr.y())) + "\" fill=\"" +
+         camera_colour(i) + "\" fill-opacity=\"0.12\" stroke=\"" + camera_colour(i) +
+         "\" stroke-width=\"0.6\"/>\n";
   }
   const double t_end = m.track_t_s.empty() ? 1 : std::max(1e-9, m.track_t_s.back());
   for (std::size_t k = 0; k < m.track.size(); ++k)
     s += "<circle class=\"track\" cx=\"" + n2(a.X(m.track[k].x())) + "\" cy=\"" + n2(a.Y(m.track[k].y())) +
-         "\" r=\"1.60\" fill=\"" + sequential_colour(k < m.track_t_s.size() ? m.track_t_s[k] / t_end : 0) + "\"/>\n";
+         "\" r=\"1.60\" fill=\"" + sequential_colour(k < m.track_t_s.size() ? m.track_t_s[k] / t_end : 0) +
+         "\"/>\n";
   for (const Eigen::Vector3d& p : m.outliers) s += cross(a.X(p.x()), a.Y(p.y()), 3, "outlier", "#d62728");
   // Camera centres with their 1σ ellipses (E, N block of the covariance).
   double max_sigma = 0;
   for (const SiteCamera& c : m.cameras)
     if (c.center_cov_m2.allFinite())
-      max_sigma = std::max(max_sigma, std::sqrt(std::max(0.0, c.center_cov_m2.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff())));
+      max_sigma = std::max(
+          max_sigma,
+          std::sqrt(std::max(0.0, c.center_cov_m2.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff())));
   const double gain_c = magnification(max_sigma * scale, 8);
   for (std::size_t i = 0; i < m.cameras.size(); ++i) {
     const SiteCamera& c = m.cameras[i];
@@ -121,25 +125,27 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
       const Eigen::Vector2d ev = es2.eigenvalues().cwiseMax(0).cwiseSqrt() * gain_c * scale;
       const Eigen::Vector2d major = es2.eigenvectors().col(1);
       const double angle = -std::atan2(major.y(), major.x()) * 57.29577951308232;  // drawing y is down
-      s += "<ellipse class=\"center-sigma\" cx=\"" + n2(x) + "\" cy=\"" + n2(y) + "\" rx=\"" + n2(ev[1]) + "\" ry=\"" +
-           n2(ev[0]) + "\" transform=\"rotate(" + n2(angle) + " " + n2(x) + " " + n2(y) +
+      s += "<ellipse class=\"center-sigma\" cx=\"" + n2(x) + "\" cy=\"" + n2(y) + "\" rx=\"" + n2(ev[1]) +
+           "\" ry=\"" + n2(ev[0]) + "\" transform=\"rotate(" + n2(angle) + " " + n2(x) + " " + n2(y) +
            ")\" fill=\"none\" stroke=\"#000\" stroke-width=\"0.8\"/>\n";
     }
-    s += "<circle class=\"camera\" cx=\"" + n2(x) + "\" cy=\"" + n2(y) + "\" r=\"3.00\" fill=\"" + camera_colour(i) +
-         "\"/>\n";
+    s += "<circle class=\"camera\" cx=\"" + n2(x) + "\" cy=\"" + n2(y) + "\" r=\"3.00\" fill=\"" +
+         camera_colour(i) + "\"/>\n";
     s += "<text class=\"camera-label\" x=\"" + n2(std::min(x + 6, a.right() - 40)) + "\" y=\"" +
          n2(std::max(y - 6, a.top + 12)) + "\" font-size=\"11\">" + html_escape(c.id) + "</text>\n";
   }
   // Poles; check poles' errors and σ magnified so the largest spans 30 drawing units.
   double max_err = 0;
   for (const SitePole& p : m.poles)
-    if (p.has_error) max_err = std::max({max_err, Eigen::Vector2d(p.d_enu.x(), p.d_enu.y()).norm(), p.sigma_m});
+    if (p.has_error)
+      max_err = std::max({max_err, Eigen::Vector2d(p.d_enu.x(), p.d_enu.y()).norm(), p.sigma_m});
   const double gain_p = max_err > 0 ? std::max(1.0, nice_floor(30.0 / (max_err * scale))) : 1;
   for (const SitePole& p : m.poles) {
     const double x = a.X(p.enu.x()), y = a.Y(p.enu.y());
     if (p.check) {
       if (p.has_error) {
-        s += "<circle class=\"pole-sigma\" cx=\"" + n2(x) + "\" cy=\"" + n2(y) + "\" r=\"" + n2(p.sigma_m * gain_p * scale) +
+        s += "<circle class=\"pole-sigma\" cx=\"" + n2(x) + "\" cy=\"" + n2(y) + "\" r=\"" +
+             n2(p.sigma_m * gain_p * scale) +
              "\" fill=\"none\" stroke=\"#777\" stroke-dasharray=\"2,2\" stroke-width=\"0.8\"/>\n";
         s += "<line class=\"pole-error\" x1=\"" + n2(x) + "\" y1=\"" + n2(y) + "\" x2=\"" +
              n2(x + p.d_enu.x() * gain_p * scale) + "\" y2=\"" + n2(y - p.d_enu.y() * gain_p * scale) +
@@ -148,8 +154,8 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
       s += "<rect class=\"check-pole\" x=\"" + n2(x - 2.5) + "\" y=\"" + n2(y - 2.5) +
            "\" width=\"5.00\" height=\"5.00\" fill=\"#000\"/>\n";
     } else {
-      s += "<path class=\"control-pole\" d=\"M" + n2(x) + " " + n2(y - 3.5) + "L" + n2(x + 3.2) + " " + n2(y + 2.5) +
-           "L" + n2(x - 3.2) + " " + n2(y + 2.5) + "Z\" fill=\"#ff7f0e\"/>\n";
+      s += "<path class=\"control-pole\" d=\"M" + n2(x) + " " + n2(y - 3.5) + "L" + n2(x + 3.2) + " " +
+           n2(y + 2.5) + "L" + n2(x - 3.2) + " " + n2(y + 2.5) + "Z\" fill=\"#ff7f0e\"/>\n";
     }
   }
   s += "</g>\n";
@@ -161,18 +167,21 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
        text(a.left + bar_m * scale + 6, ky + 4, tick_label(bar_m) + " m") + "\n";
   const double kx = a.left + bar_m * scale + 60;
   s += "<rect x=\"" + n2(kx) + "\" y=\"" + n2(ky - 6) + "\" width=\"5\" height=\"5\"/>" +
-       text(kx + 8, ky, "check pole") + "<path d=\"M" + n2(kx + 82) + " " + n2(ky - 7) + "L" + n2(kx + 85) + " " +
-       n2(ky - 1) + "L" + n2(kx + 79) + " " + n2(ky - 1) + "Z\" fill=\"#ff7f0e\"/>" + text(kx + 90, ky, "control pole") +
-       cross(kx + 176, ky - 4, 3, "key-outlier", "#d62728") + text(kx + 183, ky, "rejected lamp pair") + "\n";
+       text(kx + 8, ky, "check pole") + "<path d=\"M" + n2(kx + 82) + " " + n2(ky - 7) + "L" + n2(kx + 85) +
+       " " + n2(ky - 1) + "L" + n2(kx + 79) + " " + n2(ky - 1) + "Z\" fill=\"#ff7f0e\"/>" +
+       text(kx + 90, ky, "control pole") + cross(kx + 176, ky - 4, 3, "key-outlier", "#d62728") +
+       text(kx + 183, ky, "rejected lamp pair") + "\n";
   const double ky2 = ky + 16;
   s += text(a.left, ky2,
-            "check-pole error (red) and predicted 1σ of ΔR (dashed circle) magnified " + tick_label(gain_p) + "x") +
+            "check-pole error (red) and predicted 1σ of ΔR (dashed circle) magnified " + tick_label(gain_p) +
+                "x") +
        text(a.left, ky2 + 14, "camera centre 1σ ellipse magnified " + tick_label(gain_c) + "x") + "\n";
   const double ky3 = ky2 + 30;
   for (int k = 0; k < 10; ++k)
-    s += "<rect x=\"" + n2(a.left + k * 12) + "\" y=\"" + n2(ky3 - 8) + "\" width=\"12\" height=\"9\" fill=\"" +
-         sequential_colour((k + 0.5) / 10) + "\"/>";
-  s += text(a.left + 126, ky3, "lamp track, time 0 … " + format_number("%.1f", t_end) + " s") + "\n</g>\n</svg>\n";
+    s += "<rect x=\"" + n2(a.left + k * 12) + "\" y=\"" + n2(ky3 - 8) +
+         "\" width=\"12\" height=\"9\" fill=\"" + sequential_colour((k + 0.5) / 10) + "\"/>";
+  s += text(a.left + 126, ky3, "lamp track, time 0 … " + format_number("%.1f", t_end) + " s") +
+       "\n</g>\n</svg>\n";
   return s;
 }
 
@@ -181,8 +190,11 @@ std::string svg_site_side(const SiteMap& m, const std::string& id) {
   Eigen::Vector3d cm = Eigen::Vector3d::Zero(), tm = Eigen::Vector3d::Zero();
   for (const SiteCamera& c : m.cameras) cm += c.center / std::max<std::size_t>(1, m.cameras.size());
   for (const Eigen::Vector3d& p : m.track) tm += p / static_cast<double>(m.track.size());
-  const Eigen::Vector2d dir = horizontal(m.track.empty() ? Eigen::Vector3d::UnitY() : Eigen::Vector3d(tm - cm));
-  auto dist = [&](const Eigen::Vector3d& p) { return Eigen::Vector2d(p.x() - cm.x(), p.y() - cm.y()).dot(dir); };
+  const Eigen::Vector2d dir =
+      horizontal(m.track.empty() ? Eigen::Vector3d::UnitY() : Eigen::Vector3d(tm - cm));
+  auto dist = [&](const Eigen::Vector3d& p) {
+    return Eigen::Vector2d(p.x() - cm.x(), p.y() - cm.y()).dot(dir);
+  };
   std::vector<double> xs, ys;
   for (const SiteCamera& c : m.cameras) xs.push_back(dist(c.center)), ys.push_back(c.center.z());
   for (const Eigen::Vector3d& p : m.track) xs.push_back(dist(p)), ys.push_back(p.z());
@@ -200,7 +212,8 @@ std::string svg_site_side(const SiteMap& m, const std::string& id) {
   const double t_end = m.track_t_s.empty() ? 1 : std::max(1e-9, m.track_t_s.back());
   for (std::size_t k = 0; k < m.track.size(); ++k)
     s += "<circle class=\"track\" cx=\"" + n2(a.X(dist(m.track[k]))) + "\" cy=\"" + n2(a.Y(m.track[k].z())) +
-         "\" r=\"1.60\" fill=\"" + sequential_colour(k < m.track_t_s.size() ? m.track_t_s[k] / t_end : 0) + "\"/>\n";
+         "\" r=\"1.60\" fill=\"" + sequential_colour(k < m.track_t_s.size() ? m.track_t_s[k] / t_end : 0) +
+         "\"/>\n";
   for (const Eigen::Vector3d& p : m.outliers) s += cross(a.X(dist(p)), a.Y(p.z()), 3, "outlier", "#d62728");
   for (const SitePole& p : m.poles) {
     const double x = a.X(dist(p.enu)), y = a.Y(p.enu.z());
@@ -208,8 +221,8 @@ std::string svg_site_side(const SiteMap& m, const std::string& id) {
       s += "<rect class=\"check-pole\" x=\"" + n2(x - 2.5) + "\" y=\"" + n2(y - 2.5) +
            "\" width=\"5.00\" height=\"5.00\" fill=\"#000\"/>\n";
     else
-      s += "<path class=\"control-pole\" d=\"M" + n2(x) + " " + n2(y - 3.5) + "L" + n2(x + 3.2) + " " + n2(y + 2.5) +
-           "L" + n2(x - 3.2) + " " + n2(y + 2.5) + "Z\" fill=\"#ff7f0e\"/>\n";
+      s += "<path class=\"control-pole\" d=\"M" + n2(x) + " " + n2(y - 3.5) + "L" + n2(x + 3.2) + " " +
+           n2(y + 2.5) + "L" + n2(x - 3.2) + " " + n2(y + 2.5) + "Z\" fill=\"#ff7f0e\"/>\n";
   }
   for (std::size_t i = 0; i < m.cameras.size(); ++i)
     s += "<circle class=\"camera\" cx=\"" + n2(a.X(dist(m.cameras[i].center))) + "\" cy=\"" +
@@ -224,8 +237,8 @@ std::string svg_site_side(const SiteMap& m, const std::string& id) {
 
 std::string svg_residual_scatter(const std::vector<double>& x, const std::vector<double>& y,
                                  const std::vector<double>& sigma, const std::vector<bool>& used,
-                                 const std::string& x_label, const std::string& y_label, const std::string& id,
-                                 const std::string& title) {
+                                 const std::string& x_label, const std::string& y_label,
+                                 const std::string& id, const std::string& title) {
   ChartAxes a;
   a.left = 60;
   a.top = 12;
@@ -254,13 +267,13 @@ std::string svg_residual_scatter(const std::vector<double>& x, const std::vector
     down.pop_back();
     s += "<polygon class=\"band\" points=\"" + up + down + "\" fill=\"#d5e3f3\" stroke=\"none\"/>\n";
   }
-  s += "<line class=\"zero\" x1=\"" + n2(a.left) + "\" y1=\"" + n2(a.Y(0)) + "\" x2=\"" + n2(a.right()) + "\" y2=\"" +
-       n2(a.Y(0)) + "\" stroke=\"#999\" stroke-width=\"0.6\"/>\n";
+  s += "<line class=\"zero\" x1=\"" + n2(a.left) + "\" y1=\"" + n2(a.Y(0)) + "\" x2=\"" + n2(a.right()) +
+       "\" y2=\"" + n2(a.Y(0)) + "\" stroke=\"#999\" stroke-width=\"0.6\"/>\n";
   for (std::size_t i = 0; i < x.size() && i < y.size(); ++i) {
     if (!std::isfinite(x[i]) || !std::isfinite(y[i])) continue;
     const bool ok = used.empty() || used[i];
-    s += "<circle class=\"" + std::string(ok ? "point" : "rejected-point") + "\" cx=\"" + n2(a.X(x[i])) + "\" cy=\"" +
-         n2(a.Y(y[i])) + "\" r=\"1.80\" fill=\"" + (ok ? "#1f5fa8" : "none") + "\" stroke=\"" +
+    s += "<circle class=\"" + std::string(ok ? "point" : "rejected-point") + "\" cx=\"" + n2(a.X(x[i])) +
+         "\" cy=\"" + n2(a.Y(y[i])) + "\" r=\"1.80\" fill=\"" + (ok ? "#1f5fa8" : "none") + "\" stroke=\"" +
          (ok ? "none" : "#d62728") + "\"/>\n";
   }
   s += "</g>\n";
@@ -269,9 +282,10 @@ std::string svg_residual_scatter(const std::vector<double>& x, const std::vector
   return s;
 }
 
-std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_px, const std::vector<double>& v_px,
-                          const Eigen::MatrixXd& values, const std::string& value_label, const std::string& id,
-                          const std::string& title, const std::vector<Eigen::Vector2d>& marks) {
+std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_px,
+                          const std::vector<double>& v_px, const Eigen::MatrixXd& values,
+                          const std::string& value_label, const std::string& id, const std::string& title,
+                          const std::vector<Eigen::Vector2d>& marks) {
   ChartAxes a;
   a.left = 56;
   a.top = 40;
@@ -297,8 +311,8 @@ std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_p
 }
 
 std::string svg_image_vectors(const PlotFrame& frame, const std::vector<Eigen::Vector2d>& at,
-                              const std::vector<Eigen::Vector2d>& vec, const std::string& what, const std::string& id,
-                              const std::string& title) {
+                              const std::vector<Eigen::Vector2d>& vec, const std::string& what,
+                              const std::string& id, const std::string& title) {
   ChartAxes a;
   a.left = 56;
   a.top = 40;
@@ -316,9 +330,9 @@ std::string svg_image_vectors(const PlotFrame& frame, const std::vector<Eigen::V
     Eigen::Vector2d p(a.X(at[i].x()), a.Y(at[i].y())), q = p + gain * vec[i];
     bool cut = false;
     if (!clip_segment(a.left, a.top, a.right(), a.bottom(), &p, &q, &cut)) continue;
-    s += "<line class=\"vector\" x1=\"" + n2(p.x()) + "\" y1=\"" + n2(p.y()) + "\" x2=\"" + n2(q.x()) + "\" y2=\"" +
-         n2(q.y()) + "\" stroke=\"#6a3d9a\" stroke-width=\"1\"/>\n<circle class=\"foot\" cx=\"" + n2(p.x()) +
-         "\" cy=\"" + n2(p.y()) + "\" r=\"1.20\" fill=\"#333\"/>\n";
+    s += "<line class=\"vector\" x1=\"" + n2(p.x()) + "\" y1=\"" + n2(p.y()) + "\" x2=\"" + n2(q.x()) +
+         "\" y2=\"" + n2(q.y()) + "\" stroke=\"#6a3d9a\" stroke-width=\"1\"/>\n<circle class=\"foot\" cx=\"" +
+         n2(p.x()) + "\" cy=\"" + n2(p.y()) + "\" r=\"1.20\" fill=\"#333\"/>\n";
   }
   s += "</g>\n";
   s += svg_axes(a, "u (px), right", "v (px), down", 8, 5);
@@ -343,38 +357,42 @@ std::string svg_correlation_grid(const std::vector<std::string>& names, const Ei
   a.x0 = 0, a.x1 = std::max(1, n), a.y0 = 0, a.y1 = std::max(1, n);
   a.y_down = true;
   std::string s = svg_open(a.right() + 140, a.bottom() + 96, id, "Correlation of the estimated parameters");
-  s += "<rect class=\"area\" x=\"" + n2(a.left) + "\" y=\"" + n2(a.top) + "\" width=\"" + n2(a.width) + "\" height=\"" +
-       n2(a.height) + "\" fill=\"none\" stroke=\"#333\"/>\n<g class=\"data\" font-size=\"9\">\n";
+  s += "<rect class=\"area\" x=\"" + n2(a.left) + "\" y=\"" + n2(a.top) + "\" width=\"" + n2(a.width) +
+       "\" height=\"" + n2(a.height) +
+       "\" fill=\"none\" stroke=\"#333\"/>\n<g class=\"data\" font-size=\"9\">\n";
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const double r = rho(i, j);
       const double x = a.left + j * c, y = a.top + i * c;
-      s += "<rect class=\"corr\" x=\"" + n2(x) + "\" y=\"" + n2(y) + "\" width=\"" + n2(c) + "\" height=\"" + n2(c) +
-           "\" fill=\"" + diverging_colour(r) + "\" data-row=\"" + html_escape(names[i]) + "\" data-col=\"" +
-           html_escape(names[j]) + "\" data-rho=\"" + format_number("%.4f", r) + "\"><title>ρ(" +
-           html_escape(names[i]) + ", " + html_escape(names[j]) + ") = " + format_number("%.4f", r) + "</title></rect>\n";
+      s += "<rect class=\"corr\" x=\"" + n2(x) + "\" y=\"" + n2(y) + "\" width=\"" + n2(c) + "\" height=\"" +
+           n2(c) + "\" fill=\"" + diverging_colour(r) + "\" data-row=\"" + html_escape(names[i]) +
+           "\" data-col=\"" + html_escape(names[j]) + "\" data-rho=\"" + format_number("%.4f", r) +
+           "\"><title>ρ(" + html_escape(names[i]) + ", " + html_escape(names[j]) +
+           ") = " + format_number("%.4f", r) + "</title></rect>\n";
       if (c >= 24)
-        s += "<text x=\"" + n2(x + c / 2) + "\" y=\"" + n2(y + c / 2 + 3) + "\" text-anchor=\"middle\" fill=\"" +
-             (std::abs(r) > 0.6 ? "#fff" : "#000") + "\">" + format_number("%.2f", r) + "</text>\n";
+        s += "<text x=\"" + n2(x + c / 2) + "\" y=\"" + n2(y + c / 2 + 3) +
+             "\" text-anchor=\"middle\" fill=\"" + (std::abs(r) > 0.6 ? "#fff" : "#000") + "\">" +
+             format_number("%.2f", r) + "</text>\n";
     }
   s += "</g>\n<g class=\"ticks\" font-size=\"10\">\n";
   for (int i = 0; i < n; ++i) {
     s += text(a.left - 5, a.top + i * c + c / 2 + 3.5, html_escape(names[i]), " text-anchor=\"end\"") + "\n";
     const double x = a.left + i * c + c / 2, y = a.bottom() + 6;
-    s += "<text x=\"" + n2(x) + "\" y=\"" + n2(y) + "\" transform=\"rotate(60 " + n2(x) + " " + n2(y) + ")\">" +
-         html_escape(names[i]) + "</text>\n";
+    s += "<text x=\"" + n2(x) + "\" y=\"" + n2(y) + "\" transform=\"rotate(60 " + n2(x) + " " + n2(y) +
+         ")\">" + html_escape(names[i]) + "</text>\n";
   }
   s += "</g>\n";
   s += "<text class=\"xlabel\" x=\"" + n2(a.left + a.width / 2) + "\" y=\"" + n2(a.bottom() + 88) +
        "\" font-size=\"11\" text-anchor=\"middle\">parameter (unit as in the table above)</text>\n";
   const double yx = 14, yy = a.top + a.height / 2;
-  s += "<text class=\"ylabel\" x=\"" + n2(yx) + "\" y=\"" + n2(yy) + "\" transform=\"rotate(-90 " + n2(yx) + " " + n2(yy) +
+  s += "<text class=\"ylabel\" x=\"" + n2(yx) + "\" y=\"" + n2(yy) + "\" transform=\"rotate(-90 " + n2(yx) +
+       " " + n2(yy) +
        ")\" font-size=\"11\" text-anchor=\"middle\">parameter (unit as in the table above)</text>\n";
   // Key: the diverging scale.
   s += "<g class=\"key\" font-size=\"10\">";
   for (int k = 0; k <= 10; ++k)
-    s += "<rect x=\"" + n2(a.right() + 20) + "\" y=\"" + n2(a.top + k * 12) + "\" width=\"14\" height=\"12\" fill=\"" +
-         diverging_colour(1 - k * 0.2) + "\"/>";
+    s += "<rect x=\"" + n2(a.right() + 20) + "\" y=\"" + n2(a.top + k * 12) +
+         "\" width=\"14\" height=\"12\" fill=\"" + diverging_colour(1 - k * 0.2) + "\"/>";
   s += text(a.right() + 38, a.top + 9, "ρ = +1 (1)") + text(a.right() + 38, a.top + 69, "0") +
        text(a.right() + 38, a.top + 129, "−1") + "</g>\n</svg>\n";
   return s;
@@ -405,8 +423,9 @@ std::string svg_pole_bars(const std::vector<std::string>& ids, const std::vector
     for (int i = 0; i < 3; ++i) {
       const double x = a.left + k * gw + gw * 0.12 + i * (bw + 1);
       if (k < sigma_cm.size() && std::isfinite(sigma_cm[k][i]))
-        s += "<rect class=\"sigma\" x=\"" + n2(x - 1) + "\" y=\"" + n2(a.Y(sigma_cm[k][i])) + "\" width=\"" + n2(bw + 2) +
-             "\" height=\"" + n2(a.Y(-sigma_cm[k][i]) - a.Y(sigma_cm[k][i])) + "\" fill=\"#e3e3e3\"/>\n";
+        s += "<rect class=\"sigma\" x=\"" + n2(x - 1) + "\" y=\"" + n2(a.Y(sigma_cm[k][i])) + "\" width=\"" +
+             n2(bw + 2) + "\" height=\"" + n2(a.Y(-sigma_cm[k][i]) - a.Y(sigma_cm[k][i])) +
+             "\" fill=\"#e3e3e3\"/>\n";
       if (!std::isfinite(d_cm[k][i])) continue;
       const double y0 = a.Y(0), y1 = a.Y(d_cm[k][i]);
       s += "<rect class=\"error\" x=\"" + n2(x) + "\" y=\"" + n2(std::min(y0, y1)) + "\" width=\"" + n2(bw) +
@@ -422,10 +441,12 @@ std::string svg_pole_bars(const std::vector<std::string>& ids, const std::vector
   s += "</g>\n<g class=\"key\" font-size=\"11\">";
   const double ky = a.bottom() + 50;
   for (int i = 0; i < 3; ++i)
-    s += "<rect x=\"" + n2(a.left + i * 60) + "\" y=\"" + n2(ky - 9) + "\" width=\"10\" height=\"10\" fill=\"" +
-         colours[i] + "\"/>" + text(a.left + i * 60 + 14, ky, std::string("Δ") + "ENU"[i]);
-  s += "<rect x=\"" + n2(a.left + 180) + "\" y=\"" + n2(ky - 9) + "\" width=\"10\" height=\"10\" fill=\"#e3e3e3\"/>" +
-       text(a.left + 194, ky, "predicted ±1σ per axis") + "</g>\n</svg>\n";
+    s += "<rect x=\"" + n2(a.left + i * 60) + "\" y=\"" + n2(ky - 9) +
+         "\" width=\"10\" height=\"10\" fill=\"" + colours[i] + "\"/>" +
+         text(a.left + i * 60 + 14, ky, std::string("Δ") + "ENU"[i]);
+  s += "<rect x=\"" + n2(a.left + 180) + "\" y=\"" + n2(ky - 9) +
+       "\" width=\"10\" height=\"10\" fill=\"#e3e3e3\"/>" + text(a.left + 194, ky, "predicted ±1σ per axis") +
+       "</g>\n</svg>\n";
   return s;
 }
 
@@ -436,7 +457,8 @@ std::string svg_slice_map(const IntersectionSigmaSlice& sl, const std::vector<Ei
   a.top = 14;
   a.width = 440;
   a.height = 360;
-  const double de = sl.e_m.size() > 1 ? sl.e_m[1] - sl.e_m[0] : 1, dn = sl.n_m.size() > 1 ? sl.n_m[1] - sl.n_m[0] : 1;
+  const double de = sl.e_m.size() > 1 ? sl.e_m[1] - sl.e_m[0] : 1,
+               dn = sl.n_m.size() > 1 ? sl.n_m[1] - sl.n_m[0] : 1;
   const Eigen::Vector2d er(sl.e_m.front() - de / 2, sl.e_m.back() + de / 2),
       nr(sl.n_m.front() - dn / 2, sl.n_m.back() + dn / 2);
   // Equal scales: shrink the area to the slice's shape.
@@ -464,7 +486,8 @@ std::string svg_slice_map(const IntersectionSigmaSlice& sl, const std::vector<Ei
   s += svg_colour_bar(a.right() + 14, a.top, 14, a.height, top_v, "σ (cm), calibration only");
   s += "<g class=\"key\" font-size=\"11\">" +
        text(a.left, a.bottom() + 46,
-            "at U = " + format_number("%.2f", sl.up_m) + " m; blank: seen by fewer than two cameras; squares: check poles") +
+            "at U = " + format_number("%.2f", sl.up_m) +
+                " m; blank: seen by fewer than two cameras; squares: check poles") +
        "</g>\n</svg>\n";
   return s;
 }
@@ -484,15 +507,15 @@ std::string svg_funnel(const std::vector<FunnelRow>& rows, const std::string& id
     const double y = a.top + 20.0 * r + 3, h = 14, in = std::max<long long>(1, f.in);
     double x = a.left;
     const double wk = a.width * static_cast<double>(f.kept) / in;
-    s += "<rect class=\"kept\" x=\"" + n2(x) + "\" y=\"" + n2(y) + "\" width=\"" + n2(wk) + "\" height=\"" + n2(h) +
-         "\" fill=\"#4caf50\"><title>kept " + std::to_string(f.kept) + "</title></rect>\n";
+    s += "<rect class=\"kept\" x=\"" + n2(x) + "\" y=\"" + n2(y) + "\" width=\"" + n2(wk) + "\" height=\"" +
+         n2(h) + "\" fill=\"#4caf50\"><title>kept " + std::to_string(f.kept) + "</title></rect>\n";
     x += wk;
     for (std::size_t k = 0; k < f.dropped.size(); ++k) {
       const double w = std::min(a.right() - x, a.width * static_cast<double>(f.dropped[k].count) / in);
       if (!(w > 0)) continue;
-      s += "<rect class=\"dropped\" x=\"" + n2(x) + "\" y=\"" + n2(y) + "\" width=\"" + n2(w) + "\" height=\"" + n2(h) +
-           "\" fill=\"" + drop_colours[k % 6] + "\"><title>" + html_escape(f.dropped[k].reason) + ": " +
-           std::to_string(f.dropped[k].count) + "</title></rect>\n";
+      s += "<rect class=\"dropped\" x=\"" + n2(x) + "\" y=\"" + n2(y) + "\" width=\"" + n2(w) +
+           "\" height=\"" + n2(h) + "\" fill=\"" + drop_colours[k % 6] + "\"><title>" +
+           html_escape(f.dropped[k].reason) + ": " + std::to_string(f.dropped[k].count) + "</title></rect>\n";
       x += w;
     }
   }

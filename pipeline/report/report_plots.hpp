@@ -39,8 +39,8 @@ struct SitePole {
 
 struct SiteMap {
   std::vector<SiteCamera> cameras;
-  std::vector<Eigen::Vector3d> track;  ///< lamp-track epochs (ENU m) in time order
-  std::vector<double> track_t_s;       ///< their time since the first (s)
+  std::vector<Eigen::Vector3d> track;     ///< lamp-track epochs (ENU m) in time order
+  std::vector<double> track_t_s;          ///< their time since the first (s)
   std::vector<Eigen::Vector3d> outliers;  ///< lamp positions of pairs a calibration rejected
   std::vector<SitePole> poles;
 };
@@ -55,14 +55,15 @@ std::string svg_site_side(const SiteMap& m, const std::string& id);
 /// Residuals y (px) against x with the band ±2σ (σ per point), rejected points hollow red.
 std::string svg_residual_scatter(const std::vector<double>& x, const std::vector<double>& y,
                                  const std::vector<double>& sigma, const std::vector<bool>& used,
-                                 const std::string& x_label, const std::string& y_label, const std::string& id,
-                                 const std::string& title);
+                                 const std::string& x_label, const std::string& y_label,
+                                 const std::string& id, const std::string& title);
 
 /// A colour map over the image (values ny × nx at cell centres u_px × v_px) with contours and a
 /// colour bar labelled `value_label`; `marks` (px) are drawn as small × (e.g. cells that exceed).
-std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_px, const std::vector<double>& v_px,
-                          const Eigen::MatrixXd& values, const std::string& value_label, const std::string& id,
-                          const std::string& title, const std::vector<Eigen::Vector2d>& marks = {});
+std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_px,
+                          const std::vector<double>& v_px, const Eigen::MatrixXd& values,
+                          const std::string& value_label, const std::string& id, const std::string& title,
+                          const std::vector<Eigen::Vector2d>& marks = {});
 
 /// Displacement vectors (px) at pixels `at`, magnified so the largest spans a twelfth of the width,
 /// clipped to the frame, with a key of a round length `what` (e.g. "distortion").

@@ -23,7 +23,8 @@ std::string interpolate(const std::array<std::array<double, 3>, N>& stops, doubl
   t = std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0) * (N - 1);
   const std::size_t k = std::min<std::size_t>(N - 2, static_cast<std::size_t>(t));
   const double f = t - static_cast<double>(k);
-  return hex_colour(stops[k][0] + f * (stops[k + 1][0] - stops[k][0]), stops[k][1] + f * (stops[k + 1][1] - stops[k][1]),
+  return hex_colour(stops[k][0] + f * (stops[k + 1][0] - stops[k][0]),
+                    stops[k][1] + f * (stops[k + 1][1] - stops[k][1]),
                     stops[k][2] + f * (stops[k + 1][2] - stops[k][2]));
 }
 
@@ -56,11 +57,12 @@ std::string svg_open(double width, double height, const std::string& id, const s
          svg_num(height) + "\">\n<title>" + html_escape(title) + "</title>\n";
 }
 
-std::string svg_axes(const ChartAxes& a, const std::string& x_label, const std::string& y_label, int n_ticks_x,
-                     int n_ticks_y, double ylabel_offset) {
-  std::string s = "<rect class=\"area\" x=\"" + svg_num(a.left) + "\" y=\"" + svg_num(a.top) + "\" width=\"" +
-                  svg_num(a.width) + "\" height=\"" + svg_num(a.height) +
-                  "\" fill=\"none\" stroke=\"#333\" stroke-width=\"1\"/>\n<g class=\"ticks\" font-size=\"10\">\n";
+std::string svg_axes(const ChartAxes& a, const std::string& x_label, const std::string& y_label,
+                     int n_ticks_x, int n_ticks_y, double ylabel_offset) {
+  std::string s =
+      "<rect class=\"area\" x=\"" + svg_num(a.left) + "\" y=\"" + svg_num(a.top) + "\" width=\"" +
+      svg_num(a.width) + "\" height=\"" + svg_num(a.height) +
+      "\" fill=\"none\" stroke=\"#333\" stroke-width=\"1\"/>\n<g class=\"ticks\" font-size=\"10\">\n";
   const double xlo = std::min(a.x0, a.x1), xhi = std::max(a.x0, a.x1);
   const double ylo = std::min(a.y0, a.y1), yhi = std::max(a.y0, a.y1);
   const double ty = a.y_down ? a.top : a.bottom(), dir = a.y_down ? -1 : 1;
@@ -72,9 +74,9 @@ std::string svg_axes(const ChartAxes& a, const std::string& x_label, const std::
   }
   for (double v : nice_ticks(ylo, yhi, n_ticks_y)) {
     const double y = a.Y(v);
-    s += "<line x1=\"" + svg_num(a.left) + "\" y1=\"" + svg_num(y) + "\" x2=\"" + svg_num(a.left - 4) + "\" y2=\"" +
-         svg_num(y) + "\" stroke=\"#333\"/><text x=\"" + svg_num(a.left - 6) + "\" y=\"" + svg_num(y + 3.5) +
-         "\" text-anchor=\"end\">" + tick_label(v) + "</text>\n";
+    s += "<line x1=\"" + svg_num(a.left) + "\" y1=\"" + svg_num(y) + "\" x2=\"" + svg_num(a.left - 4) +
+         "\" y2=\"" + svg_num(y) + "\" stroke=\"#333\"/><text x=\"" + svg_num(a.left - 6) + "\" y=\"" +
+         svg_num(y + 3.5) + "\" text-anchor=\"end\">" + tick_label(v) + "</text>\n";
   }
   s += "</g>\n";
   const double lx = a.left + a.width / 2, ly = a.y_down ? a.top - 21 : a.bottom() + 29;
@@ -82,8 +84,8 @@ std::string svg_axes(const ChartAxes& a, const std::string& x_label, const std::
        "\" font-size=\"11\" text-anchor=\"middle\">" + html_escape(x_label) + "</text>\n";
   const double yx = a.left - ylabel_offset, yy = a.top + a.height / 2;
   s += "<text class=\"ylabel\" x=\"" + svg_num(yx) + "\" y=\"" + svg_num(yy) + "\" transform=\"rotate(-90 " +
-       svg_num(yx) + " " + svg_num(yy) + ")\" font-size=\"11\" text-anchor=\"middle\">" + html_escape(y_label) +
-       "</text>\n";
+       svg_num(yx) + " " + svg_num(yy) + ")\" font-size=\"11\" text-anchor=\"middle\">" +
+       html_escape(y_label) + "</text>\n";
   return s;
 }
 
@@ -114,8 +116,9 @@ std::string svg_cells(const ChartAxes& a, const std::vector<double>& xc, const s
       const double xa = a.X(xc[i] - dx / 2), xb = a.X(xc[i] + dx / 2);
       const double ya = a.Y(yc[j] - dy / 2), yb = a.Y(yc[j] + dy / 2);
       s += "<rect class=\"cell\" x=\"" + svg_num(std::min(xa, xb)) + "\" y=\"" + svg_num(std::min(ya, yb)) +
-           "\" width=\"" + svg_num(std::abs(xb - xa)) + "\" height=\"" + svg_num(std::abs(yb - ya)) + "\" fill=\"" +
-           sequential_colour(vmax > 0 ? v / vmax : 0) + "\" data-value=\"" + format_number("%.6g", v) + "\"/>\n";
+           "\" width=\"" + svg_num(std::abs(xb - xa)) + "\" height=\"" + svg_num(std::abs(yb - ya)) +
+           "\" fill=\"" + sequential_colour(vmax > 0 ? v / vmax : 0) + "\" data-value=\"" +
+           format_number("%.6g", v) + "\"/>\n";
     }
   return s;
 }
@@ -149,7 +152,8 @@ std::string svg_contours(const ChartAxes& a, const std::vector<double>& xc, cons
           const int m = (k + 1) % 4;
           if ((v[k] >= L) == (v[m] >= L)) continue;
           const double t = (L - v[k]) / (v[m] - v[k]);
-          pts.emplace_back(a.X(xc[ci[k]] + t * (xc[ci[m]] - xc[ci[k]])), a.Y(yc[cj[k]] + t * (yc[cj[m]] - yc[cj[k]])));
+          pts.emplace_back(a.X(xc[ci[k]] + t * (xc[ci[m]] - xc[ci[k]])),
+                           a.Y(yc[cj[k]] + t * (yc[cj[m]] - yc[cj[k]])));
         }
         for (std::size_t k = 0; k + 1 < pts.size(); k += 2) {
           d += "M" + svg_num(pts[k].x()) + " " + svg_num(pts[k].y()) + "L" + svg_num(pts[k + 1].x()) + " " +
@@ -162,7 +166,8 @@ std::string svg_contours(const ChartAxes& a, const std::vector<double>& xc, cons
     // The label at the middle segment far enough from the edges to keep the text inside the area.
     for (std::size_t k = 0; k < mids.size(); ++k) {
       const Eigen::Vector2d& p = mids[(mids.size() / 2 + k) % mids.size()];
-      if (p.x() < a.left + 24 || p.x() > a.right() - 24 || p.y() < a.top + 12 || p.y() > a.bottom() - 6) continue;
+      if (p.x() < a.left + 24 || p.x() > a.right() - 24 || p.y() < a.top + 12 || p.y() > a.bottom() - 6)
+        continue;
       s += "<text class=\"contour-label\" x=\"" + svg_num(p.x()) + "\" y=\"" + svg_num(p.y()) +
            "\" font-size=\"9\" text-anchor=\"middle\" fill=\"#fff\" stroke=\"#000\" stroke-width=\"0.25\">" +
            tick_label(L) + "</text>\n";
@@ -176,18 +181,20 @@ std::string svg_colour_bar(double x, double y, double w, double h, double vmax, 
   std::string s = "<g class=\"colourbar\" font-size=\"10\">\n";
   const int n = 24;
   for (int k = 0; k < n; ++k)
-    s += "<rect x=\"" + svg_num(x) + "\" y=\"" + svg_num(y + h - (k + 1) * h / n) + "\" width=\"" + svg_num(w) +
-         "\" height=\"" + svg_num(h / n + 0.3) + "\" fill=\"" + sequential_colour((k + 0.5) / n) + "\"/>\n";
-  s += "<rect x=\"" + svg_num(x) + "\" y=\"" + svg_num(y) + "\" width=\"" + svg_num(w) + "\" height=\"" + svg_num(h) +
-       "\" fill=\"none\" stroke=\"#333\"/>\n";
+    s += "<rect x=\"" + svg_num(x) + "\" y=\"" + svg_num(y + h - (k + 1) * h / n) + "\" width=\"" +
+         svg_num(w) + "\" height=\"" + svg_num(h / n + 0.3) + "\" fill=\"" +
+         sequential_colour((k + 0.5) / n) + "\"/>\n";
+  s += "<rect x=\"" + svg_num(x) + "\" y=\"" + svg_num(y) + "\" width=\"" + svg_num(w) + "\" height=\"" +
+       svg_num(h) + "\" fill=\"none\" stroke=\"#333\"/>\n";
   for (double v : nice_ticks(0, vmax, 4)) {
     const double ty = y + h - v / vmax * h;
-    s += "<text x=\"" + svg_num(x + w + 4) + "\" y=\"" + svg_num(ty + 3.5) + "\">" + tick_label(v) + "</text>\n";
+    s += "<text x=\"" + svg_num(x + w + 4) + "\" y=\"" + svg_num(ty + 3.5) + "\">" + tick_label(v) +
+         "</text>\n";
   }
   const double lx = x + w + 44, ly = y + h / 2;
-  s += "<text class=\"barlabel\" x=\"" + svg_num(lx) + "\" y=\"" + svg_num(ly) + "\" transform=\"rotate(-90 " +
-       svg_num(lx) + " " + svg_num(ly) + ")\" text-anchor=\"middle\" font-size=\"11\">" + html_escape(label) +
-       "</text>\n</g>\n";
+  s += "<text class=\"barlabel\" x=\"" + svg_num(lx) + "\" y=\"" + svg_num(ly) +
+       "\" transform=\"rotate(-90 " + svg_num(lx) + " " + svg_num(ly) +
+       ")\" text-anchor=\"middle\" font-size=\"11\">" + html_escape(label) + "</text>\n</g>\n";
   return s;
 }
 

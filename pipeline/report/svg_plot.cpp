@@ -15,7 +15,7 @@ constexpr double kPlotWidth = 640;  // drawing width of image plots (SVG user un
 constexpr double kLeft = 52;        // room for the v ticks and axis label
 constexpr double kTop = 40;         // room for the u ticks and axis label
 constexpr double kRight = 16;
-constexpr double kBottom = 30;      // the key line below the frame
+constexpr double kBottom = 30;  // the key line below the frame
 
 std::string f2(double x) {
   return format_number("%.2f", x);
@@ -63,9 +63,10 @@ std::string open_image_svg(const PlotFrame& f, const ImageMap& m, const std::str
   s += "<rect class=\"frame\" x=\"" + f2(kLeft) + "\" y=\"" + f2(kTop) + "\" width=\"" +
        f2(f.width_px * m.scale) + "\" height=\"" + f2(f.height_px * m.scale) +
        "\" fill=\"#fafafa\" stroke=\"none\"/>\n";
-  s += svg_axes(image_axes(f, m), "u (px), right; image " + std::to_string(f.width_px) + " x " +
-                                      std::to_string(f.height_px) + " px",
-                "v (px), down", 8, 5);
+  s += svg_axes(
+      image_axes(f, m),
+      "u (px), right; image " + std::to_string(f.width_px) + " x " + std::to_string(f.height_px) + " px",
+      "v (px), down", 8, 5);
   return s + "<g class=\"data\">\n";
 }
 
@@ -104,12 +105,14 @@ std::string svg_lamp_track(const PlotFrame& frame, const std::vector<Eigen::Vect
     const bool ok = used.empty() || used[i];
     s += "<circle class=\"" + std::string(ok ? "obs" : "rejected") + "\" cx=\"" + f2(m.x(observed[i].x())) +
          "\" cy=\"" + f2(m.y(observed[i].y())) + "\" r=\"" + (ok ? "1.80" : "2.60") + "\" fill=\"" +
-         (ok ? "#1f5fa8" : "none") + "\" stroke=\"" + (ok ? "none" : "#d62728") + "\" stroke-width=\"1.2\"/>\n";
+         (ok ? "#1f5fa8" : "none") + "\" stroke=\"" + (ok ? "none" : "#d62728") +
+         "\" stroke-width=\"1.2\"/>\n";
   }
   for (const Eigen::Vector2d& p : reprojected) {
     const double x = m.x(p.x()), y = m.y(p.y()), a = 3.0;
-    s += "<path class=\"proj\" d=\"M" + f2(x - a) + " " + f2(y - a) + "L" + f2(x + a) + " " + f2(y + a) + "M" +
-         f2(x - a) + " " + f2(y + a) + "L" + f2(x + a) + " " + f2(y - a) + "\" stroke=\"#e07b00\" stroke-width=\"0.9\"/>\n";
+    s += "<path class=\"proj\" d=\"M" + f2(x - a) + " " + f2(y - a) + "L" + f2(x + a) + " " + f2(y + a) +
+         "M" + f2(x - a) + " " + f2(y + a) + "L" + f2(x + a) + " " + f2(y - a) +
+         "\" stroke=\"#e07b00\" stroke-width=\"0.9\"/>\n";
   }
   s += "</g>\n";
   // The key, below the frame.
@@ -141,14 +144,16 @@ std::string svg_residual_vectors(const PlotFrame& frame, const std::vector<Eigen
   const double gain = max_r > 0 ? 0.1 * kPlotWidth / max_r : 1.0;
   const std::size_t n = std::min(at.size(), residual.size());
   // Clipped to the frame: a vector that would leave it ends at the edge with an open tip (circle.cut).
-  const double fx0 = kLeft, fy0 = kTop, fx1 = kLeft + frame.width_px * m.scale, fy1 = kTop + frame.height_px * m.scale;
+  const double fx0 = kLeft, fy0 = kTop, fx1 = kLeft + frame.width_px * m.scale,
+               fy1 = kTop + frame.height_px * m.scale;
   for (std::size_t i = 0; i < n; ++i) {
     Eigen::Vector2d p(m.x(at[i].x()), m.y(at[i].y())), q = p + gain * residual[i];
     bool cut = false;
     if (!clip_segment(fx0, fy0, fx1, fy1, &p, &q, &cut)) continue;
-    s += "<line class=\"resid\" x1=\"" + f2(p.x()) + "\" y1=\"" + f2(p.y()) + "\" x2=\"" + f2(q.x()) + "\" y2=\"" +
-         f2(q.y()) + "\" stroke=\"#c0392b\" stroke-width=\"1\"/>\n";
-    s += "<circle class=\"foot\" cx=\"" + f2(p.x()) + "\" cy=\"" + f2(p.y()) + "\" r=\"1.20\" fill=\"#333\"/>\n";
+    s += "<line class=\"resid\" x1=\"" + f2(p.x()) + "\" y1=\"" + f2(p.y()) + "\" x2=\"" + f2(q.x()) +
+         "\" y2=\"" + f2(q.y()) + "\" stroke=\"#c0392b\" stroke-width=\"1\"/>\n";
+    s += "<circle class=\"foot\" cx=\"" + f2(p.x()) + "\" cy=\"" + f2(p.y()) +
+         "\" r=\"1.20\" fill=\"#333\"/>\n";
     if (cut)
       s += "<circle class=\"cut\" cx=\"" + f2(q.x()) + "\" cy=\"" + f2(q.y()) +
            "\" r=\"2.00\" fill=\"none\" stroke=\"#c0392b\" stroke-width=\"0.8\"/>\n";
@@ -159,8 +164,8 @@ std::string svg_residual_vectors(const PlotFrame& frame, const std::vector<Eigen
   const double by = kTop + frame.height_px * m.scale + 16, bx = kLeft;
   s += "<g class=\"key\"><line class=\"scalebar\" x1=\"" + f2(bx) + "\" y1=\"" + f2(by) + "\" x2=\"" +
        f2(bx + gain * bar_px) + "\" y2=\"" + f2(by) + "\" stroke=\"#000\" stroke-width=\"2\"/>\n";
-  s += "<text x=\"" + f2(bx + gain * bar_px + 6) + "\" y=\"" + f2(by + 4) + "\" font-size=\"11\">" + label(bar_px) +
-       " px residual (vectors magnified " + label(gain / m.scale) +
+  s += "<text x=\"" + f2(bx + gain * bar_px + 6) + "\" y=\"" + f2(by + 4) + "\" font-size=\"11\">" +
+       label(bar_px) + " px residual (vectors magnified " + label(gain / m.scale) +
        "x; o at a tip: cut at the frame)</text></g>\n";
   s += "</svg>\n";
   return s;
@@ -197,9 +202,10 @@ std::string svg_histogram(const std::vector<double>& values, const std::string& 
   s += "<g class=\"data\">\n";
   for (std::size_t k = 0; k < nbins; ++k) {
     const double x = a.X(k * bin), w = a.X((k + 1) * bin) - x, top = a.Y(counts[k]);
-    s += "<rect class=\"bar\" x=\"" + f2(x + 0.5) + "\" y=\"" + f2(top) + "\" width=\"" + f2(std::max(0.5, w - 1.0)) +
-         "\" height=\"" + f2(a.bottom() - top) + "\" fill=\"#5b8fc7\"><title>[" + label(k * bin) + ", " +
-         label((k + 1) * bin) + "): " + std::to_string(counts[k]) + "</title></rect>\n";
+    s += "<rect class=\"bar\" x=\"" + f2(x + 0.5) + "\" y=\"" + f2(top) + "\" width=\"" +
+         f2(std::max(0.5, w - 1.0)) + "\" height=\"" + f2(a.bottom() - top) + "\" fill=\"#5b8fc7\"><title>[" +
+         label(k * bin) + ", " + label((k + 1) * bin) + "): " + std::to_string(counts[k]) +
+         "</title></rect>\n";
   }
   s += "</g>\n";
   s += svg_axes(a, x_label + " (" + std::to_string(values.size()) + " values; bin " + label(bin) + ")",

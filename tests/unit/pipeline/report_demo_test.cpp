@@ -34,7 +34,8 @@ fs::path out_dir() {
 }
 
 std::string chromium_flags(const fs::path& profile) {
-  return " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --user-data-dir='" + profile.string() + "' ";
+  return " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --user-data-dir='" +
+         profile.string() + "' ";
 }
 
 // Measures every plot in the browser: per svg, elements outside the svg and data elements outside
@@ -69,8 +70,8 @@ document.body.appendChild(pre);
 </script>)";
 
 // The values of one svg's elements with attribute `attr`, in document order.
-std::vector<std::string> attribute_values(const std::string& page, const std::string& svg_id, const std::string& tag,
-                                          const std::string& attr) {
+std::vector<std::string> attribute_values(const std::string& page, const std::string& svg_id,
+                                          const std::string& tag, const std::string& attr) {
   const std::size_t a = page.find("id=\"" + svg_id + "\""), b = page.find("</svg>", a);
   std::vector<std::string> v;
   if (a == std::string::npos) return v;
@@ -86,7 +87,8 @@ void check_plotted_numbers(const std::string& page) {
     const CalibrationResult r = read_calibration_json((out_dir() / cam / "calibration.json").string());
     // Independent σ at the image centre: the flight distance is the median lamp depth; the point on
     // the centre pixel's ray at that depth; J by central differences of `project`.
-    const std::vector<Correspondence> pairs = read_correspondences_csv((out_dir() / cam / "correspondences.csv").string());
+    const std::vector<Correspondence> pairs =
+        read_correspondences_csv((out_dir() / cam / "correspondences.csv").string());
     std::vector<double> z;
     for (const Correspondence& p : pairs) z.push_back(world_to_camera(r.camera.pose, p.enu).z());
     std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(z.size() / 2), z.end());
@@ -107,8 +109,11 @@ void check_plotted_numbers(const std::string& page) {
       J.col(k) = (up - um) / (2 * h);
     }
     const double sigma =
-        std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(J * r.covariance * J.transpose()).eigenvalues().maxCoeff());
-    const std::vector<std::string> cells = attribute_values(page, std::string("cam-") + cam + "-uncertainty", "rect", "data-value");
+        std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(J * r.covariance * J.transpose())
+                      .eigenvalues()
+                      .maxCoeff());
+    const std::vector<std::string> cells =
+        attribute_values(page, std::string("cam-") + cam + "-uncertainty", "rect", "data-value");
     ASSERT_EQ(cells.size(), 41u * 25u) << cam;
     const double drawn = std::stod(cells[12 * 41 + 20]);  // the cell centred on the image centre
     EXPECT_NEAR(drawn, sigma, 0.01 * sigma) << cam;
@@ -117,12 +122,15 @@ void check_plotted_numbers(const std::string& page) {
     const nlohmann::json j = nlohmann::json::parse(test::read_text(out_dir() / cam / "calibration.json"));
     const auto& names = j["covariance"]["parameters"];
     const auto& C = j["covariance"]["matrix"];
-    const std::vector<std::string> rho = attribute_values(page, std::string("cam-") + cam + "-correlation", "rect", "data-rho");
+    const std::vector<std::string> rho =
+        attribute_values(page, std::string("cam-") + cam + "-correlation", "rect", "data-rho");
     ASSERT_EQ(rho.size(), names.size() * names.size()) << cam;
     for (std::size_t a = 0; a < names.size(); ++a)
       for (std::size_t b = 0; b < names.size(); ++b) {
-        const double expected = C[a][b].get<double>() / std::sqrt(C[a][a].get<double>() * C[b][b].get<double>());
-        EXPECT_NEAR(std::stod(rho[a * names.size() + b]), expected, 6e-5) << cam << " " << names[a] << " " << names[b];
+        const double expected =
+            C[a][b].get<double>() / std::sqrt(C[a][a].get<double>() * C[b][b].get<double>());
+        EXPECT_NEAR(std::stod(rho[a * names.size() + b]), expected, 6e-5)
+            << cam << " " << names[a] << " " << names[b];
       }
   }
 }
@@ -141,18 +149,21 @@ TEST(ReportDemo, RendersInHeadlessChromiumInsideItsAreasWithNumbersOfTheData) {
   EXPECT_EQ(page.find("url("), std::string::npos);
   EXPECT_EQ(page.find("@import"), std::string::npos);
   // Every section, the verdict first.
-  for (const char* id : {"verdict", "mission", "overview", "site-map", "cam-cam1", "cam-cam2", "intersection", "funnel"})
-    EXPECT_NE(page.find(std::string("<section ") + (std::string(id).rfind("cam-", 0) == 0 ? "class=\"camera\" " : "") +
-                        "id=\"" + id + "\""),
-              std::string::npos)
+  for (const char* id :
+       {"verdict", "mission", "overview", "site-map", "cam-cam1", "cam-cam2", "intersection", "funnel"})
+    EXPECT_NE(
+        page.find(std::string("<section ") +
+                  (std::string(id).rfind("cam-", 0) == 0 ? "class=\"camera\" " : "") + "id=\"" + id + "\""),
+        std::string::npos)
         << id;
   EXPECT_LT(page.find("id=\"verdict\""), page.find("id=\"mission\""));
   EXPECT_EQ(page.find("id=\"network\""), std::string::npos);  // no adjusted track in the demo
 
   const fs::path dir = test::scratch_dir("report_demo_browser");
   const fs::path png = dir / "shot.png", measured = dir / "measured.html", dom = dir / "dom.html";
-  const std::string shot = "timeout 90 " + chromium + chromium_flags(dir / "profile") + "--screenshot='" + png.string() +
-                           "' --window-size=1280,3000 'file://" + html.string() + "' >/dev/null 2>&1";
+  const std::string shot = "timeout 90 " + chromium + chromium_flags(dir / "profile") + "--screenshot='" +
+                           png.string() + "' --window-size=1280,3000 'file://" + html.string() +
+                           "' >/dev/null 2>&1";
   ASSERT_EQ(std::system(shot.c_str()), 0) << shot;
   const cv::Mat img = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(img.empty());
@@ -164,8 +175,9 @@ TEST(ReportDemo, RendersInHeadlessChromiumInsideItsAreasWithNumbersOfTheData) {
   std::string with_script = page;
   with_script.insert(with_script.rfind("</body>"), kMeasureScript);
   test::write_text(measured, with_script);
-  const std::string dump = "timeout 90 " + chromium + chromium_flags(dir / "profile") + "--dump-dom 'file://" +
-                           measured.string() + "' >'" + dom.string() + "' 2>/dev/null";
+  const std::string dump = "timeout 90 " + chromium + chromium_flags(dir / "profile") +
+                           "--dump-dom 'file://" + measured.string() + "' >'" + dom.string() +
+                           "' 2>/dev/null";
   ASSERT_EQ(std::system(dump.c_str()), 0) << dump;
   const std::string d = test::read_text(dom);
   const std::size_t a = d.find("<pre id=\"measured\">"), b = d.find("</pre>", a);

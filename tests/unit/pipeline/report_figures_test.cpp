@@ -61,7 +61,8 @@ double finite_difference_sigma(const CalibrationResult& r, const Eigen::Vector3d
 
 TEST(ReportFigures, ProjectionSigmaMatchesFiniteDifferencePropagationThroughProject) {
   const CalibrationResult r = calibrated(test::range_camera(-3.4e-4));
-  for (const Eigen::Vector2d& uv : {Eigen::Vector2d(639.5, 399.5), Eigen::Vector2d(20, 30), Eigen::Vector2d(1200, 700)}) {
+  for (const Eigen::Vector2d& uv :
+       {Eigen::Vector2d(639.5, 399.5), Eigen::Vector2d(20, 30), Eigen::Vector2d(1200, 700)}) {
     const Eigen::Vector3d X = point_on_pixel_ray(r.camera, uv, 64.0);
     Eigen::Vector2d back;
     ASSERT_TRUE(project(r.camera, X, &back));
@@ -101,9 +102,10 @@ TEST(ReportFigures, PredictedIntersectionEqualsTheTriangulationsCovariance) {
   const IntersectionSigmaSlice s = intersection_sigma_slice({&a, &b}, {-1, 1}, {0, 2}, 4.5, 3, 3);
   EXPECT_NEAR(s.e_m[1], 0, 1e-12);
   EXPECT_NEAR(s.n_m[1], 1, 1e-12);
-  EXPECT_NEAR(s.sigma_m(1, 1),
-              std::sqrt(predict_intersection({&a, &b}, Eigen::Vector3d(0, 1, 4.5), 0).cov_calibration_m2.trace()),
-              1e-15);
+  EXPECT_NEAR(
+      s.sigma_m(1, 1),
+      std::sqrt(predict_intersection({&a, &b}, Eigen::Vector3d(0, 1, 4.5), 0).cov_calibration_m2.trace()),
+      1e-15);
 }
 
 TEST(ReportFigures, FunnelCountsComeFromRunJson) {
@@ -165,8 +167,8 @@ TEST(ReportFigures, NoiseModelSigmaIsPixelNoisePlusProjectedPpkSd) {
     project(cam, p.enu - d, &b);
     J.col(k) = (a - b) / 2e-4;
   }
-  const Eigen::Matrix2d C = 0.01 * Eigen::Matrix2d::Identity() +
-                            J * Eigen::Vector3d(1e-4, 1e-4, 4e-4).asDiagonal() * J.transpose();
+  const Eigen::Matrix2d C =
+      0.01 * Eigen::Matrix2d::Identity() + J * Eigen::Vector3d(1e-4, 1e-4, 4e-4).asDiagonal() * J.transpose();
   EXPECT_NEAR(res[0].sigma_px.x(), std::sqrt(C(0, 0)), 1e-6);
   EXPECT_NEAR(res[0].sigma_px.y(), std::sqrt(C(1, 1)), 1e-6);
   const ResidualConsistency c = residual_consistency(res, 1);
@@ -209,7 +211,8 @@ TEST(CompareCalibrations, TwoMonteCarloDrawsExceedTheCombinedSigmaAtAboutFivePer
   };
   double exceeding = 0;
   const int pairs = 400;
-  for (int k = 0; k < pairs; ++k) exceeding += compare_calibrations(draw(), draw(), 64.0, 5, 3).fraction_exceeding;
+  for (int k = 0; k < pairs; ++k)
+    exceeding += compare_calibrations(draw(), draw(), 64.0, 5, 3).fraction_exceeding;
   const double rate = exceeding / pairs;
   // 400 pairs: the rate's sd is at most √(0.05·0.95/400) ≈ 1.1 % (less, cells are correlated
   // within a pair only partly); 2.5–8 % holds it to the expected 5 %.
