@@ -70,6 +70,7 @@ int run_cli(int argc, char** argv) {
   add_calibrate_command(app, ctx);
   add_simulate_command(app, ctx);
   add_project_command(app, ctx);
+  add_compare_command(app, ctx);
   add_intersect_command(app, ctx);
   add_report_command(app, ctx);
   add_montecarlo_command(app, ctx);

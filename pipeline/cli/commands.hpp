@@ -26,6 +26,10 @@ void add_simulate_command(CLI::App& app, const CliContext& ctx);
 /// `rangecal project --calibration CAL.json --points PTS.csv` (docs/cli.md; pipeline/cli/project_command.cpp).
 void add_project_command(CLI::App& app, const CliContext& ctx);
 
+/// `rangecal compare-calibrations A.json B.json`: projection difference against the combined σ
+/// (pipeline/cli/compare_command.cpp).
+void add_compare_command(CLI::App& app, const CliContext& ctx);
+
 /// `rangecal intersect CONFIG` and `rangecal intersect --calibration A.json --observations A.csv
 /// ...` (docs/cli.md; pipeline/cli/intersect_command.cpp).
 void add_intersect_command(CLI::App& app, const CliContext& ctx);

@@ -29,6 +29,8 @@ void read_run_json(const std::string& path, ReportData* data,
   if (!doc.contains("stages")) return;
   const nlohmann::json& stages = doc["stages"];
   if (!stages.is_object()) throw_input_error(path, 0, "stages", "expected an object");
+  data->run_stages = stages;
+  data->run_stages.erase("report");  // the previous report run's own section
   for (const auto& [name, stage] : stages.items()) {
     if (name == "report") continue;  // the report's own warnings are of the previous report run
     if (!stage.is_object()) throw_input_error(path, 0, "stages." + name, "expected an object");
@@ -70,7 +72,10 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
     s.start = t.epochs.front().utc;  // the reader rejects a track without epochs
     s.end = t.epochs.back().utc;
     data.track = s;
+    data.lamp_track = t;
   }
+  // The network bundle's adjusted track (docs/outputs.md): its presence turns the network section on.
+  data.network_track = fs::exists(mission_output(output_dir, "gnss/lamp_track_adjusted.csv"));
 
   for (const std::string& id : camera_ids) {
     CameraReportData cam;

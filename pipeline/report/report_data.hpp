@@ -5,11 +5,14 @@
 // what is missing instead of failing. A file that is present but malformed is an input error naming
 // the file, line and field (the readers of each format do that).
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "gnss/formats/pole_survey_csv.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "gnss/track/lamp_track.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/intersection_csv.hpp"
 #include "pipeline/io/methods_csv.hpp"
@@ -55,6 +58,20 @@ struct ReportData {
   /// the file is missing.
   std::optional<std::vector<IntersectionRow>> intersection;
   std::vector<StageWarnings> stage_warnings;  ///< stages in run.json order (sorted by name)
+  /// The lamp track itself (site map); absent with `track`.
+  std::optional<LampTrack> lamp_track;
+  /// run.json `stages` without the report's own section (data funnel); null without run.json.
+  nlohmann::json run_stages;
+  /// The pole survey (site map): set by the caller from the config's `poles`; empty without one.
+  std::vector<SurveyedPole> survey;
+  /// σ per axis of a pole pick (px, the config's intersect.pick_sigma_px): the error bars' σ.
+  double pick_sigma_px = 0.5;
+  /// The lamp centroid σ the calibration assumed (px, kDefaultPixelSigmaPx): the noise model.
+  double pixel_sigma_px = 0.1;
+  /// The check-pole mean ΔR bar (m): rangecal's quality bar (docs/accuracy_analysis.md).
+  double bar_mean_dR_m = 0.010;
+  /// `gnss/lamp_track_adjusted.csv` exists (the network bundle ran): the network section renders.
+  bool network_track = false;
 };
 
 /// Reads `output_dir` for the given cameras. Missing files are recorded as absent; malformed files

@@ -5,7 +5,12 @@
 #include <cstdio>
 
 #include "config/number_format.hpp"
+#include "pipeline/report/data_funnel.hpp"
 #include "pipeline/report/html_escape.hpp"
+#include "pipeline/report/intersection_prediction.hpp"
+#include "pipeline/report/lamp_residuals.hpp"
+#include "pipeline/report/projection_uncertainty.hpp"
+#include "pipeline/report/report_plots.hpp"
 #include "pipeline/report/svg_plot.hpp"
 #include "pipeline/steps/intersection.hpp"
 #include "vision/camera/camera_model.hpp"
@@ -36,7 +41,9 @@ const char* kStyle =
     "tr.mean td{font-weight:bold;background:#f6f6f6}"
     ".missing{color:#a33;font-weight:bold}.warn{color:#8a5a00}"
     "figure{display:inline-block;margin:8px 16px 8px 0;vertical-align:top}"
-    "figcaption{font-size:12px;color:#555}";
+    "figcaption{font-size:12px;color:#555;max-width:640px}.ok{color:#1b7a1b}.bad{color:#b00020;font-weight:"
+    "bold}"
+    "@media print{figure,table{break-inside:avoid}body{margin:0}}";
 
 std::string mission_section(const ReportData& d) {
   std::string s = "<section id=\"mission\">\n<h2>Mission</h2>\n<table class=\"kv\">\n";
@@ -139,39 +146,7 @@ std::string parameters_table(const CalibrationResult& r) {
   return s;
 }
 
-// Per lamp pair: observed pixel, reprojection (if the world point projects) and the difference.
-struct PairResidual {
-  Eigen::Vector2d observed;
-  bool projected = false;
-  Eigen::Vector2d reprojected = Eigen::Vector2d::Zero();
-  bool used = true;
-};
-
-std::vector<PairResidual> pair_residuals(const CameraReportData& c) {
-  std::vector<PairResidual> out;
-  if (!c.pairs) return out;
-  // residuals.csv's lamp rows follow the pairs one to one: they say which the calibration used.
-  std::vector<bool> used(c.pairs->size(), true);
-  if (c.residuals) {
-    std::size_t k = 0;
-    for (const ResidualRow& row : *c.residuals)
-      if (row.kind == ResidualRow::Kind::lamp && k < used.size()) used[k++] = row.used;
-  }
-  for (std::size_t i = 0; i < c.pairs->size(); ++i) {
-    const Correspondence& p = (*c.pairs)[i];
-    PairResidual r;
-    r.observed = p.uv;
-    r.used = used[i];
-    if (c.calibration) {
-      // Where the lamp stood at the true exposure time (optim/bundle/bundle_adjustment.hpp clock offset).
-      const Eigen::Vector3d seen =
-          p.enu - p.vel_enu.value_or(Eigen::Vector3d::Zero()) * c.calibration->clock_offset_s;
-      r.projected = project(c.calibration->camera, seen, &r.reprojected);
-    }
-    out.push_back(r);
-  }
-  return out;
-}
+using PairResidual = LampResidual;
 
 // Seed 002 Tables 2–3: the headline statistics, then per point Δu, Δv, ΔR and the mean row.
 std::string reprojection_tables(const CameraReportData& c, const std::vector<PairResidual>& res) {
@@ -241,7 +216,7 @@ std::string plots(const CameraReportData& c, const std::vector<PairResidual>& re
     if (!p.projected) continue;
     proj.push_back(p.reprojected);
     at.push_back(p.observed);
-    resid.push_back(p.observed - p.reprojected);
+    resid.push_back(p.residual);
     if (p.used) norms.push_back(resid.back().norm());
   }
   if (proj.size() != obs.size()) proj.clear();  // a point that does not project: plot no crosses
@@ -252,7 +227,7 @@ std::string plots(const CameraReportData& c, const std::vector<PairResidual>& re
   if (!c.calibration) return s;
   s += "<figure>" + svg_residual_vectors(frame, at, resid, base + "-residuals") +
        "<figcaption>Residual vectors, observed &#8722; reprojected</figcaption></figure>\n";
-  s += "<figure>" + svg_histogram(norms, "residual |observed - reprojected| /px", base + "-histogram") +
+  s += "<figure>" + svg_histogram(norms, "residual |observed - reprojected| (px)", base + "-histogram") +
        "<figcaption>Residual histogram (used points)</figcaption></figure>\n";
   return s;
 }
@@ -304,15 +279,126 @@ std::string methods_table(const CameraReportData& c) {
   return s + "</table>\n";
 }
 
-std::string camera_section(const CameraReportData& c) {
+// What the report computes once per camera from its files (the plotted numbers come from the typed
+// functions of pipeline/report/, tested there).
+struct CameraFigures {
+  std::vector<LampResidual> res;
+  ResidualConsistency consistency;
+  double depth_m = std::nan("");  ///< median lamp depth: the flight distance of the uncertainty map
+  std::optional<ProjectionUncertaintyMap> uncertainty;
+  double centre_sigma_px = std::nan("");  ///< projection σ at the image centre (px)
+};
+
+CameraFigures camera_figures(const CameraReportData& c, double pixel_sigma_px) {
+  CameraFigures f;
+  if (!c.pairs) return f;
+  const CalibrationResult* cal = c.calibration ? &*c.calibration : nullptr;
+  f.res = lamp_residuals(*c.pairs, cal, c.residuals ? &*c.residuals : nullptr, pixel_sigma_px);
+  if (!cal) return f;
+  f.consistency = residual_consistency(f.res, static_cast<int>(cal->parameters.size()));
+  f.depth_m = median_depth_m(cal->camera, *c.pairs);
+  if (std::isfinite(f.depth_m) && !cal->parameters.empty() &&
+      cal->covariance.rows() == static_cast<Eigen::Index>(cal->parameters.size())) {
+    f.uncertainty = projection_uncertainty_map(*cal, f.depth_m, 41, 25);
+    const CameraIntrinsics& in = cal->camera.intr;
+    f.centre_sigma_px = projection_sigma_px(
+        *cal, Eigen::Vector2d((in.width_px - 1) / 2.0, (in.height_px - 1) / 2.0), f.depth_m);
+  }
+  return f;
+}
+
+std::string figure(const std::string& svg, const std::string& caption) {
+  return "<figure>" + svg + "<figcaption>" + caption + "</figcaption></figure>\n";
+}
+
+// Residuals against time and image height, u and v apart; the distortion; the projection
+// uncertainty; the correlation matrix.
+std::string diagnostic_plots(const CameraReportData& c, const CameraFigures& f) {
+  if (!c.calibration) return "";
+  const CalibrationResult& cal = *c.calibration;
+  const std::string base = "cam-" + c.id;
+  std::string s = "<h3>Residual diagnostics</h3>\n";
+  std::vector<double> t, v, du, dv, su, sv;
+  std::vector<bool> used;
+  if (!f.res.empty()) {
+    const UtcTime t0 = f.res.front().utc;
+    for (const LampResidual& r : f.res) {
+      if (!r.projected) continue;
+      t.push_back(seconds_between(t0, r.utc));
+      v.push_back(r.observed.y());
+      du.push_back(r.residual.x());
+      dv.push_back(r.residual.y());
+      su.push_back(r.sigma_px.x());
+      sv.push_back(r.sigma_px.y());
+      used.push_back(r.used);
+    }
+  }
+  if (!t.empty()) {
+    s +=
+        "<p>Observed &#8722; reprojected against time and against image row, with the &#177;2&#963; band the "
+        "noise model expects (lamp centroid &#963; and the PPK sd projected into the image). A clock offset "
+        "shows as residuals that follow the lamp's image speed (a trend with time along each ascent); a "
+        "lever-arm or height error as a trend with image row.</p>\n";
+    s += figure(svg_residual_scatter(t, du, su, used, "time since first pair (s)", "Δu (px)",
+                                     base + "-du-time", "u residual against time"),
+                "&#916;u against time");
+    s += figure(svg_residual_scatter(t, dv, sv, used, "time since first pair (s)", "Δv (px)",
+                                     base + "-dv-time", "v residual against time"),
+                "&#916;v against time");
+    s += figure(svg_residual_scatter(v, du, su, used, "image row v (px)", "Δu (px)", base + "-du-height",
+                                     "u residual against image height"),
+                "&#916;u against image row");
+    s += figure(svg_residual_scatter(v, dv, sv, used, "image row v (px)", "Δv (px)", base + "-dv-height",
+                                     "v residual against image height"),
+                "&#916;v against image row");
+  }
+  const PlotFrame frame{c.width_px, c.height_px};
+  s += "<h3>Uncertainty and model</h3>\n";
+  if (f.uncertainty) {
+    s += figure(svg_image_map(frame, f.uncertainty->u_px, f.uncertainty->v_px, f.uncertainty->sigma_px,
+                              "projection σ (px)", base + "-uncertainty", "Projection uncertainty"),
+                "Projection uncertainty: 1&#963; (px, worst direction) of where a point " +
+                    fmt("%.1f", f.depth_m) +
+                    " m in front of the camera (the median lamp depth) lands, from the parameter covariance "
+                    "(centre: " +
+                    fmt("%.3f", f.centre_sigma_px) + " px)");
+  } else {
+    s += "<p>No covariance in calibration.json: no projection-uncertainty map.</p>\n";
+  }
+  // Distortion: where each pixel's undistorted image lies (px), over a 16 × 10 grid.
+  std::vector<Eigen::Vector2d> at, vec;
+  const CameraIntrinsics& in = cal.camera.intr;
+  for (int j = 0; j < 10; ++j)
+    for (int i = 0; i < 16; ++i) {
+      const Eigen::Vector2d q(-0.5 + (i + 0.5) * in.width_px / 16.0, -0.5 + (j + 0.5) * in.height_px / 10.0);
+      const Eigen::Vector2d su2 = pixel_to_undistorted_sensor(in, q);
+      const Eigen::Vector2d qu(in.u0_px + in.sx * su2.x() / in.dx_mm, in.v0_px + su2.y() / in.dy_mm);
+      at.push_back(q);
+      vec.push_back(qu - q);
+    }
+  s += figure(svg_image_vectors(frame, at, vec, "distortion", base + "-distortion", "Distortion"),
+              "Distortion: from each pixel to where the undistorted (pinhole) model puts it (px)");
+  const auto n = static_cast<Eigen::Index>(cal.parameters.size());
+  if (n > 0 && cal.covariance.rows() == n) {
+    Eigen::MatrixXd rho(n, n);
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (Eigen::Index j = 0; j < n; ++j) rho(i, j) = cal.correlation(cal.parameters[i], cal.parameters[j]);
+    s += figure(svg_correlation_grid(parameter_names(cal.parameters), rho, base + "-correlation"),
+                "Correlation of the estimated parameters (calibration.json covariance)");
+  }
+  return s;
+}
+
+std::string camera_section(const CameraReportData& c, const CameraFigures& f) {
   std::string s = "<section class=\"camera\" id=\"cam-" + html_escape(c.id) + "\">\n<h2>Camera " +
                   html_escape(c.id) + "</h2>\n";
   if (!c.calibration)
     s += "<p class=\"missing\">" + html_escape(c.id) + ": " + html_escape(status_of(c)) + ".</p>\n";
   if (!c.pairs) s += "<p class=\"missing\">correspondences.csv missing.</p>\n";
-  const std::vector<PairResidual> res = pair_residuals(c);
+  const std::vector<PairResidual>& res = f.res;
   if (c.calibration) s += parameters_table(*c.calibration) + reprojection_tables(c, res);
   s += plots(c, res);
+  s += diagnostic_plots(c, f);
   s += methods_table(c);
   return s + "</section>\n";
 }
@@ -324,7 +410,7 @@ std::string cm(const std::optional<double>& m_value, bool absolute = false) {
 
 // Seed 002 Table 4, in cm: per pole ΔE ΔN ΔU ΔR and predicted 1σ, then the mean row (mean of
 // |ΔE|, |ΔN|, |ΔU|, ΔR and σ over surveyed poles, as the paper's mean row) and the max ΔR.
-std::string intersection_section(const ReportData& d) {
+std::string intersection_section(const ReportData& d, const std::string& plots) {
   std::string s = "<section id=\"intersection\">\n<h2>Intersection check (seed 002 Table 4)</h2>\n";
   if (!d.intersection)
     return s +
@@ -350,20 +436,296 @@ std::string intersection_section(const ReportData& d) {
       "<p>&#916; = intersected &#8722; surveyed; mean row: mean |&#916;E|, |&#916;N|, |&#916;U|, &#916;R and "
       "&#963; over surveyed poles; &#963; = predicted 1&#963; of &#916;R (calibration covariance and pick "
       "noise).</p>\n";
+  return s + plots + "</section>\n";
+}
+
+std::vector<const CalibrationResult*> calibrations(const ReportData& d) {
+  std::vector<const CalibrationResult*> cams;
+  for (const CameraReportData& c : d.cameras)
+    if (c.calibration) cams.push_back(&*c.calibration);
+  return cams;
+}
+
+// The slice of the flight volume the intersection σ is predicted over: the lamp track's and the
+// poles' horizontal extent (10 % margin) at the mean height of the intersected check poles (else the
+// median lamp height).
+std::optional<IntersectionSigmaSlice> flight_slice(const ReportData& d) {
+  const std::vector<const CalibrationResult*> cams = calibrations(d);
+  if (cams.size() < 2) return std::nullopt;
+  std::vector<Eigen::Vector3d> pts;
+  if (d.lamp_track)
+    for (const LampEpoch& e : d.lamp_track->epochs) pts.push_back(e.enu);
+  for (const SurveyedPole& p : d.survey) pts.push_back(p.enu);
+  if (d.intersection)
+    for (const IntersectionRow& r : *d.intersection) pts.push_back(r.survey_enu);
+  if (pts.empty()) return std::nullopt;
+  Eigen::Vector3d lo = pts[0], hi = pts[0];
+  for (const Eigen::Vector3d& p : pts) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Eigen::Vector3d pad = ((hi - lo) * 0.1).cwiseMax(1.0);
+  double up = 0;
+  if (d.intersection && !d.intersection->empty()) {
+    for (const IntersectionRow& r : *d.intersection) up += r.survey_enu.z();
+    up /= static_cast<double>(d.intersection->size());
+  } else {
+    std::vector<double> u;
+    for (const Eigen::Vector3d& p : pts) u.push_back(p.z());
+    std::nth_element(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(u.size() / 2), u.end());
+    up = u[u.size() / 2];
+  }
+  return intersection_sigma_slice(cams, Eigen::Vector2d(lo.x() - pad.x(), hi.x() + pad.x()),
+                                  Eigen::Vector2d(lo.y() - pad.y(), hi.y() + pad.y()), up, 36, 28);
+}
+
+struct SliceStats {
+  int n = 0;
+  double min = std::nan(""), median = std::nan(""), max = std::nan("");
+};
+SliceStats slice_stats(const IntersectionSigmaSlice& sl) {
+  std::vector<double> v;
+  for (Eigen::Index k = 0; k < sl.sigma_m.size(); ++k)
+    if (std::isfinite(sl.sigma_m(k))) v.push_back(sl.sigma_m(k));
+  SliceStats st;
+  st.n = static_cast<int>(v.size());
+  if (v.empty()) return st;
+  std::sort(v.begin(), v.end());
+  st.min = v.front();
+  st.median = v[v.size() / 2];
+  st.max = v.back();
+  return st;
+}
+
+std::string verdict_section(const ReportData& d, const std::vector<CameraFigures>& figs,
+                            const std::optional<IntersectionSigmaSlice>& slice) {
+  std::string s = "<section id=\"verdict\">\n<h2>Verdict</h2>\n<table class=\"verdict\">\n<tr>" +
+                  th("Camera") + th("Method") + th("RMS /px") + th("RMS expected /px") + th("ratio") +
+                  th("projection &#963; at centre /px") + th("reading") + "</tr>\n";
+  for (std::size_t i = 0; i < d.cameras.size(); ++i) {
+    const CameraReportData& c = d.cameras[i];
+    const CameraFigures& f = figs[i];
+    s += "<tr>" + td(html_escape(c.id), "txt");
+    if (!c.calibration) {
+      s += td(kDash, "txt") + td(kDash) + td(kDash) + td(kDash) + td(kDash) +
+           td("<span class=\"missing\">" + html_escape(status_of(c)) + "</span>", "txt") + "</tr>\n";
+      continue;
+    }
+    const double ratio = f.consistency.rms_px / f.consistency.expected_rms_px;
+    std::string reading;
+    if (!std::isfinite(ratio))
+      reading = "no lamp residuals to judge";
+    else if (ratio <= 1.5)
+      reading = "<span class=\"ok\">residuals as the noise model expects</span>";
+    else
+      reading =
+          "<span class=\"bad\">residuals " + fmt("%.1f", ratio) +
+          "&#215; the noise model's: look at the residual plots (a trend with time: clock offset; with image "
+          "row: lever arm or heights)</span>";
+    s += td(html_escape(c.calibration->method), "txt") + td(fmt("%.3f", f.consistency.rms_px)) +
+         td(fmt("%.3f", f.consistency.expected_rms_px)) + td(fmt("%.2f", ratio)) +
+         td(fmt("%.3f", f.centre_sigma_px)) + td(reading, "txt") + "</tr>\n";
+  }
+  s += "</table>\n";
+  const SliceStats st = slice ? slice_stats(*slice) : SliceStats{};
+  if (d.intersection && !d.intersection->empty()) {
+    const IntersectionMeans m = intersection_means(*d.intersection);
+    const bool pass = m.mean_dR <= d.bar_mean_dR_m;
+    s += "<p class=\"" + std::string(pass ? "ok" : "bad") + "\">Check poles (" + std::to_string(m.n) +
+         "): mean &#916;R " + fmt("%.2f", m.mean_dR * 100) + " cm, max " + fmt("%.2f", m.max_dR * 100) +
+         " cm, RMS " + fmt("%.2f", m.rms_dR * 100) + " cm against the predicted 1&#963; " +
+         fmt("%.2f", m.mean_sigma_m * 100) + " cm (mean); bar: mean &#916;R &#8804; " +
+         fmt("%.1f", d.bar_mean_dR_m * 100) +
+         " cm (rangecal's quality bar, docs/accuracy_analysis.md): " + (pass ? "met" : "NOT met") + ".</p>\n";
+  } else {
+    s += "<p class=\"missing\">No check poles intersected: the calibration is not checked against an "
+         "independent survey.</p>\n";
+  }
+  if (st.n > 0)
+    s += "<p>Predicted intersection &#963; from the calibrations alone over the flight volume at U = " +
+         fmt("%.1f", slice->up_m) + " m: " + fmt("%.2f", st.min * 100) + "&#8211;" +
+         fmt("%.2f", st.max * 100) + " cm (median " + fmt("%.2f", st.median * 100) + " cm).</p>\n";
+  // Each camera's calibration warnings, then once what they mean for the intersection: a poorly
+  // determined or strongly correlated parameter matters only through where it moves the flown points.
+  std::string w;
+  for (std::size_t i = 0; i < d.cameras.size(); ++i) {
+    const CameraReportData& c = d.cameras[i];
+    if (!c.calibration || c.calibration->warnings.empty()) continue;
+    w += "<li><b>" + html_escape(c.id) + "</b>:<ul>\n";
+    bool weak = false;
+    for (const std::string& x : c.calibration->warnings) {
+      weak |= x.find("correlated") != std::string::npos || x.find("poorly determined") != std::string::npos;
+      w += "<li class=\"warn\">" + html_escape(x) + "</li>\n";
+    }
+    w += "</ul>\n";
+    const CameraFigures& f = figs[i];
+    if (weak && std::isfinite(f.centre_sigma_px)) {
+      const double worst = f.uncertainty ? f.uncertainty->sigma_px.maxCoeff() : std::nan("");
+      const bool small = st.n > 0 ? st.median <= d.bar_mean_dR_m : f.centre_sigma_px < 0.5;
+      w += "<p class=\"" + std::string(small ? "ok" : "bad") + "\">" +
+           (small ? "Harmless for the intersection. " : "This matters for the intersection. ") +
+           "What the images fix is the combination of these parameters that places a point of the flight "
+           "volume; that combination is " +
+           (small ? "well" : "poorly") +
+           " determined: a point at the flight "
+           "distance (" +
+           fmt("%.1f", f.depth_m) + " m) projects with 1&#963; " + fmt("%.3f", f.centre_sigma_px) +
+           " px at the image centre (up to " + fmt("%.2f", worst) +
+           " px in the corners, where no lamp was seen; see the uncertainty map)";
+      if (st.n > 0)
+        w += ", and the predicted intersection &#963; from the calibrations is " +
+             fmt("%.2f", st.median * 100) + " cm (median over the flight volume), against the bar of " +
+             fmt("%.1f", d.bar_mean_dR_m * 100) + " cm";
+      w += ".</p>\n";
+    } else if (weak) {
+      w += "<p>No covariance: their effect on the intersection cannot be judged.</p>\n";
+    }
+    w += "</li>\n";
+  }
+  if (!w.empty())
+    s +=
+        "<h3>Calibration warnings and what they mean</h3>\n<ul class=\"verdict-warnings\">\n" + w + "</ul>\n";
   return s + "</section>\n";
+}
+
+std::string site_section(const ReportData& d, const std::vector<CameraFigures>& figs) {
+  std::string s = "<section id=\"site-map\">\n<h2>Site map</h2>\n";
+  SiteMap m;
+  for (std::size_t i = 0; i < d.cameras.size(); ++i) {
+    const CameraReportData& c = d.cameras[i];
+    if (!c.calibration) continue;
+    const Camera& cam = c.calibration->camera;
+    SiteCamera sc;
+    sc.id = c.id;
+    sc.center = cam.pose.center();
+    sc.center_cov_m2 = c.calibration->center_covariance_m2;
+    sc.left_ray = pixel_ray_world(cam, Eigen::Vector2d(-0.5, (cam.intr.height_px - 1) / 2.0));
+    sc.right_ray =
+        pixel_ray_world(cam, Eigen::Vector2d(cam.intr.width_px - 0.5, (cam.intr.height_px - 1) / 2.0));
+    double reach = 0;
+    if (c.pairs)
+      for (const Correspondence& p : *c.pairs)
+        reach = std::max(reach, Eigen::Vector2d(p.enu.x() - sc.center.x(), p.enu.y() - sc.center.y()).norm());
+    sc.wedge_m = reach > 0 ? 1.15 * reach : (std::isfinite(figs[i].depth_m) ? figs[i].depth_m : 10.0);
+    m.cameras.push_back(sc);
+    if (c.pairs)
+      for (std::size_t k = 0; k < figs[i].res.size() && k < c.pairs->size(); ++k)
+        if (!figs[i].res[k].used) m.outliers.push_back((*c.pairs)[k].enu);
+  }
+  if (d.lamp_track)
+    for (const LampEpoch& e : d.lamp_track->epochs) {
+      m.track.push_back(e.enu);
+      m.track_t_s.push_back(seconds_between(d.lamp_track->epochs.front().utc, e.utc));
+    }
+  for (const SurveyedPole& p : d.survey) {
+    SitePole sp;
+    sp.id = p.id;
+    sp.check = p.role == PoleRole::check;
+    sp.enu = p.enu;
+    m.poles.push_back(sp);
+  }
+  if (d.intersection)
+    for (const IntersectionRow& r : *d.intersection) {
+      SitePole* hit = nullptr;
+      for (SitePole& sp : m.poles)
+        if (sp.id == r.id) hit = &sp;
+      if (!hit) {
+        m.poles.push_back(SitePole{r.id, true, r.survey_enu, false, Eigen::Vector3d::Zero(), 0});
+        hit = &m.poles.back();
+      }
+      hit->has_error = true;
+      hit->d_enu = r.d_enu;
+      hit->sigma_m = r.sigma_m;
+    }
+  if (m.cameras.empty() && m.track.empty() && m.poles.empty())
+    return s + "<p class=\"missing\">Nothing to map: no calibration, lamp track or survey.</p>\n</section>\n";
+  s += figure(
+      svg_site_plan(m, "site-plan"),
+      "Plan view: cameras with viewing wedges (image width) and 1&#963; centre ellipses, the lamp track "
+      "coloured by time, poles; check-pole errors and their predicted &#963; magnified");
+  s += figure(svg_site_side(m, "site-side"), "Side view: distance against height");
+  return s + "</section>\n";
+}
+
+std::string funnel_section(const ReportData& d) {
+  std::vector<std::string> ids;
+  for (const CameraReportData& c : d.cameras) ids.push_back(c.id);
+  const std::vector<FunnelRow> rows = data_funnel(d.run_stages, ids);
+  std::string s = "<section id=\"funnel\">\n<h2>Data funnel</h2>\n";
+  if (rows.empty()) return s + "<p class=\"missing\">run.json has no stage counts.</p>\n</section>\n";
+  s += "<table class=\"funnel\">\n<tr>" + th("Stage") + th("Camera") + th("Counted") + th("In") + th("Kept") +
+       th("Dropped") + th("Why") + "</tr>\n";
+  for (const FunnelRow& r : rows) {
+    std::string why;
+    for (const FunnelDrop& x : r.dropped)
+      why += (why.empty() ? "" : "; ") + html_escape(x.reason) + ": " + std::to_string(x.count);
+    s += "<tr>" + td(html_escape(r.stage), "txt") +
+         td(r.camera.empty() ? kDash : html_escape(r.camera), "txt") + td(html_escape(r.unit), "txt") +
+         td(std::to_string(r.in)) + td(std::to_string(r.kept)) + td(std::to_string(r.in - r.kept)) +
+         td(why.empty() ? kDash : why, "txt") + "</tr>\n";
+  }
+  s += "</table>\n";
+  s += figure(svg_funnel(rows, "funnel-bars"),
+              "Share kept (green) and dropped by reason (other colours) per stage");
+  return s + "</section>\n";
+}
+
+std::string intersection_plots(const ReportData& d, const std::optional<IntersectionSigmaSlice>& slice) {
+  std::string s;
+  const std::vector<const CalibrationResult*> cams = calibrations(d);
+  if (d.intersection && !d.intersection->empty()) {
+    std::vector<std::string> ids;
+    std::vector<Eigen::Vector3d> dcm, scm;
+    for (const IntersectionRow& r : *d.intersection) {
+      ids.push_back(r.id);
+      dcm.push_back(r.d_enu * 100.0);
+      const PredictedIntersection p = predict_intersection(cams, r.survey_enu, d.pick_sigma_px);
+      scm.push_back(
+          p.n_cameras >= 2
+              ? Eigen::Vector3d((p.cov_calibration_m2 + p.cov_pick_m2).diagonal().cwiseSqrt() * 100.0)
+              : Eigen::Vector3d::Constant(std::nan("")));
+    }
+    s += figure(svg_pole_bars(ids, dcm, scm, "intersection-bars"),
+                "Per check pole: &#916;E, &#916;N, &#916;U (cm) over the predicted &#177;1&#963; per axis "
+                "(calibration covariances of the cameras that see the pole, and pick noise " +
+                    fmt("%.2f", d.pick_sigma_px) + " px)");
+  }
+  if (slice) {
+    std::vector<Eigen::Vector2d> poles;
+    if (d.intersection)
+      for (const IntersectionRow& r : *d.intersection) poles.emplace_back(r.survey_enu.x(), r.survey_enu.y());
+    s += figure(
+        svg_slice_map(*slice, poles, "intersection-slice"),
+        "Predicted intersection &#963; (&#8730;trace of the covariance, cm) from the calibrations alone "
+        "over a horizontal slice at the check poles' height: what a target flown through the calibrated "
+        "volume can expect before pick noise");
+  }
+  return s;
+}
+
+std::string network_section(const ReportData& d) {
+  if (!d.network_track) return "";
+  return "<section id=\"network\">\n<h2>Network adjustment</h2>\n<p>gnss/lamp_track_adjusted.csv is present: "
+         "the lamp track was adjusted by the network bundle. Its corrections per axis over time are not "
+         "drawn "
+         "yet.</p>\n</section>\n";
 }
 
 }  // namespace
 
 std::string render_report_html(const ReportData& d) {
+  std::vector<CameraFigures> figs;
+  for (const CameraReportData& c : d.cameras) figs.push_back(camera_figures(c, d.pixel_sigma_px));
+  const std::optional<IntersectionSigmaSlice> slice = flight_slice(d);
   std::string s =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rangecal report: " +
       html_escape(d.mission) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n";
   s += "<h1>rangecal calibration report</h1>\n";
+  s += verdict_section(d, figs, slice);
   s += mission_section(d);
   s += overview_section(d);
-  for (const CameraReportData& c : d.cameras) s += camera_section(c);
-  s += intersection_section(d);
+  s += site_section(d, figs);
+  for (std::size_t i = 0; i < d.cameras.size(); ++i) s += camera_section(d.cameras[i], figs[i]);
+  s += intersection_section(d, intersection_plots(d, slice));
+  s += funnel_section(d);
+  s += network_section(d);
   s += "</body>\n</html>\n";
   return s;
 }

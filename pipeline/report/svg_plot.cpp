@@ -6,12 +6,16 @@
 
 #include "config/number_format.hpp"
 #include "pipeline/report/html_escape.hpp"
+#include "pipeline/report/svg_chart.hpp"
 
 namespace rangecal {
 namespace {
 
 constexpr double kPlotWidth = 640;  // drawing width of image plots (SVG user units)
-constexpr double kMargin = 36;      // room for axis labels
+constexpr double kLeft = 52;        // room for the v ticks and axis label
+constexpr double kTop = 40;         // room for the u ticks and axis label
+constexpr double kRight = 16;
+constexpr double kBottom = 30;  // the key line below the frame
 
 std::string f2(double x) {
   return format_number("%.2f", x);
@@ -25,8 +29,8 @@ std::string label(double x) {
 // Pixel → drawing coordinates (pixel centres at +0.5 so the frame spans [−0.5, W−0.5]).
 struct ImageMap {
   double scale = 1;
-  double x(double u) const { return kMargin + (u + 0.5) * scale; }
-  double y(double v) const { return kMargin + (v + 0.5) * scale; }
+  double x(double u) const { return kLeft + (u + 0.5) * scale; }
+  double y(double v) const { return kTop + (v + 0.5) * scale; }
 };
 
 ImageMap image_map(const PlotFrame& f) {
@@ -35,23 +39,35 @@ ImageMap image_map(const PlotFrame& f) {
   return m;
 }
 
-// Opens the svg with its frame rectangle and axis labels; returns the text so far.
+// The same mapping as ChartAxes (pixel edges −0.5 … W − 0.5, v down).
+ChartAxes image_axes(const PlotFrame& f, const ImageMap& m) {
+  ChartAxes a;
+  a.left = kLeft;
+  a.top = kTop;
+  a.width = f.width_px * m.scale;
+  a.height = f.height_px * m.scale;
+  a.x0 = -0.5;
+  a.x1 = f.width_px - 0.5;
+  a.y0 = -0.5;
+  a.y1 = f.height_px - 0.5;
+  a.y_down = true;
+  return a;
+}
+
+// Opens the svg with its frame rectangle, ticks in px and axis labels; returns the text so far and
+// leaves a g.data open (close_image_svg closes it).
 std::string open_image_svg(const PlotFrame& f, const ImageMap& m, const std::string& id,
                            const std::string& title) {
-  const double w = kPlotWidth + 2 * kMargin, h = std::max(1, f.height_px) * m.scale + 2 * kMargin;
-  std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"" + html_escape(id) +
-                  "\" class=\"plot\" width=\"" + f2(w) + "\" height=\"" + f2(h) + "\" viewBox=\"0 0 " +
-                  f2(w) + " " + f2(h) + "\">\n";
-  s += "<title>" + html_escape(title) + "</title>\n";
-  s += "<rect class=\"frame\" x=\"" + f2(kMargin) + "\" y=\"" + f2(kMargin) + "\" width=\"" +
+  const double w = kLeft + kPlotWidth + kRight, h = kTop + std::max(1, f.height_px) * m.scale + kBottom;
+  std::string s = svg_open(w, h, id, title);
+  s += "<rect class=\"frame\" x=\"" + f2(kLeft) + "\" y=\"" + f2(kTop) + "\" width=\"" +
        f2(f.width_px * m.scale) + "\" height=\"" + f2(f.height_px * m.scale) +
-       "\" fill=\"#fafafa\" stroke=\"#333\" stroke-width=\"1\"/>\n";
-  s += "<text x=\"" + f2(kMargin) + "\" y=\"" + f2(kMargin - 8) + "\" font-size=\"11\">(0, 0)</text>\n";
-  // Image size at the top right: the legend line below the frame needs the bottom.
-  s += "<text x=\"" + f2(kMargin + f.width_px * m.scale) + "\" y=\"" + f2(kMargin - 8) +
-       "\" font-size=\"11\" text-anchor=\"end\">" + std::to_string(f.width_px) + " x " +
-       std::to_string(f.height_px) + " px, u right, v down</text>\n";
-  return s;
+       "\" fill=\"#fafafa\" stroke=\"none\"/>\n";
+  s += svg_axes(
+      image_axes(f, m),
+      "u (px), right; image " + std::to_string(f.width_px) + " x " + std::to_string(f.height_px) + " px",
+      "v (px), down", 8, 5);
+  return s + "<g class=\"data\">\n";
 }
 
 }  // namespace
@@ -83,22 +99,37 @@ std::string svg_lamp_track(const PlotFrame& frame, const std::vector<Eigen::Vect
     s += f2(m.x(observed[i].x())) + "," + f2(m.y(observed[i].y()));
   }
   if (!observed.empty()) s += "\"/>\n";
+  // Observed: filled dots; reprojected: larger orange crosses on top, whose arms reach past the dot,
+  // so both show where they coincide.
   for (std::size_t i = 0; i < observed.size(); ++i) {
     const bool ok = used.empty() || used[i];
     s += "<circle class=\"" + std::string(ok ? "obs" : "rejected") + "\" cx=\"" + f2(m.x(observed[i].x())) +
-         "\" cy=\"" + f2(m.y(observed[i].y())) + "\" r=\"2.00\" fill=\"" + (ok ? "none" : "#d62728") +
-         "\" stroke=\"" + (ok ? "#1f5fa8" : "#d62728") + "\" stroke-width=\"0.8\"/>\n";
+         "\" cy=\"" + f2(m.y(observed[i].y())) + "\" r=\"" + (ok ? "1.80" : "2.60") + "\" fill=\"" +
+         (ok ? "#1f5fa8" : "none") + "\" stroke=\"" + (ok ? "none" : "#d62728") +
+         "\" stroke-width=\"1.2\"/>\n";
   }
   for (const Eigen::Vector2d& p : reprojected) {
-    const double x = m.x(p.x()), y = m.y(p.y()), a = 2.5;
-    s += "<path class=\"proj\" d=\"M" + f2(x - a) + " " + f2(y) + "H" + f2(x + a) + "M" + f2(x) + " " +
-         f2(y - a) + "V" + f2(y + a) + "\" stroke=\"#e07b00\" stroke-width=\"0.8\"/>\n";
+    const double x = m.x(p.x()), y = m.y(p.y()), a = 3.0;
+    s += "<path class=\"proj\" d=\"M" + f2(x - a) + " " + f2(y - a) + "L" + f2(x + a) + " " + f2(y + a) +
+         "M" + f2(x - a) + " " + f2(y + a) + "L" + f2(x + a) + " " + f2(y - a) +
+         "\" stroke=\"#e07b00\" stroke-width=\"0.9\"/>\n";
   }
-  const double ly = kMargin + frame.height_px * m.scale + 14;
-  s += "<text x=\"" + f2(kMargin) + "\" y=\"" + f2(ly) +
-       "\" font-size=\"11\">o observed lamp pixel, + reprojected world point" +
-       (reprojected.empty() ? std::string(" (none: not calibrated)") : std::string()) +
-       ", red: rejected</text>\n";
+  s += "</g>\n";
+  // The key, below the frame.
+  const double ly = kTop + frame.height_px * m.scale + 18;
+  s += "<g class=\"key\" font-size=\"11\"><circle cx=\"" + f2(kLeft + 4) + "\" cy=\"" + f2(ly - 4) +
+       "\" r=\"1.80\" fill=\"#1f5fa8\"/><text x=\"" + f2(kLeft + 10) + "\" y=\"" + f2(ly) +
+       "\">observed lamp pixel</text>";
+  if (!reprojected.empty())
+    s += "<path d=\"M" + f2(kLeft + 137) + " " + f2(ly - 7) + "L" + f2(kLeft + 143) + " " + f2(ly - 1) + "M" +
+         f2(kLeft + 137) + " " + f2(ly - 1) + "L" + f2(kLeft + 143) + " " + f2(ly - 7) +
+         "\" stroke=\"#e07b00\" stroke-width=\"0.9\"/><text x=\"" + f2(kLeft + 148) + "\" y=\"" + f2(ly) +
+         "\">reprojected world point</text>";
+  else
+    s += "<text x=\"" + f2(kLeft + 140) + "\" y=\"" + f2(ly) + "\">(no reprojection: not calibrated)</text>";
+  s += "<circle cx=\"" + f2(kLeft + 304) + "\" cy=\"" + f2(ly - 4) +
+       "\" r=\"2.60\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.2\"/><text x=\"" + f2(kLeft + 311) +
+       "\" y=\"" + f2(ly) + "\">rejected by the calibration</text></g>\n";
   s += "</svg>\n";
   return s;
 }
@@ -112,27 +143,36 @@ std::string svg_residual_vectors(const PlotFrame& frame, const std::vector<Eigen
   // Drawing units per pixel of residual: the largest residual spans a tenth of the plot width.
   const double gain = max_r > 0 ? 0.1 * kPlotWidth / max_r : 1.0;
   const std::size_t n = std::min(at.size(), residual.size());
+  // Clipped to the frame: a vector that would leave it ends at the edge with an open tip (circle.cut).
+  const double fx0 = kLeft, fy0 = kTop, fx1 = kLeft + frame.width_px * m.scale,
+               fy1 = kTop + frame.height_px * m.scale;
   for (std::size_t i = 0; i < n; ++i) {
-    const double x = m.x(at[i].x()), y = m.y(at[i].y());
-    s += "<line class=\"resid\" x1=\"" + f2(x) + "\" y1=\"" + f2(y) + "\" x2=\"" +
-         f2(x + gain * residual[i].x()) + "\" y2=\"" + f2(y + gain * residual[i].y()) +
-         "\" stroke=\"#c0392b\" stroke-width=\"1\"/>\n";
-    s += "<circle class=\"foot\" cx=\"" + f2(x) + "\" cy=\"" + f2(y) + "\" r=\"1.20\" fill=\"#333\"/>\n";
+    Eigen::Vector2d p(m.x(at[i].x()), m.y(at[i].y())), q = p + gain * residual[i];
+    bool cut = false;
+    if (!clip_segment(fx0, fy0, fx1, fy1, &p, &q, &cut)) continue;
+    s += "<line class=\"resid\" x1=\"" + f2(p.x()) + "\" y1=\"" + f2(p.y()) + "\" x2=\"" + f2(q.x()) +
+         "\" y2=\"" + f2(q.y()) + "\" stroke=\"#c0392b\" stroke-width=\"1\"/>\n";
+    s += "<circle class=\"foot\" cx=\"" + f2(p.x()) + "\" cy=\"" + f2(p.y()) +
+         "\" r=\"1.20\" fill=\"#333\"/>\n";
+    if (cut)
+      s += "<circle class=\"cut\" cx=\"" + f2(q.x()) + "\" cy=\"" + f2(q.y()) +
+           "\" r=\"2.00\" fill=\"none\" stroke=\"#c0392b\" stroke-width=\"0.8\"/>\n";
   }
-  // Scale bar: a round residual length, drawn at the bottom left below the frame.
+  s += "</g>\n";
+  // Key: a round residual length, below the frame.
   const double bar_px = max_r > 0 ? nice_floor(max_r) : 1.0;
-  const double by = kMargin + frame.height_px * m.scale + 16, bx = kMargin;
-  s += "<line class=\"scalebar\" x1=\"" + f2(bx) + "\" y1=\"" + f2(by) + "\" x2=\"" + f2(bx + gain * bar_px) +
-       "\" y2=\"" + f2(by) + "\" stroke=\"#000\" stroke-width=\"2\"/>\n";
+  const double by = kTop + frame.height_px * m.scale + 16, bx = kLeft;
+  s += "<g class=\"key\"><line class=\"scalebar\" x1=\"" + f2(bx) + "\" y1=\"" + f2(by) + "\" x2=\"" +
+       f2(bx + gain * bar_px) + "\" y2=\"" + f2(by) + "\" stroke=\"#000\" stroke-width=\"2\"/>\n";
   s += "<text x=\"" + f2(bx + gain * bar_px + 6) + "\" y=\"" + f2(by + 4) + "\" font-size=\"11\">" +
-       label(bar_px) + " px residual (vectors magnified " + label(gain / m.scale) + "x)</text>\n";
+       label(bar_px) + " px residual (vectors magnified " + label(gain / m.scale) +
+       "x; o at a tip: cut at the frame)</text></g>\n";
   s += "</svg>\n";
   return s;
 }
 
 std::string svg_histogram(const std::vector<double>& values, const std::string& x_label,
                           const std::string& id) {
-  const double W = 480, H = 240, left = 44, right = 16, top = 16, bottom = 40;
   double max_v = 0;
   for (double v : values)
     if (std::isfinite(v)) max_v = std::max(max_v, v);
@@ -149,34 +189,27 @@ std::string svg_histogram(const std::vector<double>& values, const std::string& 
     ++counts[k];
   }
   const int max_c = std::max(1, *std::max_element(counts.begin(), counts.end()));
-  const double pw = W - left - right, ph = H - top - bottom, bw = pw / static_cast<double>(nbins);
-  std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"" + html_escape(id) +
-                  "\" class=\"plot\" width=\"" + f2(W) + "\" height=\"" + f2(H) + "\" viewBox=\"0 0 " +
-                  f2(W) + " " + f2(H) + "\">\n";
-  s += "<title>Histogram: " + html_escape(x_label) + "</title>\n";
+  ChartAxes a;
+  a.left = 56;
+  a.top = 16;
+  a.width = 480 - 56 - 16;
+  a.height = 240 - 16 - 46;
+  a.x0 = 0;
+  a.x1 = static_cast<double>(nbins) * bin;
+  a.y0 = 0;
+  a.y1 = max_c;
+  std::string s = svg_open(480, 240, id, "Histogram: " + x_label);
+  s += "<g class=\"data\">\n";
   for (std::size_t k = 0; k < nbins; ++k) {
-    const double h = ph * counts[k] / max_c;
-    s += "<rect class=\"bar\" x=\"" + f2(left + k * bw + 0.5) + "\" y=\"" + f2(top + ph - h) + "\" width=\"" +
-         f2(std::max(0.5, bw - 1.0)) + "\" height=\"" + f2(h) + "\" fill=\"#5b8fc7\"><title>[" +
+    const double x = a.X(k * bin), w = a.X((k + 1) * bin) - x, top = a.Y(counts[k]);
+    s += "<rect class=\"bar\" x=\"" + f2(x + 0.5) + "\" y=\"" + f2(top) + "\" width=\"" +
+         f2(std::max(0.5, w - 1.0)) + "\" height=\"" + f2(a.bottom() - top) + "\" fill=\"#5b8fc7\"><title>[" +
          label(k * bin) + ", " + label((k + 1) * bin) + "): " + std::to_string(counts[k]) +
          "</title></rect>\n";
   }
-  s += "<line class=\"axis\" x1=\"" + f2(left) + "\" y1=\"" + f2(top + ph) + "\" x2=\"" + f2(left + pw) +
-       "\" y2=\"" + f2(top + ph) + "\" stroke=\"#000\"/>\n";
-  s += "<line class=\"axis\" x1=\"" + f2(left) + "\" y1=\"" + f2(top) + "\" x2=\"" + f2(left) + "\" y2=\"" +
-       f2(top + ph) + "\" stroke=\"#000\"/>\n";
-  // x ticks at every bin edge when few bins, else every other.
-  const std::size_t step = nbins > 12 ? 2 : 1;
-  for (std::size_t k = 0; k <= nbins; k += step)
-    s += "<text x=\"" + f2(left + k * bw) + "\" y=\"" + f2(top + ph + 14) +
-         "\" font-size=\"10\" text-anchor=\"middle\">" + label(k * bin) + "</text>\n";
-  s += "<text x=\"" + f2(left - 4) + "\" y=\"" + f2(top + 4) + "\" font-size=\"10\" text-anchor=\"end\">" +
-       std::to_string(max_c) + "</text>\n";
-  s += "<text x=\"" + f2(left - 4) + "\" y=\"" + f2(top + ph) +
-       "\" font-size=\"10\" text-anchor=\"end\">0</text>\n";
-  s += "<text x=\"" + f2(left + pw / 2) + "\" y=\"" + f2(H - 6) +
-       "\" font-size=\"11\" text-anchor=\"middle\">" + html_escape(x_label) + " (" +
-       std::to_string(values.size()) + " values; bin " + label(bin) + ")</text>\n";
+  s += "</g>\n";
+  s += svg_axes(a, x_label + " (" + std::to_string(values.size()) + " values; bin " + label(bin) + ")",
+                "count (points per bin)", 8, std::min(5, max_c));
   s += "</svg>\n";
   return s;
 }

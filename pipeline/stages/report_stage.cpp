@@ -1,11 +1,13 @@
 #include "pipeline/stages/report_stage.hpp"
 
 #include <cmath>
+#include <filesystem>
 
 #include "config/atomic_file.hpp"
 #include "config/json_format.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/report/report_html.hpp"
+#include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/steps/intersection.hpp"
 
 namespace rangecal {
@@ -58,6 +60,11 @@ StageLog run_report_stage(const MissionConfig& cfg) {
   std::vector<std::string> ids;
   for (const CameraConfig& c : cfg.cameras) ids.push_back(c.id);
   ReportData data = read_report_data(cfg.output_dir, cfg.mission, ids);
+  // The survey places the poles on the site map; a mission without one has none to draw.
+  if (!cfg.poles_file.empty() && std::filesystem::exists(cfg.poles_file))
+    data.survey = read_pole_survey(cfg.poles_file, cfg.origin);
+  data.pick_sigma_px = cfg.intersect.pick_sigma_px;
+  data.pixel_sigma_px = kDefaultPixelSigmaPx;
   int calibrated = 0;
   for (std::size_t i = 0; i < data.cameras.size(); ++i) {
     CameraReportData& c = data.cameras[i];

@@ -249,9 +249,10 @@ TEST(Report, HtmlHasTheTablesPlotsAndEscapedText) {
   }
   EXPECT_NE(html.find("<td class=\"num\">" + fixed("%.2f", sum / 3 * 100) + "</td>"), std::string::npos);
 
-  // One <svg> per plot: cam1 has three (track, residual vectors, histogram); cam2 (not calibrated)
-  // only its lamp track.
-  EXPECT_EQ(count(html, "<svg"), 4u);
+  // One <svg> per plot: cam1 has ten (track, residual vectors, histogram, four residual plots,
+  // uncertainty, distortion, correlation); cam2 (not calibrated) only its lamp track; the site plan
+  // and side view; the check-pole bars (no slice: one calibrated camera; no funnel: no counts).
+  EXPECT_EQ(count(html, "<svg"), 14u);
   EXPECT_NE(html.find("id=\"cam-cam1-track\""), std::string::npos);
   EXPECT_NE(html.find("id=\"cam-cam1-residuals\""), std::string::npos);
   EXPECT_NE(html.find("id=\"cam-cam1-histogram\""), std::string::npos);
@@ -356,32 +357,36 @@ TEST(SvgPlot, NiceFloorGivesRoundNumbers) {
 }
 
 TEST(SvgPlot, ResidualVectorsAreScaledWithAMatchingScaleBar) {
-  // 1000 px wide image drawn 640 wide: the largest residual (0.8 px) spans 64 drawing units; the
-  // scale bar is 0.5 px of residual, i.e. 40 units.
+  // 1000 px wide image drawn 640 wide from (52, 40): the largest residual (0.8 px) spans 64 drawing
+  // units; the scale bar is 0.5 px of residual, i.e. 40 units.
   const PlotFrame frame{1000, 500};
   const std::string s =
       svg_residual_vectors(frame, {{99.5, 49.5}, {499.5, 249.5}}, {{0.8, 0.0}, {0.0, -0.4}}, "r");
-  // First foot at (36 + 100·0.64, 36 + 50·0.64) = (100, 68).
-  EXPECT_NE(s.find("x1=\"100.00\" y1=\"68.00\" x2=\"164.00\" y2=\"68.00\""), std::string::npos) << s;
-  EXPECT_NE(s.find("x1=\"356.00\" y1=\"196.00\" x2=\"356.00\" y2=\"164.00\""), std::string::npos) << s;
-  const std::size_t bar = s.find("class=\"scalebar\" x1=\"36.00\"");
+  // First foot at (52 + 100·0.64, 40 + 50·0.64) = (116, 72).
+  EXPECT_NE(s.find("x1=\"116.00\" y1=\"72.00\" x2=\"180.00\" y2=\"72.00\""), std::string::npos) << s;
+  EXPECT_NE(s.find("x1=\"372.00\" y1=\"200.00\" x2=\"372.00\" y2=\"168.00\""), std::string::npos) << s;
+  const std::size_t bar = s.find("class=\"scalebar\" x1=\"52.00\"");
   ASSERT_NE(bar, std::string::npos);
-  EXPECT_NE(s.find("x2=\"76.00\"", bar), std::string::npos);
+  EXPECT_NE(s.find("x2=\"92.00\"", bar), std::string::npos);
+  // A vector that would leave the frame is cut at its edge (the frame ends at x = 52 + 640).
+  const std::string cut = svg_residual_vectors(frame, {{990, 250}}, {{0.8, 0.0}}, "c");
+  EXPECT_NE(cut.find("x2=\"692.00\""), std::string::npos) << cut;
+  EXPECT_NE(cut.find("class=\"cut\""), std::string::npos);
   EXPECT_NE(s.find(">0.5 px residual"), std::string::npos);
 }
 
 TEST(SvgPlot, LampTrackDrawsOnePolylinePerSegmentAtImageScale) {
-  // 1280 px drawn 640 wide: pixel (u, v) → (36 + (u + 0.5)/2, 36 + (v + 0.5)/2).
+  // 1280 px drawn 640 wide: pixel (u, v) → (52 + (u + 0.5)/2, 40 + (v + 0.5)/2).
   const PlotFrame frame{1280, 800};
   const std::vector<Eigen::Vector2d> obs = {{-0.5, -0.5}, {99.5, 199.5}, {1279.5, 799.5}, {639.5, 399.5}};
   const std::vector<Eigen::Vector2d> proj = {{-0.5, -0.5}, {101.5, 199.5}, {1279.5, 799.5}, {639.5, 399.5}};
   const std::string s = svg_lamp_track(frame, obs, proj, {true, false, true, true}, {2}, "t");
-  EXPECT_NE(s.find("points=\"36.00,36.00 86.00,136.00\""), std::string::npos) << s;
-  EXPECT_NE(s.find("points=\"676.00,436.00 356.00,236.00\""), std::string::npos) << s;
+  EXPECT_NE(s.find("points=\"52.00,40.00 102.00,140.00\""), std::string::npos) << s;
+  EXPECT_NE(s.find("points=\"692.00,440.00 372.00,240.00\""), std::string::npos) << s;
   EXPECT_EQ(count(s, "<polyline"), 2u);
-  EXPECT_NE(s.find("<circle class=\"rejected\" cx=\"86.00\" cy=\"136.00\""), std::string::npos);
+  EXPECT_NE(s.find("<circle class=\"rejected\" cx=\"102.00\" cy=\"140.00\""), std::string::npos);
   EXPECT_EQ(count(s, "<circle class=\"obs\""), 3u);
-  EXPECT_NE(s.find("<path class=\"proj\" d=\"M84.50 136.00H89.50M87.00 133.50V138.50\""), std::string::npos);
+  EXPECT_NE(s.find("<path class=\"proj\" d=\"M100.00 137.00L106.00 143.00M100.00 143.00L106.00 137.00\""), std::string::npos);
   EXPECT_NE(s.find("id=\"t\""), std::string::npos);
 }
 
@@ -432,7 +437,7 @@ TEST(Report, HeadlessChromiumRendersThePage) {
   EXPECT_NE(d.find("class=\"proj\""), std::string::npos);
   EXPECT_NE(d.find("class=\"resid\""), std::string::npos);
   EXPECT_NE(d.find("class=\"bar\""), std::string::npos);
-  EXPECT_EQ(count(d, "<svg"), 4u);
+  EXPECT_EQ(count(d, "<svg"), 14u);
 }
 
 }  // namespace

@@ -1,0 +1,207 @@
+// The demo's report.html in a headless browser: not blank, every section, axis labels with units on
+// every plot, no SVG element outside its svg nor a data element outside its plot area (bounding
+// boxes measured by the browser), self-contained and < 5 MB; and the numbers of the uncertainty map
+// and the correlation grid against the demo's calibration.json computed here.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <regex>
+#include <sstream>
+
+#include "pipeline/demo/demo_scenario_text.hpp"
+#include "pipeline/io/calibration_json.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/simulate/scenario.hpp"
+#include "support/paths.hpp"
+#include "support/simulated_mission.hpp"
+
+namespace rangecal {
+namespace {
+namespace fs = std::filesystem;
+
+const test::SimulatedRun& demo() {
+  static const test::SimulatedRun f = test::simulate_and_run_in_scratch(
+      parse_scenario(demo_scenario_json(), "<built-in demo scenario>"), "report_demo");
+  return f;
+}
+
+fs::path out_dir() {
+  return demo().dir / "mission" / "out";
+}
+
+std::string chromium_flags(const fs::path& profile) {
+  return " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --user-data-dir='" +
+         profile.string() + "' ";
+}
+
+// Measures every plot in the browser: per svg, elements outside the svg and data elements outside
+// rect.area (tolerance: marker radius), written into the DOM that --dump-dom prints.
+const char* kMeasureScript = R"(<script>
+const lines = [];
+for (const svg of document.querySelectorAll('svg.plot')) {
+  const sb = svg.getBoundingClientRect();
+  const area = svg.querySelector('rect.area');
+  const ab = area ? area.getBoundingClientRect() : null;
+  const bad = [];
+  const out = (b, r, tol) => b.left < r.left - tol || b.right > r.right + tol || b.top < r.top - tol || b.bottom > r.bottom + tol;
+  for (const el of svg.querySelectorAll('*')) {
+    if (el.tagName === 'title' || el.closest('title')) continue;
+    const b = el.getBoundingClientRect();
+    if (b.width === 0 && b.height === 0) continue;
+    if (out(b, sb, 0.5)) bad.push('svg:' + el.tagName + '.' + el.getAttribute('class'));
+  }
+  if (ab) for (const el of svg.querySelectorAll('g.data *')) {
+    if (el.tagName === 'title') continue;
+    const b = el.getBoundingClientRect();
+    if (b.width === 0 && b.height === 0) continue;
+    if (out(b, ab, 3.6)) bad.push('area:' + el.tagName + '.' + el.getAttribute('class'));
+  }
+  const xl = svg.querySelector('text.xlabel'), yl = svg.querySelector('text.ylabel');
+  lines.push(svg.id + '\t' + (ab ? 'area' : 'noarea') + '\t' + (xl ? xl.textContent : '') + '\t' + (yl ? yl.textContent : '') + '\t' + bad.length + '\t' + bad.slice(0, 3).join(','));
+}
+const pre = document.createElement('pre');
+pre.id = 'measured';
+pre.textContent = lines.join('\n');
+document.body.appendChild(pre);
+</script>)";
+
+// The values of one svg's elements with attribute `attr`, in document order.
+std::vector<std::string> attribute_values(const std::string& page, const std::string& svg_id,
+                                          const std::string& tag, const std::string& attr) {
+  const std::size_t a = page.find("id=\"" + svg_id + "\""), b = page.find("</svg>", a);
+  std::vector<std::string> v;
+  if (a == std::string::npos) return v;
+  const std::string svg = page.substr(a, b - a);
+  const std::regex re("<" + tag + R"( [^>]*)" + attr + R"(="([^"]*)\")");
+  for (std::sregex_iterator it(svg.begin(), svg.end(), re), end; it != end; ++it) v.push_back((*it)[1]);
+  return v;
+}
+
+// The uncertainty map at the image centre and the correlation grid against calibration.json.
+void check_plotted_numbers(const std::string& page) {
+  for (const char* cam : {"cam1", "cam2"}) {
+    const CalibrationResult r = read_calibration_json((out_dir() / cam / "calibration.json").string());
+    // Independent σ at the image centre: the flight distance is the median lamp depth; the point on
+    // the centre pixel's ray at that depth; J by central differences of `project`.
+    const std::vector<Correspondence> pairs =
+        read_correspondences_csv((out_dir() / cam / "correspondences.csv").string());
+    std::vector<double> z;
+    for (const Correspondence& p : pairs) z.push_back(world_to_camera(r.camera.pose, p.enu).z());
+    std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(z.size() / 2), z.end());
+    const double depth = z[z.size() / 2];
+    const Eigen::Vector2d centre(639.5, 399.5);
+    const Eigen::Vector3d ray = pixel_ray_world(r.camera, centre);
+    const Eigen::Vector3d X = r.camera.pose.center() + ray * (depth / r.camera.pose.R.row(2).dot(ray));
+    const Eigen::VectorXd x0 = parameter_values(r.camera, r.parameters, r.clock_offset_s);
+    Eigen::MatrixXd J(2, x0.size());
+    for (Eigen::Index k = 0; k < x0.size(); ++k) {
+      const double h = 1e-4 * std::sqrt(r.covariance(k, k));
+      Eigen::VectorXd xp = x0, xm = x0;
+      xp[k] += h;
+      xm[k] -= h;
+      Eigen::Vector2d up, um;
+      ASSERT_TRUE(project(camera_with_parameters(r.camera, r.parameters, xp), X, &up));
+      ASSERT_TRUE(project(camera_with_parameters(r.camera, r.parameters, xm), X, &um));
+      J.col(k) = (up - um) / (2 * h);
+    }
+    const double sigma =
+        std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(J * r.covariance * J.transpose())
+                      .eigenvalues()
+                      .maxCoeff());
+    const std::vector<std::string> cells =
+        attribute_values(page, std::string("cam-") + cam + "-uncertainty", "rect", "data-value");
+    ASSERT_EQ(cells.size(), 41u * 25u) << cam;
+    const double drawn = std::stod(cells[12 * 41 + 20]);  // the cell centred on the image centre
+    EXPECT_NEAR(drawn, sigma, 0.01 * sigma) << cam;
+
+    // The correlation grid: ρ_ij = C_ij / √(C_ii C_jj) from calibration.json's covariance.
+    const nlohmann::json j = nlohmann::json::parse(test::read_text(out_dir() / cam / "calibration.json"));
+    const auto& names = j["covariance"]["parameters"];
+    const auto& C = j["covariance"]["matrix"];
+    const std::vector<std::string> rho =
+        attribute_values(page, std::string("cam-") + cam + "-correlation", "rect", "data-rho");
+    ASSERT_EQ(rho.size(), names.size() * names.size()) << cam;
+    for (std::size_t a = 0; a < names.size(); ++a)
+      for (std::size_t b = 0; b < names.size(); ++b) {
+        const double expected =
+            C[a][b].get<double>() / std::sqrt(C[a][a].get<double>() * C[b][b].get<double>());
+        EXPECT_NEAR(std::stod(rho[a * names.size() + b]), expected, 6e-5)
+            << cam << " " << names[a] << " " << names[b];
+      }
+  }
+}
+
+// One test: the demo run (most of the time) is made once per test process.
+TEST(ReportDemo, RendersInHeadlessChromiumInsideItsAreasWithNumbersOfTheData) {
+  const std::string chromium = "/usr/bin/chromium";
+  ASSERT_TRUE(fs::exists(chromium)) << "chromium is not installed (bash setup.sh test installs it)";
+  const fs::path html = out_dir() / "report.html";
+  const std::string page = test::read_text(html);
+  EXPECT_LT(fs::file_size(html), 5u * 1024 * 1024);
+  // Self-contained: no scripts, no external resources.
+  EXPECT_EQ(page.find("<script"), std::string::npos);
+  EXPECT_EQ(page.find("src="), std::string::npos);
+  EXPECT_EQ(page.find("href="), std::string::npos);
+  EXPECT_EQ(page.find("url("), std::string::npos);
+  EXPECT_EQ(page.find("@import"), std::string::npos);
+  // Every section, the verdict first.
+  for (const char* id :
+       {"verdict", "mission", "overview", "site-map", "cam-cam1", "cam-cam2", "intersection", "funnel"})
+    EXPECT_NE(
+        page.find(std::string("<section ") +
+                  (std::string(id).rfind("cam-", 0) == 0 ? "class=\"camera\" " : "") + "id=\"" + id + "\""),
+        std::string::npos)
+        << id;
+  EXPECT_LT(page.find("id=\"verdict\""), page.find("id=\"mission\""));
+  EXPECT_EQ(page.find("id=\"network\""), std::string::npos);  // no adjusted track in the demo
+
+  const fs::path dir = test::scratch_dir("report_demo_browser");
+  const fs::path png = dir / "shot.png", measured = dir / "measured.html", dom = dir / "dom.html";
+  const std::string shot = "timeout 90 " + chromium + chromium_flags(dir / "profile") + "--screenshot='" +
+                           png.string() + "' --window-size=1280,3000 'file://" + html.string() +
+                           "' >/dev/null 2>&1";
+  ASSERT_EQ(std::system(shot.c_str()), 0) << shot;
+  const cv::Mat img = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(img.empty());
+  EXPECT_GT(cv::countNonZero(img < 240), 40000) << "screenshot looks blank";
+  cv::Scalar mean, sd;
+  cv::meanStdDev(img, mean, sd);
+  EXPECT_GT(sd[0], 10.0);
+
+  std::string with_script = page;
+  with_script.insert(with_script.rfind("</body>"), kMeasureScript);
+  test::write_text(measured, with_script);
+  const std::string dump = "timeout 90 " + chromium + chromium_flags(dir / "profile") +
+                           "--dump-dom 'file://" + measured.string() + "' >'" + dom.string() +
+                           "' 2>/dev/null";
+  ASSERT_EQ(std::system(dump.c_str()), 0) << dump;
+  const std::string d = test::read_text(dom);
+  const std::size_t a = d.find("<pre id=\"measured\">"), b = d.find("</pre>", a);
+  ASSERT_NE(a, std::string::npos) << "the measuring script did not run";
+  std::istringstream lines(d.substr(a + 19, b - a - 19));
+  std::string line;
+  int plots = 0;
+  const std::regex unit(R"(\(([^)]+)\))");
+  while (std::getline(lines, line)) {
+    ++plots;
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, '\t');) f.push_back(x);
+    ASSERT_GE(f.size(), 5u) << line;
+    EXPECT_EQ(f[1], "area") << f[0];
+    EXPECT_TRUE(std::regex_search(f[2], unit)) << f[0] << " x label without unit: " << f[2];
+    EXPECT_TRUE(std::regex_search(f[3], unit)) << f[0] << " y label without unit: " << f[3];
+    EXPECT_EQ(f[4], "0") << f[0] << " draws outside: " << (f.size() > 5 ? f[5] : "");
+  }
+  // Per calibrated camera: track, residual vectors, histogram, 4 residual plots, uncertainty,
+  // distortion, correlation (10); site plan and side view, pole bars, slice, funnel (5).
+  EXPECT_EQ(plots, 2 * 10 + 5);
+  check_plotted_numbers(page);
+}
+
+}  // namespace
+}  // namespace rangecal
