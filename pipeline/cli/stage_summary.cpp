@@ -125,9 +125,15 @@ std::string stage_summary(const StageLog& log, bool verbose) {
     s += per_camera(c, align_line);
   else if (log.stage == "detect")
     s += per_camera(c, detect_line);
-  else if (log.stage == "calibrate")
-    s += per_camera(c, calibrate_line);
-  else if (log.stage == "intersect")
+  else if (log.stage == "calibrate") {
+    // The mission-level keys (the default-method choice, the network's statistics) are not cameras.
+    json cams = c;
+    if (cams.is_object()) cams.erase("network"), cams.erase("method_choice");
+    s += per_camera(cams, calibrate_line);
+    if (c.contains("method_choice") && c["method_choice"].is_object())
+      s += "  method: " + c["method_choice"].value("method", std::string("?")) + " (" +
+           c["method_choice"].value("why", std::string()) + ")\n";
+  } else if (log.stage == "intersect")
     s += intersect_lines(c);
   if (verbose)
     for (const auto& [key, value] : c.items()) s += "  " + key + ": " + value.dump() + "\n";

@@ -17,7 +17,8 @@ namespace rangecal {
 namespace fs = std::filesystem;
 
 const std::vector<std::string>& calibration_method_names() {
-  static const std::vector<std::string> names = {"tsai", "tsai_sassa", "dlt_lmqn", "bundle", "network", "planar"};
+  static const std::vector<std::string> names = {"tsai",   "tsai_sassa", "dlt_lmqn",
+                                                 "bundle", "network",    "planar"};
   return names;
 }
 
@@ -263,8 +264,9 @@ std::string method_name(const JsonView& v) {
 }
 
 CalibrateConfig parse_calibrate(const JsonView& c) {
-  c.require_object("an object {\"method\", \"free\", \"compare\", \"use_control_poles\", \"seed\"}");
-  c.check_keys({"method", "free", "compare", "use_control_poles", "seed"});
+  c.require_object(
+      "an object {\"method\", \"free\", \"compare\", \"use_control_poles\", \"control_sigma_m\", \"seed\"}");
+  c.check_keys({"method", "free", "compare", "use_control_poles", "control_sigma_m", "seed"});
   CalibrateConfig cal;
   if (auto m = c.find("method")) cal.method = method_name(*m);
   if (auto f = c.find("free")) {
@@ -293,6 +295,8 @@ CalibrateConfig parse_calibrate(const JsonView& c) {
     }
   }
   if (auto u = c.find("use_control_poles")) cal.use_control_poles = u->boolean("true or false");
+  if (auto v = c.find("control_sigma_m"))
+    cal.control_sigma_m = Loader::positive(*v, "a positive standard deviation in metres");
   if (auto s = c.find("seed")) cal.seed = s->unsigned_integer("a non-negative integer seed");
   return cal;
 }

@@ -69,11 +69,15 @@ struct DetectConfig {
 };
 
 struct CalibrateConfig {
-  std::string method = "bundle";  ///< tsai | tsai_sassa | dlt_lmqn | bundle | planar
+  /// tsai | tsai_sassa | dlt_lmqn | bundle | network | planar; empty (not given): the calibrate
+  /// stage picks `network` when two or more cameras see common lamp-track epochs, else `bundle`
+  /// (docs/config.md "Default method").
+  std::string method;
   std::vector<std::string> free = default_free_parameters();  ///< bundle free parameters
   std::vector<std::string> compare;                           ///< extra methods for methods.csv
   bool use_control_poles = false;                             ///< add `control` poles as calibration points
-  std::uint64_t seed = 1;                                     ///< seed of every random search (RANSAC, SSA)
+  double control_sigma_m = 0.005;  ///< surveyed `control` pole-top σ per axis (m): total station / RTK
+  std::uint64_t seed = 1;          ///< seed of every random search (RANSAC, SSA)
 };
 
 struct IntersectConfig {

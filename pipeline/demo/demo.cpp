@@ -9,6 +9,7 @@
 #include "optim/bundle/whitening.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/stages/mission_runner.hpp"
@@ -37,19 +38,31 @@ double expected_rms_px(const Camera& truth, const std::vector<Correspondence>& p
   return n > 0 ? std::sqrt(sum / n) : 0;
 }
 
-std::string calibration_file(const MissionConfig& cfg, const std::string& cam, const std::string& method) {
-  return camera_output(
-      cfg, cam,
-      method == cfg.calibrate.method ? std::string(kCalibrationJson) : compare_calibration_json(method));
+// The method calibration.json holds: the configured one, or the calibrate stage's default choice
+// (docs/config.md "Default method"), as the first calibrated camera's file says.
+std::string main_method(const MissionConfig& cfg) {
+  if (!cfg.calibrate.method.empty()) return cfg.calibrate.method;
+  for (const CameraConfig& cc : cfg.cameras) {
+    const std::string path = camera_output(cfg, cc.id, kCalibrationJson);
+    if (std::filesystem::exists(path)) return read_calibration_json(path).method;
+  }
+  return "bundle";
 }
 
 }  // namespace
 
 DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg) {
   DemoResults out;
-  std::vector<std::string> methods{cfg.calibrate.method};
+  out.method = main_method(cfg);
+  std::vector<std::string> methods{out.method};
+  // The network keeps its per-camera start as calibration_bundle.json: shown beside it.
+  if (out.method == "network") methods.push_back("bundle");
   for (const auto& c : cfg.calibrate.compare)
-    if (c != cfg.calibrate.method) methods.push_back(c);
+    if (std::find(methods.begin(), methods.end(), c) == methods.end()) methods.push_back(c);
+  auto calibration_file = [&](const std::string& cam, const std::string& method) {
+    return camera_output(
+        cfg, cam, method == out.method ? std::string(kCalibrationJson) : compare_calibration_json(method));
+  };
 
   for (const CameraConfig& cc : cfg.cameras) {
     DemoCamera d;
@@ -57,7 +70,7 @@ DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg) 
     for (const SimCamera& sc : m.cameras)
       if (sc.spec.id == cc.id) d.truth = sc.spec.camera;
     for (const std::string& meth : methods) {
-      const std::string path = calibration_file(cfg, cc.id, meth);
+      const std::string path = calibration_file(cc.id, meth);
       if (std::filesystem::exists(path)) d.by_method[meth] = read_calibration_json(path);
     }
     const std::string corr = camera_output(cfg, cc.id, kCorrespondencesCsv);
@@ -87,9 +100,19 @@ DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg) 
       cams.push_back(std::move(ic));
     }
     if (cams.size() < 2) continue;
+    // The network's cameras are correlated: its σ uses network.json's cross blocks, as the
+    // intersect stage does.
+    CrossCovariances cross;
+    if (meth == "network") {
+      std::vector<std::string> ids;
+      std::vector<std::vector<CameraParameter>> parameters;
+      for (const IntersectCamera& ic : cams)
+        ids.push_back(ic.id), parameters.push_back(ic.calibration.parameters);
+      cross = read_network_cross_covariances(mission_output(cfg, "network.json"), ids, &parameters);
+    }
     DemoIntersection di;
     di.method = meth;
-    di.result = intersect_poles(cams, survey, cfg.intersect.pick_sigma_px);
+    di.result = intersect_poles(cams, survey, cfg.intersect.pick_sigma_px, cross.empty() ? nullptr : &cross);
     double sum = 0;
     for (const PoleIntersection& p : di.result.poles) {
       if (!p.surveyed || p.role != PoleRole::check) continue;

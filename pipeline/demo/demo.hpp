@@ -14,9 +14,13 @@
 namespace rangecal {
 
 struct DemoResults {
+  /// The method of calibration.json: calibrate.method, or the stage's default choice (network
+  /// when the cameras share epochs, docs/config.md).
+  std::string method;
   std::vector<DemoCamera> cameras;
   /// Check-pole intersection with the cameras of each method that calibrated every camera with
-  /// picks: the main method first, then the `compare` methods in config order.
+  /// picks: the main method first, then `bundle` when the main is the network, then the `compare`
+  /// methods in config order.
   std::vector<DemoIntersection> intersections;
 };
 

@@ -31,7 +31,7 @@ constexpr PaperColumn kPaperSassa{"paper SA-SSA",
                                   {-0.8273, 0.0006, 0.5617, 0.0151, -0.9994, 0.0307, 0.5614, 0.0339, 0.8268},
                                   {-4.2194, -3.0224, 63.8206}};
 
-const char* const kMethodOrder[] = {"tsai", "tsai_sassa", "dlt_lmqn", "bundle"};
+const char* const kMethodOrder[] = {"tsai", "tsai_sassa", "dlt_lmqn", "bundle", "network"};
 
 std::string cell(const std::string& s, int w = 13) {
   return s.size() >= static_cast<std::size_t>(w) ? " " + s : std::string(w - s.size(), ' ') + s;
@@ -39,9 +39,9 @@ std::string cell(const std::string& s, int w = 13) {
 
 }  // namespace
 
-std::vector<ParameterCheck> bundle_parameter_checks(const DemoCamera& cam) {
+std::vector<ParameterCheck> parameter_checks(const DemoCamera& cam, const std::string& method) {
   std::vector<ParameterCheck> out;
-  const auto it = cam.by_method.find("bundle");
+  const auto it = cam.by_method.find(method);
   if (it == cam.by_method.end()) return out;
   const CalibrationResult& r = it->second;
   using P = CameraParameter;
@@ -110,17 +110,19 @@ std::string format_demo_tables23(const std::vector<DemoCamera>& cams) {
 
 std::string format_demo_table4(const std::vector<DemoIntersection>& by_method) {
   std::string s =
-      "Table 4: intersection error of the check poles (cm), bundle calibration, against the survey\n" +
-      cell("pole", 9) + cell("dE") + cell("dN") + cell("dU") + cell("dR") + cell("sigma") + "\n";
-  const DemoIntersection* bundle = nullptr;
-  for (const auto& d : by_method)
-    if (d.method == "bundle") bundle = &d;
-  if (bundle)
-    for (const PoleIntersection& p : bundle->result.poles) {
-      if (!p.surveyed || p.role != PoleRole::check) continue;
-      s += cell(p.id, 9);
-      for (int k = 0; k < 3; ++k) s += cell(format_number("%.2f", 100 * p.d_enu[k]));
-      s += cell(format_number("%.2f", 100 * p.dR)) + cell(format_number("%.2f", 100 * p.sigma_m)) + "\n";
+      "Table 4: intersection error of the check poles (cm), network and bundle calibrations, against the "
+      "survey\n" +
+      cell("pole", 9) + cell("method", 9) + cell("dE") + cell("dN") + cell("dU") + cell("dR") +
+      cell("sigma") + "\n";
+  for (const char* meth : {"network", "bundle"})
+    for (const auto& d : by_method) {
+      if (d.method != meth) continue;
+      for (const PoleIntersection& p : d.result.poles) {
+        if (!p.surveyed || p.role != PoleRole::check) continue;
+        s += cell(p.id, 9) + cell(meth, 9);
+        for (int k = 0; k < 3; ++k) s += cell(format_number("%.2f", 100 * p.d_enu[k]));
+        s += cell(format_number("%.2f", 100 * p.dR)) + cell(format_number("%.2f", 100 * p.sigma_m)) + "\n";
+      }
     }
   s += "Mean rows (cm): paper Tsai |dx| 1.2 |dy| 2.4 |dz| 1.3 dR 3.0; paper proposed 0.7 2.2 0.7 2.5\n" +
        cell("method", 12) + cell("n") + cell("|dE|") + cell("|dN|") + cell("|dU|") + cell("dR survey") +

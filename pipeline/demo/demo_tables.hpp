@@ -17,7 +17,7 @@ namespace rangecal {
 struct DemoCamera {
   std::string id;
   Camera truth;
-  std::map<std::string, CalibrationResult> by_method;  ///< "bundle", "tsai", "tsai_sassa", …
+  std::map<std::string, CalibrationResult> by_method;  ///< "network", "bundle", "tsai", "tsai_sassa", …
   /// Expected RMS reprojection error (px) of a perfect calibration given the simulated noise:
   /// √(mean over used points of the world σ projected to pixels, both axes, + centroid σ²).
   double expected_rms_px = 0;
@@ -38,13 +38,17 @@ struct ParameterCheck {
   double estimate = 0, truth = 0, sigma = 0;
   double z() const { return sigma > 0 ? (estimate - truth) / sigma : 0; }
 };
-std::vector<ParameterCheck> bundle_parameter_checks(const DemoCamera& cam);
+/// f, k1 and the centre of `method`'s calibration (empty when the camera has none).
+std::vector<ParameterCheck> parameter_checks(const DemoCamera& cam, const std::string& method);
+inline std::vector<ParameterCheck> bundle_parameter_checks(const DemoCamera& cam) {
+  return parameter_checks(cam, "bundle");
+}
 
 /// Seed 002 Table 1 layout (u0, v0, f, sx, k1, R, T per method), paper columns first.
 std::string format_demo_table1(const DemoCamera& cam);
 /// Tables 2–3: reprojection error per method (rms, mean) beside the paper's means.
 std::string format_demo_tables23(const std::vector<DemoCamera>& cams);
-/// Table 4: per check pole dE dN dU dR (cm) of the bundle, and the mean row of every method,
+/// Table 4: per check pole dE dN dU dR (cm) of the network and the bundle, and the mean row of every method,
 /// beside the paper's means; against the survey and against the truth.
 std::string format_demo_table4(const std::vector<DemoIntersection>& by_method);
 

@@ -1,5 +1,6 @@
 #include "pipeline/io/network_json.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -52,8 +53,8 @@ void write_network_json(const std::string& path, const nlohmann::json& j) {
   write_file_atomic(path, j.dump(2) + "\n");
 }
 
-CrossCovariances read_network_cross_covariances(const std::string& path,
-                                                const std::vector<std::string>& ids) {
+CrossCovariances read_network_cross_covariances(const std::string& path, const std::vector<std::string>& ids,
+                                                const std::vector<std::vector<CameraParameter>>* parameters) {
   if (!std::filesystem::exists(path)) return {};
   std::ifstream in(path);
   nlohmann::json j;
@@ -65,11 +66,13 @@ CrossCovariances read_network_cross_covariances(const std::string& path,
   try {
     std::vector<int> offset, size;
     std::vector<std::string> names;
+    std::vector<std::vector<std::string>> params;
     int n = 0;
     for (const auto& c : j.at("cameras")) {
       names.push_back(c.at("id").get<std::string>());
+      params.push_back(c.at("parameters").get<std::vector<std::string>>());
       offset.push_back(n);
-      size.push_back(static_cast<int>(c.at("parameters").size()));
+      size.push_back(static_cast<int>(params.back().size()));
       n += size.back();
     }
     const auto& rows = j.at("joint_covariance");
@@ -80,15 +83,32 @@ CrossCovariances read_network_cross_covariances(const std::string& path,
       if (it == names.end()) return {};
       where.push_back(static_cast<int>(it - names.begin()));
     }
+    // Row of each wanted parameter within its camera's network block (network order when no
+    // parameters are given).
+    std::vector<std::vector<int>> pick(ids.size());
+    for (std::size_t a = 0; a < ids.size(); ++a) {
+      const std::vector<std::string>& have = params[static_cast<std::size_t>(where[a])];
+      if (!parameters) {
+        for (int r = 0; r < size[where[a]]; ++r) pick[a].push_back(r);
+        continue;
+      }
+      if (parameters->size() != ids.size() || (*parameters)[a].size() != have.size()) return {};
+      for (CameraParameter p : (*parameters)[a]) {
+        const auto it = std::find(have.begin(), have.end(), std::string(parameter_name(p)));
+        if (it == have.end()) return {};
+        pick[a].push_back(static_cast<int>(it - have.begin()));
+      }
+    }
     CrossCovariances x(ids.size(), std::vector<Eigen::MatrixXd>(ids.size()));
     for (std::size_t a = 0; a < ids.size(); ++a)
       for (std::size_t b = 0; b < ids.size(); ++b) {
         if (a == b) continue;
         const int ca = where[a], cb = where[b];
-        Eigen::MatrixXd m(size[ca], size[cb]);
-        for (int r = 0; r < size[ca]; ++r)
-          for (int c = 0; c < size[cb]; ++c)
-            m(r, c) = rows.at(offset[ca] + r).at(offset[cb] + c).get<double>();
+        Eigen::MatrixXd m(pick[a].size(), pick[b].size());
+        for (std::size_t r = 0; r < pick[a].size(); ++r)
+          for (std::size_t c = 0; c < pick[b].size(); ++c)
+            m(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) =
+                rows.at(offset[ca] + pick[a][r]).at(offset[cb] + pick[b][c]).get<double>();
         x[a][b] = m;
       }
     return x;

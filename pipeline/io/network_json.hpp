@@ -23,8 +23,13 @@ nlohmann::json network_json(const NetworkResult& r, const std::vector<std::strin
 void write_network_json(const std::string& path, const nlohmann::json& j);
 
 /// The cross blocks for the cameras `ids` (in the views' order) read from network.json; empty
-/// when the file is missing, a camera is not in it, or it has no joint covariance. Throws
+/// when the file is missing, a camera is not in it, or it has no joint covariance. When
+/// `parameters` is given (one list per id: the parameters of that camera's calibration.json
+/// covariance), each block is returned in those orders, and the table is empty when a camera's
+/// network parameters are not the same set (network.json is then not the calibration's). Throws
 /// rangecal::Error (input) for a malformed file.
-CrossCovariances read_network_cross_covariances(const std::string& path, const std::vector<std::string>& ids);
+CrossCovariances read_network_cross_covariances(
+    const std::string& path, const std::vector<std::string>& ids,
+    const std::vector<std::vector<CameraParameter>>* parameters = nullptr);
 
 }  // namespace rangecal

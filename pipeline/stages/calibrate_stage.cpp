@@ -136,24 +136,36 @@ struct CameraInputs {
   std::vector<Correspondence> pairs;
 };
 
+/// The lamp track the network keys pairs to (empty, with a warning, when the gnss stage has not
+/// written it).
+LampTrack network_track(const MissionConfig& cfg, bool warn, StageLog* log) {
+  if (std::filesystem::exists(lamp_track_path(cfg))) return read_lamp_track_csv(lamp_track_path(cfg));
+  if (warn)
+    log->warnings.push_back(
+        "network: no " + lamp_track_path(cfg) +
+        ": pairs cannot be keyed to epochs, every camera is calibrated from its own pairs");
+  return {};
+}
+
+/// The calibrated cameras' problems joined through their shared epochs, each starting from its
+/// per-camera bundle result.
+NetworkProblem build_network(const MissionConfig& cfg, const std::vector<CameraInputs>& inputs,
+                             const std::vector<std::pair<std::string, CameraCalibration>>& done,
+                             const LampTrack& track) {
+  std::vector<NetworkCameraInput> in;
+  for (const auto& [id, cc] : done)
+    for (const CameraInputs& ci : inputs)
+      if (ci.id == id) in.push_back({&ci.problem, &ci.pairs, cc.main.camera, cc.main.clock_offset_s});
+  return make_network_problem(in, track, cfg.align.max_frame_offset_s);
+}
+
 /// Method `network` (docs/optimisation.md "Network bundle"): the cameras calibrated by the
 /// per-camera bundle (kept as the compared `bundle`) start one joint adjustment through their
 /// shared lamp-track epochs; each camera's result is replaced by its network result, and
 /// network.json and gnss/lamp_track_adjusted.csv are written.
-void run_network(const MissionConfig& cfg, const std::vector<CameraInputs>& inputs,
-                 std::vector<std::pair<std::string, CameraCalibration>>* done, StageLog* log) {
-  LampTrack track;
-  if (std::filesystem::exists(lamp_track_path(cfg)))
-    track = read_lamp_track_csv(lamp_track_path(cfg));
-  else
-    log->warnings.push_back(
-        "network: no " + lamp_track_path(cfg) +
-        ": pairs cannot be keyed to epochs, every camera is calibrated from its own pairs");
-  std::vector<NetworkCameraInput> in;
-  for (auto& [id, cc] : *done)
-    for (const CameraInputs& ci : inputs)
-      if (ci.id == id) in.push_back({&ci.problem, &ci.pairs, cc.main.camera, cc.main.clock_offset_s});
-  const NetworkProblem n = make_network_problem(in, track, cfg.align.max_frame_offset_s);
+void run_network(const MissionConfig& cfg, const std::vector<CameraInputs>& inputs, const LampTrack& track,
+                 const NetworkProblem& n, std::vector<std::pair<std::string, CameraCalibration>>* done,
+                 StageLog* log) {
   const NetworkResult r = network_adjust(n.cameras, n.points, n.observations);
   std::vector<std::string> utc(n.points.size());
   for (std::size_t k = 0; k < n.points.size(); ++k)
@@ -198,7 +210,10 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
   log.stage = "calibrate";
   std::vector<std::pair<std::string, CameraCalibration>> done;
   std::vector<CameraInputs> inputs;
-  const bool network = cfg.calibrate.method == "network";
+  // Without an explicit method: the per-camera bundle, then the network when the cameras share
+  // epochs (docs/config.md "Default method").
+  const bool automatic = cfg.calibrate.method.empty();
+  const bool network = automatic || cfg.calibrate.method == "network";
   CalibrateConfig per_camera = cfg.calibrate;
   if (network) per_camera.method = "bundle";  // the network's start, kept as the compared bundle
   std::string last_failure, last_failed_file;
@@ -235,7 +250,22 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
     throw Error(ErrorKind::calibration, last_failed_file, 0, "calibrate",
                 cfg.cameras.empty() ? "no cameras in the config"
                                     : "no camera could be calibrated (" + last_failure + ")");
-  if (network) run_network(cfg, inputs, &done, &log);
+  if (network) {
+    const LampTrack track = network_track(cfg, !automatic, &log);
+    const NetworkProblem n = build_network(cfg, inputs, done, track);
+    const std::size_t shared = shared_epoch_count(n);
+    if (automatic) {
+      const bool use = shared > 0;
+      log.counts["method_choice"] = {
+          {"method", use ? "network" : "bundle"},
+          {"shared_epochs", shared},
+          {"why", use ? "default: " + std::to_string(shared) + " epochs seen by two or more cameras"
+                      : "default: no epoch seen by two or more calibrated cameras, each camera by bundle"}};
+      if (use) run_network(cfg, inputs, track, n, &done, &log);
+    } else {
+      run_network(cfg, inputs, track, n, &done, &log);
+    }
+  }
   for (const auto& [id, cc] : done) write_camera_calibration(cfg, id, cc);
   return log;
 }

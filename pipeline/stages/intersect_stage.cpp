@@ -8,6 +8,7 @@
 #include "gnss/formats/pole_survey_csv.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/intersection_csv.hpp"
+#include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/steps/intersection.hpp"
 
@@ -68,6 +69,9 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
   std::vector<std::string> missing;
   nlohmann::json used = nlohmann::json::array();
   std::set<std::string> picked_ids;
+  bool all_network = true;  // every used calibration comes from the one network of network.json
+  std::vector<std::string> ids;
+  std::vector<std::vector<CameraParameter>> parameters;
   for (const CameraConfig& cc : cfg.cameras) {
     if (cc.pole_observations.empty()) continue;
     const std::string cal_path = camera_output(cfg, cc.id, kCalibrationJson);
@@ -90,6 +94,9 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
                              "noise only for this camera");
     ic.picks = read_pole_picks(cc.pole_observations, {cal.camera.intr.width_px, cal.camera.intr.height_px});
     for (const PolePick& p : ic.picks) picked_ids.insert(p.id);
+    all_network = all_network && cal.method == "network" && usable;
+    ids.push_back(cc.id);
+    parameters.push_back(ic.calibration.parameters);
     used.push_back(cc.id);
     cameras.push_back(std::move(ic));
   }
@@ -101,7 +108,19 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
                           "); run rangecal calibrate CONFIG first");
   }
 
-  const IntersectionResult result = intersect_poles(cameras, survey, cfg.intersect.pick_sigma_px);
+  // Cameras calibrated together are correlated through the shared lamp positions: the predicted σ
+  // takes the cross blocks of the network's joint covariance (docs/intersection.md).
+  CrossCovariances cross;
+  if (all_network && cameras.size() >= 2) {
+    cross = read_network_cross_covariances(mission_output(cfg, "network.json"), ids, &parameters);
+    if (cross.empty())
+      log.warnings.push_back(
+          "the calibrations come from the network but " + mission_output(cfg, "network.json") +
+          " does not hold their joint covariance: sigma_m takes the cameras as independent");
+  }
+  log.counts["joint_covariance"] = !cross.empty();
+  const IntersectionResult result =
+      intersect_poles(cameras, survey, cfg.intersect.pick_sigma_px, cross.empty() ? nullptr : &cross);
   for (const std::string& w : result.warnings) log.warnings.push_back(w);
   const std::vector<IntersectionRow> rows = intersection_rows(result);
   write_intersection_csv(mission_output(cfg, kIntersectionCsv), rows);

@@ -52,7 +52,7 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
     BundleObservation o;
     o.world = it->second->enu;
     o.pixel = pick.uv;
-    o.world_cov = Eigen::Matrix3d::Identity() * kControlPoleSigmaM * kControlPoleSigmaM;
+    o.world_cov = Eigen::Matrix3d::Identity() * calibrate.control_sigma_m * calibrate.control_sigma_m;
     o.pixel_sigma_px = kPolePickSigmaPx;
     o.source = "control pole '" + pick.id + "' (" + poles.picks_file + ":" + std::to_string(pick.line) + ")";
     p.observations.push_back(o);

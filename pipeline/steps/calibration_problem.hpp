@@ -17,7 +17,6 @@ namespace rangecal {
 
 inline constexpr double kDefaultPixelSigmaPx = 0.1;  ///< lamp centroid σ (detector: ≤ 0.05 px RMS)
 inline constexpr double kDefaultWorldSigmaM = 0.01;  ///< lamp position σ when correspondences lack sd
-inline constexpr double kControlPoleSigmaM = 0.005;  ///< surveyed pole-top σ (total station / RTK)
 inline constexpr double kPolePickSigmaPx = 0.3;      ///< a pole top picked by hand
 
 struct CalibrationProblem {
@@ -48,9 +47,9 @@ struct ControlPoleViews {
 ControlPoleViews read_control_pole_views(const MissionConfig& cfg, const CameraConfig& camera);
 
 /// The problem of `camera` from its lamp pairs (sd per pair, else kDefaultWorldSigmaM; velocity
-/// when present) and its picks of `control` poles (kControlPoleSigmaM, kPolePickSigmaPx; check
-/// poles never calibrate). Throws rangecal::Error (input) naming the picks file and line for an id
-/// that is not in the survey.
+/// when present) and its picks of `control` poles (calibrate.control_sigma_m per axis, kPolePickSigmaPx;
+/// check poles never calibrate). Throws rangecal::Error (input) naming the picks file and line for an id that
+/// is not in the survey.
 CalibrationProblem make_calibration_problem(const CameraConfig& camera, const CalibrateConfig& calibrate,
                                             const std::vector<Correspondence>& pairs,
                                             const ControlPoleViews& poles = {});

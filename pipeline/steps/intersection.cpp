@@ -28,7 +28,8 @@ std::string join(const std::vector<std::string>& v) {
 }  // namespace
 
 IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
-                                   const std::vector<SurveyedPole>& survey, double pick_sigma_px) {
+                                   const std::vector<SurveyedPole>& survey, double pick_sigma_px,
+                                   const CrossCovariances* cross) {
   if (!(pick_sigma_px > 0)) throw_input_error("", 0, "pick_sigma_px", "must be a positive number of pixels");
   IntersectionResult out;
 
@@ -43,9 +44,12 @@ IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
   struct Seen {
     std::vector<TriangulationView> views;
     std::vector<std::string> cameras;
+    std::vector<std::size_t> index;  ///< into `cameras`
   };
+  const bool joint = cross && cross->size() == cameras.size();
   std::map<std::string, Seen> seen;
-  for (const IntersectCamera& cam : cameras) {
+  for (std::size_t ci = 0; ci < cameras.size(); ++ci) {
+    const IntersectCamera& cam = cameras[ci];
     for (const PolePick& pick : cam.picks) {
       if (!seen.count(pick.id) && !surveyed.count(pick.id)) {
         order.push_back(pick.id);
@@ -61,6 +65,7 @@ IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
       v.pick_sigma_px = pick_sigma_px;
       s.views.push_back(std::move(v));
       s.cameras.push_back(cam.id);
+      s.index.push_back(ci);
     }
   }
 
@@ -84,7 +89,21 @@ IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
     p.id = id;
     p.cameras = s.cameras;
     try {
-      const TriangulationResult t = triangulate_point(s.views, "pole " + id);
+      CrossCovariances views_cross;
+      if (joint) {
+        views_cross.assign(s.views.size(), std::vector<Eigen::MatrixXd>(s.views.size()));
+        for (std::size_t a = 0; a < s.views.size(); ++a)
+          for (std::size_t b = 0; b < s.views.size(); ++b)
+            if (a != b && (*cross)[s.index[a]].size() == cameras.size()) {
+              // A block that does not fit the two calibrations (e.g. one without a usable
+              // covariance) is left out: those cameras are taken as independent.
+              const Eigen::MatrixXd& m = (*cross)[s.index[a]][s.index[b]];
+              if (m.rows() == static_cast<Eigen::Index>(s.views[a].calibration.parameters.size()) &&
+                  m.cols() == static_cast<Eigen::Index>(s.views[b].calibration.parameters.size()))
+                views_cross[a][b] = m;
+            }
+      }
+      const TriangulationResult t = triangulate_point(s.views, "pole " + id, joint ? &views_cross : nullptr);
       p.enu = t.point;
       p.rms_px = t.rms_px;
       p.max_ray_angle_deg = t.max_ray_angle_deg;

@@ -71,9 +71,13 @@ struct IntersectionResult {
 /// unknown-id warnings). Never fails for one pole: a pole picked in one camera only, an id not in
 /// a non-empty survey (still triangulated, not compared) and a triangulation failure are warnings
 /// naming the pole and camera(s); so is a `check` pole picked in no camera. Throws only for bad
-/// arguments (pick σ not positive: input error).
+/// arguments (pick σ not positive: input error). `cross` (may be null or empty): the covariances
+/// between `cameras`' calibrations (block (i, j) over camera i's and j's calibration parameters,
+/// e.g. one network's joint covariance, pipeline/io/network_json.hpp); each pole's σ then uses the
+/// blocks of the cameras that picked it instead of taking the cameras as independent.
 IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
-                                   const std::vector<SurveyedPole>& survey, double pick_sigma_px);
+                                   const std::vector<SurveyedPole>& survey, double pick_sigma_px,
+                                   const CrossCovariances* cross = nullptr);
 
 /// The means over the surveyed poles of `role` in `poles`.
 IntersectionMeans intersection_means(const std::vector<PoleIntersection>& poles, PoleRole role);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
+#include <set>
 
 #include "pipeline/steps/calibration_methods.hpp"
 
@@ -98,6 +99,15 @@ NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cams,
     }
   }
   return n;
+}
+
+std::size_t shared_epoch_count(const NetworkProblem& n) {
+  std::vector<std::set<std::size_t>> cameras_of(n.points.size());
+  for (const NetworkObservation& o : n.observations)
+    if (o.point < n.points.size() && n.epoch_of_point[o.point] >= 0) cameras_of[o.point].insert(o.camera);
+  std::size_t shared = 0;
+  for (const auto& c : cameras_of) shared += c.size() >= 2 ? 1 : 0;
+  return shared;
 }
 
 }  // namespace rangecal

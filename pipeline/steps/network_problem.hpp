@@ -4,7 +4,7 @@
 // gnss/lamp_track.csv nearest its frame (within align.max_frame_offset_s, as the align stage
 // picked it); the epoch's point carries the fix and its covariance as the prior, the pair the
 // interpolant's displacement from the epoch to its frame (pair ENU − epoch ENU) and the velocity.
-// Each `control` pole becomes one point under its survey prior (kControlPoleSigmaM per axis), seen
+// Each `control` pole becomes one point under its survey prior (calibrate.control_sigma_m per axis), seen
 // by every camera that picked it; check poles never enter. A pair with no epoch near it (a track
 // read without it) becomes a point of its own: it cannot tie cameras together, and calibrates its
 // camera as the per-camera bundle would.
@@ -39,5 +39,10 @@ struct NetworkProblem {
 /// Builds the network. `max_frame_offset_s` (s) bounds the pair–epoch pairing.
 NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cameras, const LampTrack& track,
                                     double max_frame_offset_s);
+
+/// Number of lamp-track epochs seen by two or more of the network's cameras: the epochs that tie
+/// cameras together. Zero means the network reduces to each camera's own bundle (the calibrate
+/// stage's default-method rule, docs/config.md).
+std::size_t shared_epoch_count(const NetworkProblem& n);
 
 }  // namespace rangecal

@@ -113,7 +113,9 @@ TEST(MissionConfig, DefaultsOfOptionalKeys) {
   EXPECT_DOUBLE_EQ(c.align.max_frame_offset_s, 0.005);
   EXPECT_DOUBLE_EQ(c.detect.min_snr, 10);
   EXPECT_EQ(c.detect.threads, 0);
-  EXPECT_EQ(c.calibrate.method, "bundle");
+  // Not given: the calibrate stage chooses (network when cameras share epochs, else bundle).
+  EXPECT_EQ(c.calibrate.method, "");
+  EXPECT_DOUBLE_EQ(c.calibrate.control_sigma_m, 0.005);
   EXPECT_EQ(c.calibrate.free, (std::vector<std::string>{"f", "k1", "pose"}));
   EXPECT_TRUE(c.calibrate.compare.empty());
   EXPECT_FALSE(c.calibrate.use_control_poles);
@@ -258,6 +260,14 @@ TEST(MissionConfigErrors, UnknownMethodSuggests) {
   auto j = minimal();
   j["calibrate"] = {{"method", "bundel"}};
   expect_error(j, "calibrate.method", "did you mean 'bundle'?");
+}
+
+TEST(MissionConfig, ControlPoleSigmaIsReadAndMustBePositive) {
+  auto j = minimal();
+  j["calibrate"] = {{"control_sigma_m", 0.02}};
+  EXPECT_DOUBLE_EQ(parse_mission_config(j.dump(), kPath, false).calibrate.control_sigma_m, 0.02);
+  j["calibrate"] = {{"control_sigma_m", 0}};
+  expect_error(j, "calibrate.control_sigma_m", "positive standard deviation");
 }
 
 TEST(MissionConfigErrors, UnknownCompareMethod) {

@@ -94,13 +94,56 @@ TEST(Demo, CheckPolesWithinOneCentimetreOfTruthAndParametersWithinThreeSigma) {
   EXPECT_NE(find_method(run.results, "tsai_sassa"), nullptr);
 }
 
+TEST(Demo, NetworkIsTheDefaultAndHoldsTheSameBars) {
+  // The demo config names no method and its two cameras share epochs: the network is chosen, and
+  // the per-camera bundle it started from is kept beside it.
+  const DemoRun& run = demo().run;
+  EXPECT_TRUE(run.config.calibrate.method.empty());
+  EXPECT_EQ(run.results.method, "network");
+  bool chose = false;
+  for (const StageLog& l : run.logs)
+    if (l.stage == "calibrate" && l.counts.contains("method_choice"))
+      chose =
+          l.counts["method_choice"]["method"] == "network" && l.counts["method_choice"]["shared_epochs"] > 0;
+  EXPECT_TRUE(chose);
+  const DemoIntersection* net = find_method(run.results, "network");
+  const DemoIntersection* b = find_method(run.results, "bundle");
+  ASSERT_NE(net, nullptr);
+  ASSERT_NE(b, nullptr);
+  EXPECT_EQ(net->n_check, 11);
+  EXPECT_LE(net->mean_dR_truth_m, 0.010) << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
+  for (const DemoCamera& c : run.results.cameras) {
+    ASSERT_TRUE(c.by_method.count("network")) << c.id;
+    ASSERT_TRUE(c.by_method.count("bundle")) << c.id;
+    const auto checks = parameter_checks(c, "network");
+    ASSERT_EQ(checks.size(), 5u);
+    for (const ParameterCheck& p : checks) {
+      EXPECT_GT(p.sigma, 0) << c.id << " " << p.name;
+      EXPECT_LE(std::abs(p.z()), 3.0) << c.id << " " << p.name << " estimate " << p.estimate << " truth "
+                                      << p.truth << " sigma " << p.sigma;
+    }
+    // The two are different estimates of the same camera: close, not identical.
+    const double df = c.by_method.at("network").camera.intr.f_mm - c.by_method.at("bundle").camera.intr.f_mm;
+    EXPECT_GT(std::abs(df), 0) << c.id;
+    EXPECT_LT(std::abs(df), 3 * c.by_method.at("bundle").sigma(CameraParameter::f)) << c.id;
+  }
+}
+
 TEST(Demo, TablesNameEveryMethodAndThePapersFigures) {
   const DemoResults& r = demo().run.results;
   const std::string t1 = format_demo_table1(r.cameras[0]);
-  for (const char* s : {"paper Tsai", "paper SA-SSA", "136.12", "tsai_sassa", "bundle", "f/mm", "k1/mm-2"})
+  for (const char* s :
+       {"paper Tsai", "paper SA-SSA", "136.12", "tsai_sassa", "bundle", "network", "f/mm", "k1/mm-2"})
     EXPECT_NE(t1.find(s), std::string::npos) << s;
+  const std::string t23 = format_demo_tables23(r.cameras);
+  for (const char* s : {"bundle", "network", "expected_rms"}) EXPECT_NE(t23.find(s), std::string::npos) << s;
   const std::string t4 = format_demo_table4(r.intersections);
-  for (const char* s : {"A1", "A11", "3.0", "2.5", "dR truth"}) EXPECT_NE(t4.find(s), std::string::npos) << s;
+  for (const char* s : {"A1", "A11", "3.0", "2.5", "dR truth", "network", "bundle"})
+    EXPECT_NE(t4.find(s), std::string::npos) << s;
+  // Table 4 lists every check pole once for the network and once for the bundle.
+  std::size_t a11 = 0;
+  for (std::size_t p = t4.find("A11"); p != std::string::npos; p = t4.find("A11", p + 1)) ++a11;
+  EXPECT_EQ(a11, 2u);
 }
 
 TEST(Demo, RerunIsByteIdentical) {

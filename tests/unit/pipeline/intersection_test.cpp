@@ -173,6 +173,105 @@ TEST(Intersection, CalibrationCovarianceRaisesSigma) {
   EXPECT_FALSE(usable);
 }
 
+// One pole's X as a function of every camera's parameters and picks, differentiated numerically
+// (central differences through the whole triangulation), and its covariance propagated directly:
+// Σ_X = J_θ·Σ_joint·J_θᵀ + σ_pick²·J_uv·J_uvᵀ. Independent of triangulation.cpp's analytic
+// Jacobians and of how it assembles the cross terms.
+double direct_sigma(const std::vector<IntersectCamera>& views, const std::string& pole,
+                    const std::vector<CameraParameter>& params, const Eigen::MatrixXd& joint,
+                    double pick_sigma_px, const Eigen::VectorXd& scale) {
+  const std::size_t nc = views.size(), np = params.size();
+  auto solve = [&](const Eigen::VectorXd& dtheta, const Eigen::VectorXd& duv) {
+    std::vector<TriangulationView> tv;
+    for (std::size_t c = 0; c < nc; ++c) {
+      TriangulationView v;
+      const Eigen::VectorXd x0 = parameter_values(views[c].camera, params);
+      v.camera = camera_with_parameters(
+          views[c].camera, params,
+          x0 + dtheta.segment(static_cast<Eigen::Index>(c * np), static_cast<Eigen::Index>(np)));
+      for (const PolePick& p : views[c].picks)
+        if (p.id == pole) v.uv_px = p.uv + duv.segment<2>(static_cast<Eigen::Index>(2 * c));
+      tv.push_back(v);
+    }
+    return triangulate_point(tv).point;
+  };
+  const auto n = static_cast<Eigen::Index>(nc * np);
+  Eigen::MatrixXd Jt(3, n), Ju(3, static_cast<Eigen::Index>(2 * nc));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+    d[i] = 0.01 * scale[i];
+    const Eigen::VectorXd z = Eigen::VectorXd::Zero(2 * static_cast<Eigen::Index>(nc));
+    Jt.col(i) = (solve(d, z) - solve(-d, z)) / (2 * d[i]);
+  }
+  for (Eigen::Index i = 0; i < Ju.cols(); ++i) {
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(Ju.cols());
+    d[i] = 0.01;
+    Ju.col(i) = (solve(Eigen::VectorXd::Zero(n), d) - solve(Eigen::VectorXd::Zero(n), -d)) / 0.02;
+  }
+  const Eigen::Matrix3d cov =
+      Jt * joint * Jt.transpose() + pick_sigma_px * pick_sigma_px * Ju * Ju.transpose();
+  return std::sqrt(cov.trace());
+}
+
+TEST(Intersection, JointCovarianceOfANetworkEqualsDirectPropagation) {
+  // Cameras calibrated together (a network) carry correlated errors: a joint covariance over all
+  // cameras' f, rotation and centre, with strong cross-camera blocks.
+  const std::vector<CameraParameter> params = {CameraParameter::f,  CameraParameter::wx, CameraParameter::wy,
+                                               CameraParameter::wz, CameraParameter::CE, CameraParameter::CN,
+                                               CameraParameter::CU};
+  auto views = exact_views();
+  const std::size_t nc = views.size(), np = params.size();
+  const auto n = static_cast<Eigen::Index>(nc * np);
+  Eigen::VectorXd scale(n);
+  for (std::size_t c = 0; c < nc; ++c)
+    scale.segment(static_cast<Eigen::Index>(c * np), static_cast<Eigen::Index>(np)) << 0.05, 3e-5, 3e-5, 3e-5,
+        0.01, 0.01, 0.01;
+  std::mt19937_64 rng(77);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::MatrixXd A(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index k = 0; k < n; ++k) A(i, k) = g(rng);
+  // A random part plus a shared one: each parameter's error correlated 0.7 across cameras (as a
+  // datum error common to all cameras would make it).
+  Eigen::MatrixXd shared(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index k = 0; k < n; ++k)
+      shared(i, k) = i % static_cast<Eigen::Index>(np) == k % static_cast<Eigen::Index>(np) ? 1 : 0;
+  const Eigen::MatrixXd corr =
+      0.3 * ((A * A.transpose()) / static_cast<double>(n) + 0.2 * Eigen::MatrixXd::Identity(n, n)) +
+      0.7 * shared;
+  const Eigen::MatrixXd joint = scale.asDiagonal() * corr * scale.asDiagonal();
+  CrossCovariances cross(nc, std::vector<Eigen::MatrixXd>(nc));
+  for (std::size_t a = 0; a < nc; ++a) {
+    const auto ia = static_cast<Eigen::Index>(a * np);
+    views[a].calibration = {
+        params, joint.block(ia, ia, static_cast<Eigen::Index>(np), static_cast<Eigen::Index>(np))};
+    for (std::size_t b = 0; b < nc; ++b)
+      if (a != b)
+        cross[a][b] = joint.block(ia, static_cast<Eigen::Index>(b * np), static_cast<Eigen::Index>(np),
+                                  static_cast<Eigen::Index>(np));
+  }
+  const auto poles = truth_poles();
+  const double pick = 0.5;
+  const IntersectionResult indep = intersect_poles(views, poles, pick);
+  const IntersectionResult net = intersect_poles(views, poles, pick, &cross);
+  ASSERT_EQ(net.poles.size(), poles.size());
+  Eigen::MatrixXd block_diag = Eigen::MatrixXd::Zero(n, n);
+  for (std::size_t a = 0; a < nc; ++a) {
+    const auto ia = static_cast<Eigen::Index>(a * np), m = static_cast<Eigen::Index>(np);
+    block_diag.block(ia, ia, m, m) = joint.block(ia, ia, m, m);
+  }
+  for (std::size_t i = 0; i < poles.size(); ++i) {
+    const double want_joint = direct_sigma(views, poles[i].id, params, joint, pick, scale);
+    const double want_indep = direct_sigma(views, poles[i].id, params, block_diag, pick, scale);
+    EXPECT_NEAR(net.poles[i].sigma_m, want_joint, 2e-3 * want_joint) << poles[i].id;
+    EXPECT_NEAR(indep.poles[i].sigma_m, want_indep, 2e-3 * want_indep) << poles[i].id;
+    // The cross blocks matter: the joint σ is not the independent-camera one.
+    EXPECT_GT(std::abs(net.poles[i].sigma_m - indep.poles[i].sigma_m), 0.03 * indep.poles[i].sigma_m)
+        << poles[i].id << " joint " << net.poles[i].sigma_m << " independent " << indep.poles[i].sigma_m;
+  }
+}
+
 TEST(Intersection, OneCameraPolesUnknownIdsAndFailuresWarnButOthersProceed) {
   auto views = exact_views();
   // A2 picked only in cam1.
