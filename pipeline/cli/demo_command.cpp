@@ -73,7 +73,9 @@ void add_demo_command(CLI::App& app, const CliContext& ctx) {
                 << "/mission.json   (how far to trust these σ: bias and sd per parameter)\n"
                 << "         rangecal plan config/examples/demo_scenario.json "
                    "config/examples/plan_mixed_routes.json   (routes compared before flying)\n";
-    if (!ok) throw_calibration_error("demo", "an accuracy bar of docs/accuracy_analysis.md, Quality bars failed (see above)");
+    if (!ok)
+      throw_calibration_error(
+          "demo", "an accuracy bar of docs/accuracy_analysis.md, Quality bars failed (see above)");
   });
 }
 

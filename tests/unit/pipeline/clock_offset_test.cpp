@@ -258,7 +258,8 @@ TEST(ClockOffsetMission, TwoMillisecondsRecoveredWithinThreeSigmaAndTheDemoBarHo
   const DemoIntersection& b = *it;
   EXPECT_EQ(b.n_check, 11);
   std::printf("  check poles: mean dR against truth %.2f cm\n", b.mean_dR_truth_m * 100);
-  EXPECT_LE(b.mean_dR_truth_m, 0.010) << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
+  EXPECT_LE(b.mean_dR_truth_m, 0.010)
+      << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
 }
 
 }  // namespace
