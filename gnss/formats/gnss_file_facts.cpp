@@ -18,28 +18,10 @@ namespace rangecal {
 
 namespace {
 
-const char* quality_name(int q) {
-  switch (q) {
-    case 1:
-      return "fix";
-    case 2:
-      return "float";
-    case 3:
-      return "sbas";
-    case 4:
-      return "dgps";
-    case 5:
-      return "single";
-    case 6:
-      return "ppp";
-  }
-  return "?";
-}
-
 // "epochs Q=1 (fix)" … for the qualities present, in Q order; a note when most are not fixed.
 void add_quality_counts(FileFacts* f, const std::map<int, std::uint64_t>& by_q, std::uint64_t total) {
   for (const auto& [q, n] : by_q)
-    f->counts.emplace_back("epochs Q=" + std::to_string(q) + " (" + quality_name(q) + ")", n);
+    f->counts.emplace_back("epochs Q=" + std::to_string(q) + " (" + rtklib_quality_name(q) + ")", n);
   const auto fix = by_q.count(1) ? by_q.at(1) : 0;
   if (total > 0 && fix * 2 < total)
     f->notes.push_back(std::to_string(total - fix) + " of " + std::to_string(total) +

@@ -610,4 +610,23 @@ PosFile read_rtklib_pos(const std::string& path) {
   return parse_rtklib_pos(text, path);
 }
 
+const char* rtklib_quality_name(int q) {
+  switch (q) {
+    case 1:
+      return "fix";
+    case 2:
+      return "float";
+    case 3:
+      return "sbas";
+    case 4:
+      return "dgps";
+    case 5:
+      return "single";
+    case 6:
+      return "ppp";
+    default:
+      return "?";
+  }
+}
+
 }  // namespace rangecal

@@ -87,4 +87,8 @@ PosFile read_rtklib_pos(const std::string& path);
 /// Parses .pos text already in memory; `path` is used for messages only.
 PosFile parse_rtklib_pos(std::string_view text, const std::string& path);
 
+/// RTKLIB's name of a solution quality Q (RTKLIB manual, solution status): 1 fix, 2 float,
+/// 3 sbas, 4 dgps, 5 single, 6 ppp; "?" for any other value.
+const char* rtklib_quality_name(int q);
+
 }  // namespace rangecal

@@ -5,6 +5,7 @@
 
 #include "config/error.hpp"
 #include "config/number_format.hpp"
+#include "gnss/formats/rtklib_pos_reader.hpp"
 #include "gnss/geodesy/local_enu.hpp"
 #include "gnss/track/antenna_epochs.hpp"
 #include "gnss/track/lever_arm.hpp"
@@ -36,25 +37,6 @@ void check_attitude_overlaps(const AttitudeSeries& att, const std::vector<Antenn
                         ": the attitude log is of another flight, or its time is wrong");
 }
 
-const char* quality_name(int q) {
-  switch (q) {
-    case 1:
-      return "fix";
-    case 2:
-      return "float";
-    case 3:
-      return "sbas";
-    case 4:
-      return "dgps";
-    case 5:
-      return "single";
-    case 6:
-      return "ppp";
-    default:
-      return "unknown";
-  }
-}
-
 std::string thousands(std::size_t n) {
   std::string s = std::to_string(n);
   for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
@@ -75,7 +57,7 @@ void warn_when_most_epochs_dropped(const EpochFilterCounts& c, const EpochFilter
     for (int q : opt.accept_quality) accept += (accept.empty() ? "" : ", ") + std::to_string(q);
     accept += ", " + std::to_string(worst_q);
     warnings->push_back(thousands(worst_n) + " of " + thousands(c.read) + " epochs are " +
-                        quality_name(worst_q) + " (Q=" + std::to_string(worst_q) +
+                        rtklib_quality_name(worst_q) + " (Q=" + std::to_string(worst_q) +
                         ") and were dropped: accept them with gnss.accept_quality [" + accept +
                         "] or check the base station and the processing");
   }
