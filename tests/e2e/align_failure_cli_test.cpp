@@ -17,31 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Two 200×150 cameras 30 m from three 3 m vertical ascents (the small mission of the bad-input tests).
-const char* kScenario = R"({
-  "seed": 5,
-  "start_utc": "2026-05-14T02:30:00Z",
-  "site": {"origin": {"lat": 45.6, "lon": 122.8, "h": 150.0}},
-  "gnss": {"rate_hz": 10, "noise_sd_m": [0.005, 0.005, 0.008]},
-  "lever_arm": {"body_frd_m": [0.0, 0.0, 0.25]},
-  "attitude": {"rate_hz": 50, "wobble_deg": 1.0, "yaw_deg": 30},
-  "lamp": {"psf_sigma_px": 1.2, "peak": 20000},
-  "sky": {"background": 1000, "gradient": [0.5, -0.5], "read_noise": 30},
-  "cameras": [
-    {"id": "c1", "center_enu_m": [0, -30, 3], "look_at_enu_m": [0, 0, 3], "f_mm": 25,
-     "pixel_size_um": 20, "width_px": 200, "height_px": 150, "fps": 100, "export_step": 5},
-    {"id": "c2", "center_enu_m": [22, -22, 3], "look_at_enu_m": [0, 0, 3], "f_mm": 25,
-     "pixel_size_um": 20, "width_px": 200, "height_px": 150, "fps": 100, "export_step": 5}],
-  "routes": [
-    {"type": "vertical", "start_enu_m": [-1.2, 0, 1.6], "height_m": 2.8, "speed_mps": 2, "accel_mps2": 2, "hover_s": 0.3},
-    {"type": "vertical", "start_enu_m": [0, 0.8, 1.6], "height_m": 2.8, "speed_mps": 2, "accel_mps2": 2, "hover_s": 0.3},
-    {"type": "vertical", "start_enu_m": [1.2, 0, 1.6], "height_m": 2.8, "speed_mps": 2, "accel_mps2": 2, "hover_s": 0.3}],
-  "poles": [{"id": "P1", "role": "control", "enu_m": [0.5, 0.4, 3.2]},
-            {"id": "P2", "role": "check", "enu_m": [-0.6, -0.5, 2.1]}],
-  "survey_noise_m": 0.003,
-  "pick_noise_px": 0.2
-})";
-
 std::string q(const fs::path& p) {
   return "'" + p.string() + "'";
 }
@@ -82,7 +57,7 @@ std::pair<UtcTime, UtcTime> shift_stamps(const fs::path& csv, int days) {
 
 TEST(AlignFailureCli, FrameStampsADayOffFailAlignWithBothSpansAndTheCameraClock) {
   const fs::path d = test::scratch_dir("align_day_off");
-  test::write_text(d / "scenario.json", kScenario);
+  test::write_text(d / "scenario.json", test::small_two_camera_scenario_text());
   const auto sim = test::run_cli("-q simulate " + q(d / "scenario.json") + " --out " + q(d / "mission"));
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   const fs::path m = d / "mission";
