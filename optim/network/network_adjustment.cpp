@@ -152,9 +152,15 @@ int solve(const NetworkLayout& l, NetworkParameterBlocks& b, const NetworkSelect
   so.linear_solver_type = ceres::DENSE_SCHUR;
   so.linear_solver_ordering = ordering;
   so.max_num_iterations = opt.max_iterations;
-  so.function_tolerance = 1e-14;
-  so.gradient_tolerance = 1e-16;
-  so.parameter_tolerance = 1e-14;
+  // The cameras start at the per-camera bundle's solution and the points at their PPK fixes, so the
+  // Gauss–Newton step is good from the first iteration. Ceres' default initial radius (1e4, i.e.
+  // damping 1e-4 of the diagonal) held back the weakly determined f–distance direction for ~10
+  // iterations per solve, and tolerances of 1e-14 added ~8 rejected steps at the end: 37 iterations
+  // on 2 cameras × 1,000 epochs where 9 reach the same solution (docs/performance.md, network).
+  so.initial_trust_region_radius = 1e12;
+  so.function_tolerance = 1e-12;
+  so.gradient_tolerance = 1e-14;
+  so.parameter_tolerance = 1e-12;
   so.num_threads = std::max(1, opt.num_threads);
   so.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
