@@ -10,11 +10,14 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include "config/deterministic_random.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
+#include "optim/network/network_adjustment.hpp"
+#include "pipeline/steps/network_problem.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
@@ -135,10 +138,51 @@ struct TrialOutcome {
   std::vector<std::optional<Eigen::Vector3d>> pole_error;  ///< triangulated − truth, per pole
 };
 
+/// The network of one trial (docs/optimisation.md "Network bundle"): the cameras' trial problems
+/// joined through their world-noise keys — observations with the same key ≥ 0 are one GNSS epoch
+/// (or control pole), one point whose prior is the first such observation's noisy world point and
+/// which the others see displaced by the difference of their true world points (the lamp's motion
+/// between the cameras' frames); a negative key is a point of its own. Started at the reference
+/// cameras, as the calibrate stage starts at the per-camera results.
+NetworkProblem trial_network(const std::vector<const MonteCarloCamera*>& cams,
+                             const std::vector<const CameraTruth*>& truth,
+                             const std::vector<CalibrationProblem>& problems) {
+  NetworkProblem n;
+  std::map<std::int64_t, std::pair<std::size_t, Eigen::Vector3d>> point_of_key;  // → point, true world
+  for (std::size_t c = 0; c < cams.size(); ++c) {
+    const CalibrationProblem& p = problems[c];
+    n.cameras.push_back(network_camera(p, cams[c]->reference.camera, cams[c]->reference.clock_offset_s));
+    for (std::size_t i = 0; i < p.observations.size(); ++i) {
+      const BundleObservation& o = p.observations[i];
+      const Eigen::Vector3d& truth_world = truth[c]->observations[i].world;
+      NetworkObservation ob;
+      ob.camera = c, ob.pixel = o.pixel, ob.pixel_sigma_px = o.pixel_sigma_px, ob.velocity = o.velocity;
+      ob.source = p.camera_id + " " + o.source;
+      const std::int64_t key = truth[c]->key[i];
+      auto it = key >= 0 ? point_of_key.find(key) : point_of_key.end();
+      if (it == point_of_key.end()) {
+        NetworkPoint pt;
+        pt.prior_enu = o.world;
+        pt.prior_cov = o.world_cov;
+        pt.source = ob.source;
+        if (key >= 0) it = point_of_key.emplace(key, std::make_pair(n.points.size(), truth_world)).first;
+        ob.point = n.points.size();
+        n.points.push_back(pt);
+      } else {
+        ob.point = it->second.first;
+        ob.offset_m = truth_world - it->second.second;
+      }
+      n.observations.push_back(ob);
+    }
+  }
+  return n;
+}
+
 }  // namespace
 
 MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
-                                 const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options) {
+                                 const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options,
+                                 const CrossCovariances* reference_cross) {
   if (options.trials < 1)
     throw_config_error("", "trials", "must be at least 1, got " + std::to_string(options.trials));
   for (const MonteCarloPole& pole : poles)
@@ -149,6 +193,14 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
                                std::to_string(cameras.size()));
   std::vector<CameraTruth> truth;
   for (const MonteCarloCamera& c : cameras) truth.push_back(make_truth(c, options.shared_world_noise));
+  // Cameras calibrated by the network are re-run as one network per trial (two or more of them);
+  // a network camera alone is its own bundle (calibrate_camera "network").
+  std::vector<std::size_t> network;
+  std::vector<const MonteCarloCamera*> network_cams;
+  std::vector<const CameraTruth*> network_truth;
+  for (std::size_t c = 0; c < cameras.size(); ++c)
+    if (truth[c].method == "network")
+      network.push_back(c), network_cams.push_back(&cameras[c]), network_truth.push_back(&truth[c]);
 
   const std::size_t nt = static_cast<std::size_t>(options.trials);
   std::vector<TrialOutcome> outcome(nt);
@@ -156,15 +208,32 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
     TrialOutcome& out = outcome[t];
     out.cameras.resize(cameras.size());
     out.failure.resize(cameras.size());
+    std::vector<CalibrationProblem> joint;  // the network's cameras, adjusted together below
     for (std::size_t c = 0; c < cameras.size(); ++c) {
       DeterministicRandom rng(mix_seed(options.seed, c, t));
-      const CalibrationProblem p = trial_problem(cameras[c], truth[c], options, t, rng);
+      CalibrationProblem p = trial_problem(cameras[c], truth[c], options, t, rng);
+      if (network.size() >= 2 && truth[c].method == "network") {
+        joint.push_back(std::move(p));
+        continue;
+      }
       try {
         const CalibrationResult r = calibrate_camera(truth[c].method, p);
         out.cameras[c] = TrialCamera{r.camera, r.clock_offset_s};
       } catch (const Error& e) {
         if (e.kind() != ErrorKind::calibration) throw;
         out.failure[c] = e.what();
+      }
+    }
+    if (!joint.empty()) {
+      try {
+        const NetworkProblem n = trial_network(network_cams, network_truth, joint);
+        const NetworkResult r = network_adjust(n.cameras, n.points, n.observations);
+        for (std::size_t j = 0; j < network.size(); ++j)
+          out.cameras[network[j]] =
+              TrialCamera{r.cameras[j].calibration.camera, r.cameras[j].calibration.clock_offset_s};
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::calibration) throw;
+        for (std::size_t c : network) out.failure[c] = e.what();
       }
     }
     DeterministicRandom rng(mix_seed(options.seed, kPoleStream, t));
@@ -262,8 +331,10 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
       pm.mean_error_m.setConstant(kNaN);
       pm.rms_error_m = pm.mean_error_norm_m = pm.max_error_m = kNaN;
     }
-    // Predicted 1σ: exact picks through the reference cameras with their covariances.
+    // Predicted 1σ: exact picks through the reference cameras with their covariances, and the
+    // cross blocks of a joint (network) covariance when given.
     std::vector<TriangulationView> views;
+    std::vector<std::size_t> used;
     for (std::size_t c : pole.cameras) {
       TriangulationView v;
       v.camera = cameras[c].reference.camera;
@@ -272,11 +343,20 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
       v.calibration.covariance = cameras[c].reference.covariance;
       v.pick_sigma_px = options.pick_sigma_px;
       views.push_back(v);
+      used.push_back(c);
+    }
+    CrossCovariances cross;
+    if (reference_cross && !reference_cross->empty()) {
+      cross.assign(used.size(), std::vector<Eigen::MatrixXd>(used.size()));
+      for (std::size_t i = 0; i < used.size(); ++i)
+        for (std::size_t j = 0; j < used.size(); ++j)
+          if (i != j) cross[i][j] = (*reference_cross)[used[i]][used[j]];
     }
     pm.sigma_predicted_m = kNaN;
     if (views.size() >= 2) {
       try {
-        pm.sigma_predicted_m = triangulate_point(views, "pole " + pole.id).sigma_m;
+        pm.sigma_predicted_m =
+            triangulate_point(views, "pole " + pole.id, cross.empty() ? nullptr : &cross).sigma_m;
       } catch (const Error&) {
       }
     }

@@ -1,6 +1,6 @@
 #pragma once
-// Monte Carlo accuracy analysis of a finished calibration (docs/accuracy_analysis.md; seed 001 §4 and its Table 2,
-// taken further; docs/accuracy_analysis.md). The reference calibration is taken as the truth of a
+// Monte Carlo accuracy analysis of a finished calibration (docs/accuracy_analysis.md; seed 001 §4 and its
+// Table 2, taken further; docs/accuracy_analysis.md). The reference calibration is taken as the truth of a
 // simulated world: every trial regenerates the exact pixels of the problem's world points through
 // the reference camera, adds Gaussian noise to the world points (their PPK covariance) and to the
 // pixels (their centroid σ), re-runs the same calibration method, and records every parameter.
@@ -19,6 +19,7 @@
 
 #include "pipeline/steps/calibration_methods.hpp"
 #include "vision/camera/calibration_result.hpp"
+#include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
 
@@ -87,11 +88,16 @@ struct MonteCarloResult {
   std::vector<PoleMonteCarlo> poles;
 };
 
-/// Runs the analysis. Throws rangecal::Error: usage for trials < 1 or a bad pole camera index;
-/// calibration when a reference camera cannot project enough of its points or every trial of a
-/// camera fails.
+/// Runs the analysis. Cameras whose method is `network` (two or more) are re-run together in every
+/// trial: one network (optim/network/network_adjustment.hpp) whose points are the world-noise keys
+/// they share, so their statistics are the network's, not the per-camera bundle's.
+/// `reference_cross` (indexed by camera, as network.json's cross blocks for the cameras' reference
+/// parameters; null or empty: cameras independent) enters the poles' predicted σ.
+/// Throws rangecal::Error: usage for trials < 1 or a bad pole camera index; calibration when a
+/// reference camera cannot project enough of its points or every trial of a camera fails.
 MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
-                                 const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options);
+                                 const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options,
+                                 const CrossCovariances* reference_cross = nullptr);
 
 /// montecarlo.csv text: `camera,parameter,estimate,bias_mc,sd_mc,sd_predicted`, one row per camera
 /// and parameter, 10 significant digits, empty field for a NaN; deterministic.

@@ -19,6 +19,7 @@
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 
@@ -135,7 +136,20 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
     if (!track && !ctx.quiet)
       std::cerr << "montecarlo: no " << lamp_track_path(cfg)
                 << ": the lamp points' noise is drawn independently per camera\n";
-    const MonteCarloResult r = run_monte_carlo(cams, check_poles(cfg), o);
+    // Network calibrations are correlated: the poles' predicted σ takes network.json's cross blocks
+    // (as the intersect stage does, docs/intersection.md).
+    CrossCovariances cross;
+    std::vector<std::string> ids;
+    std::vector<std::vector<CameraParameter>> parameters;
+    bool all_network = cams.size() >= 2;
+    for (const MonteCarloCamera& m : cams) {
+      ids.push_back(m.problem.camera_id);
+      parameters.push_back(m.reference.parameters);
+      all_network = all_network && m.reference.method == "network";
+    }
+    if (all_network)
+      cross = read_network_cross_covariances(mission_output(cfg, "network.json"), ids, &parameters);
+    const MonteCarloResult r = run_monte_carlo(cams, check_poles(cfg), o, &cross);
     write_file_atomic(mission_output(cfg, kMonteCarloCsv), format_montecarlo_csv(r));
     if (ctx.quiet) return;
     for (const CameraMonteCarlo& c : r.cameras) {

@@ -9,6 +9,27 @@
 
 namespace rangecal {
 
+NetworkCamera network_camera(const CalibrationProblem& p, const Camera& start, double start_clock_offset_s) {
+  NetworkCamera nc;
+  nc.initial = start;
+  nc.options.free = p.free;
+  nc.options.pixel_sigma_px = p.pixel_sigma_px;
+  nc.options.initial_clock_offset_s = start_clock_offset_s;
+  const std::vector<CameraParameter> free = expand_free_parameters(p.free);
+  if (p.priors.principal_point_px &&
+      (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
+    nc.options.priors.use_principal_point = true;
+    nc.options.priors.principal_point_px = *p.priors.principal_point_px;
+    nc.options.priors.principal_point_sigma_px = p.priors.principal_point_sigma_px;
+  }
+  if (p.priors.center_enu_m && contains(free, CameraParameter::CE)) {
+    nc.options.priors.use_center = true;
+    nc.options.priors.center_enu_m = *p.priors.center_enu_m;
+    nc.options.priors.center_sigma_m = Eigen::Vector3d::Constant(p.priors.center_sigma_m);
+  }
+  return nc;
+}
+
 NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cams, const LampTrack& track,
                                     double max_frame_offset_s) {
   NetworkProblem n;
@@ -19,24 +40,7 @@ NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cams,
   for (std::size_t c = 0; c < cams.size(); ++c) {
     const CalibrationProblem& p = *cams[c].problem;
     const std::vector<Correspondence>& pairs = *cams[c].pairs;
-    NetworkCamera nc;
-    nc.initial = cams[c].start;
-    nc.options.free = p.free;
-    nc.options.pixel_sigma_px = p.pixel_sigma_px;
-    nc.options.initial_clock_offset_s = cams[c].start_clock_offset_s;
-    const std::vector<CameraParameter> free = expand_free_parameters(p.free);
-    if (p.priors.principal_point_px &&
-        (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
-      nc.options.priors.use_principal_point = true;
-      nc.options.priors.principal_point_px = *p.priors.principal_point_px;
-      nc.options.priors.principal_point_sigma_px = p.priors.principal_point_sigma_px;
-    }
-    if (p.priors.center_enu_m && contains(free, CameraParameter::CE)) {
-      nc.options.priors.use_center = true;
-      nc.options.priors.center_enu_m = *p.priors.center_enu_m;
-      nc.options.priors.center_sigma_m = Eigen::Vector3d::Constant(p.priors.center_sigma_m);
-    }
-    n.cameras.push_back(nc);
+    n.cameras.push_back(network_camera(p, cams[c].start, cams[c].start_clock_offset_s));
     for (std::size_t i = 0; i < p.observations.size(); ++i) {
       const BundleObservation& o = p.observations[i];
       NetworkObservation ob;

@@ -36,6 +36,10 @@ struct NetworkProblem {
   std::vector<std::vector<std::size_t>> observation_of;
 };
 
+/// One camera of the network: its free set, pixel σ and priors as its problem states them,
+/// started at `start` with clock offset `start_clock_offset_s` (s).
+NetworkCamera network_camera(const CalibrationProblem& p, const Camera& start, double start_clock_offset_s);
+
 /// Builds the network. `max_frame_offset_s` (s) bounds the pair–epoch pairing.
 NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cameras, const LampTrack& track,
                                     double max_frame_offset_s);
