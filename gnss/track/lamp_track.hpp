@@ -19,8 +19,9 @@ struct LampEpoch {
   /// stage then estimates it from neighbouring epochs).
   Eigen::Vector3d vel_enu = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   /// Full covariance of E, N, U (m²): the .pos sd and sdne/sdeu/sdun columns rotated to site ENU
-  /// (+ the lever arm's vertical variance); NaN when not known (e.g. read from lamp_track.csv,
-  /// which carries the sd only) — the network bundle then uses diag(sd_enu²).
+  /// (+ the lever arm's vertical variance), through lamp_track.csv's sd and correlation columns;
+  /// NaN when not known (a track file without correlations) — the network bundle then uses
+  /// diag(sd_enu²).
   Eigen::Matrix3d cov_enu = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 

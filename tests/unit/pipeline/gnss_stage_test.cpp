@@ -197,8 +197,8 @@ TEST(LampTrackCsv, RoundTripKeepsNanosecondsAndTenthMm) {
       {UtcTime{1539087713LL * kNsPerSecond + 123456789}, {1.23456, -2.5, 3.00004}, {0.01, 0.02, 0.03}, 1});
   t.epochs.push_back({UtcTime{1539087714LL * kNsPerSecond + 1}, {-1000.00005, 0, 1e-5}, {0, 0, 0}, 2});
   const std::string text = format_lamp_track_csv(t);
-  EXPECT_EQ(text.substr(0, text.find('\n')), "utc,E,N,U,sdE,sdN,sdU,quality");
-  EXPECT_NE(text.find("2018-10-09T12:21:53.123456789Z,1.2346,-2.5000,3.0000,0.0100,0.0200,0.0300,1"),
+  EXPECT_EQ(text.substr(0, text.find('\n')), "utc,E,N,U,sdE,sdN,sdU,quality,rEN,rEU,rNU");
+  EXPECT_NE(text.find("2018-10-09T12:21:53.123456789Z,1.2346,-2.5000,3.0000,0.0100,0.0200,0.0300,1,,,\n"),
             std::string::npos);
   const LampTrack back = parse_lamp_track_csv(text, "t.csv");
   ASSERT_EQ(back.epochs.size(), 2u);
@@ -208,6 +208,27 @@ TEST(LampTrackCsv, RoundTripKeepsNanosecondsAndTenthMm) {
     EXPECT_EQ(back.epochs[i].quality, t.epochs[i].quality);
     EXPECT_TRUE(std::isnan(back.epochs[i].vel_enu[0]));
   }
+}
+
+TEST(LampTrackCsv, RoundTripKeepsTheFullCovariance) {
+  LampTrack t;
+  LampEpoch e;
+  e.utc = UtcTime{1539087713LL * kNsPerSecond};
+  e.sd_enu = {0.008, 0.006, 0.012};
+  const Eigen::Vector3d rho(0.3, -0.45, 0.2);
+  Eigen::Matrix3d R;
+  R << 1, rho[0], rho[1], rho[0], 1, rho[2], rho[1], rho[2], 1;
+  e.cov_enu = e.sd_enu.asDiagonal() * R * e.sd_enu.asDiagonal();
+  e.quality = 1;
+  t.epochs.push_back(e);
+  const std::string text = format_lamp_track_csv(t);
+  EXPECT_NE(text.find(",1,0.3000,-0.4500,0.2000\n"), std::string::npos) << text;
+  const LampTrack back = parse_lamp_track_csv(text, "t.csv");
+  EXPECT_LE((back.epochs[0].cov_enu - e.cov_enu).cwiseAbs().maxCoeff(), 1e-12);
+  // Without the correlation columns (an older file): not known.
+  const LampTrack old = parse_lamp_track_csv(
+      "utc,E,N,U,sdE,sdN,sdU,quality\n2018-10-09T12:21:53.000000000Z,1,2,3,0.01,0.01,0.02,1\n", "t.csv");
+  EXPECT_TRUE(std::isnan(old.epochs[0].cov_enu(0, 1)));
 }
 
 void expect_bad_track(const std::string& body, long line, const std::string& field) {
@@ -228,6 +249,24 @@ TEST(LampTrackCsv, BadInput) {
   expect_bad_track(ok + "2018-10-09T12:21:54.000000000Z,1,2,3,0.01,-0.01,0.02,1\n", 3, "sdN");
   expect_bad_track(ok + "2018-10-09T12:21:54.000000000Z,1,2,3,0.01,0.01,0.02,9\n", 3, "quality");
   expect_bad_track("", 1, "utc");
+  // Correlations: each in [−1, 1], and together those of some covariance.
+  const auto bad_rho = [](const std::string& rho, const std::string& field) {
+    try {
+      parse_lamp_track_csv(
+          "utc,E,N,U,sdE,sdN,sdU,quality,rEN,rEU,rNU\n"
+          "2018-10-09T12:21:53.000000000Z,1,2,3,0.01,0.01,0.02,1," +
+              rho + "\n",
+          "t.csv");
+      ADD_FAILURE() << rho;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.line(), 2) << e.what();
+      EXPECT_EQ(e.field(), field) << e.what();
+    }
+  };
+  bad_rho("1.2,0,0", "rEN");
+  bad_rho("0,-1.5,0", "rEU");
+  bad_rho("0.9,0.9,-0.9", "rEN");  // det R < 0
+  bad_rho("0.1,,0.2", "rEU");
 }
 
 TEST(GnssStage, RunWritesTheTrackAndItsCounts) {
@@ -258,12 +297,25 @@ TEST(GnssStage, RunWritesTheTrackAndItsCounts) {
   // Compare with the pure computation.
   LampTrackInputs in = base_inputs({1}, 0.05, 1.5);
   in.lever.vertical_m = 0.252;
+  in.lever.vertical_sd_m = 0.002 * std::sqrt(2.0);  // two sessions of 2 mm, as the stage resolved
   const LampTrackResult r = compute_lamp_track(in);
   ASSERT_EQ(t.epochs.size(), r.track.epochs.size());
+  double max_rho = 0;
   for (std::size_t i = 0; i < t.epochs.size(); ++i) {
     ASSERT_EQ(t.epochs[i].utc, r.track.epochs[i].utc);
     ASSERT_LE((t.epochs[i].enu - r.track.epochs[i].enu).cwiseAbs().maxCoeff(), 0.5e-4 + 1e-9);
+    // The full covariance survives the file to the sd's 0.05 mm and the correlations' 5e-5 rounding.
+    const Eigen::Matrix3d& a = t.epochs[i].cov_enu;
+    const Eigen::Matrix3d& b = r.track.epochs[i].cov_enu;
+    ASSERT_TRUE(a.allFinite());
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) {
+        const double sj = std::sqrt(b(j, j)), sk = std::sqrt(b(k, k));
+        ASSERT_LE(std::abs(a(j, k) - b(j, k)), 0.5e-4 * (sj + sk) + 2.5e-9 + 0.5e-4 * sj * sk) << i;
+      }
+    max_rho = std::max(max_rho, std::abs(b(0, 1)) / std::sqrt(b(0, 0) * b(1, 1)));
   }
+  EXPECT_GT(max_rho, 0.05);  // the real .pos has sdne/sdeu/sdun: correlations to carry
   // A bad .pos path is an input error naming it.
   cfg.gnss.pos_files = {(dir / "missing.pos").string()};
   try {
