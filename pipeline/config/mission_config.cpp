@@ -376,10 +376,16 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
       c->at("use_control_poles", "").fail("control poles are asked for but the config has no \"poles\" file");
   }
   if (auto x = root.find("intersect")) {
-    x->require_object("an object {\"pick_sigma_px\"}");
-    x->check_keys({"pick_sigma_px"});
+    x->require_object("an object {\"pick_sigma_px\", \"bar_mean_dR_m\"}");
+    x->check_keys({"pick_sigma_px", "bar_mean_dR_m"});
     if (auto v = x->find("pick_sigma_px"))
       cfg.intersect.pick_sigma_px = Loader::positive(*v, "a positive pixel standard deviation");
+    // At most 1 m: a bar meant in cm or mm but written as a number of metres is refused.
+    if (auto v = x->find("bar_mean_dR_m")) {
+      const std::string form = "a positive distance in metres, at most 1 (e.g. 0.01 for 1 cm)";
+      cfg.intersect.bar_mean_dR_m = Loader::positive(*v, form);
+      if (cfg.intersect.bar_mean_dR_m > 1) v->fail_expected(form);
+    }
   }
   fs::path out = "out";
   if (auto o = root.find("output_dir")) out = o->nonempty_string("a folder path");

@@ -82,6 +82,9 @@ struct CalibrateConfig {
 
 struct IntersectConfig {
   double pick_sigma_px = 0.5;  ///< 1σ per axis of a hand-picked pole-top pixel (px)
+  /// The check poles' mean ΔR the report's verdict holds the intersection to (m); 1 cm is
+  /// rangecal's quality bar (docs/accuracy_analysis.md).
+  double bar_mean_dR_m = 0.010;
 };
 
 struct MissionConfig {

@@ -108,7 +108,7 @@ DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg) 
       std::vector<std::vector<CameraParameter>> parameters;
       for (const IntersectCamera& ic : cams)
         ids.push_back(ic.id), parameters.push_back(ic.calibration.parameters);
-      cross = read_network_cross_covariances(mission_output(cfg, "network.json"), ids, &parameters);
+      cross = read_network_cross_covariances(mission_output(cfg, kNetworkJson), ids, &parameters);
     }
     DemoIntersection di;
     di.method = meth;

@@ -4,6 +4,9 @@
 #include <cstdio>
 #include <map>
 
+#include "config/csv_table.hpp"
+#include "config/error.hpp"
+
 namespace rangecal {
 
 std::string format_lamp_track_adjusted_csv(const LampTrack& track, const NetworkResult& r,
@@ -23,6 +26,44 @@ std::string format_lamp_track_adjusted_csv(const LampTrack& track, const Network
     out += buf;
   }
   return out;
+}
+
+std::vector<LampTrackAdjustedRow> parse_lamp_track_adjusted_csv(const std::string& text,
+                                                                const std::string& path) {
+  const CsvTable t = parse_csv(text, path);
+  const std::size_t c_utc = t.column("utc"), c_flag = t.column("flag");
+  const char* names[9] = {"E", "N", "U", "sdE", "sdN", "sdU", "dE", "dN", "dU"};
+  std::size_t c[9];
+  for (int k = 0; k < 9; ++k) c[k] = t.column(names[k]);
+  std::vector<LampTrackAdjustedRow> rows;
+  rows.reserve(t.records.size());
+  for (const CsvRecord& rec : t.records) {
+    LampTrackAdjustedRow r;
+    r.line = rec.line;
+    std::string why;
+    const std::optional<UtcTime> utc = parse_iso8601_utc(t.text(rec, c_utc), &why);
+    if (!utc) throw_input_error(path, rec.line, "utc", "'" + t.text(rec, c_utc) + "': " + why);
+    r.utc = *utc;
+    // One row per epoch in time order (the writer's map): a repeated or earlier time is a damaged file.
+    if (!rows.empty() && !(rows.back().utc < r.utc))
+      throw_input_error(path, rec.line, "utc",
+                        "not after the previous row's " + format_iso8601_utc(rows.back().utc));
+    for (int k = 0; k < 3; ++k) {
+      r.enu[k] = t.number(rec, c[k]);
+      r.sd_enu[k] = t.number(rec, c[3 + k]);
+      if (r.sd_enu[k] < 0) throw_input_error(path, rec.line, names[3 + k], "negative standard deviation");
+      r.correction[k] = t.number(rec, c[6 + k]);
+    }
+    const std::string& flag = t.text(rec, c_flag);
+    if (flag != "0" && flag != "1") throw_input_error(path, rec.line, "flag", "'" + flag + "' is not 0 or 1");
+    r.flagged = flag == "1";
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::vector<LampTrackAdjustedRow> read_lamp_track_adjusted_csv(const std::string& path) {
+  return parse_lamp_track_adjusted_csv(read_file_text(path), path);
 }
 
 }  // namespace rangecal

@@ -1,6 +1,7 @@
 #include "pipeline/io/network_json.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -28,6 +29,55 @@ nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector
   j["cameras_alone"] = alone;
   j["rank_deficient"] = s.rank_deficient;
   return j;
+}
+
+NetworkStatisticsRecord parse_network_statistics_json(const nlohmann::json& j, const std::string& path,
+                                                      const std::string& field) {
+  if (!j.is_object()) throw_input_error(path, 0, field, "expected an object (the network statistics)");
+  auto at = [&](const char* key) -> const nlohmann::json& {
+    if (!j.contains(key)) throw_input_error(path, 0, field + "." + key, "missing");
+    return j[key];
+  };
+  // nlohmann writes a NaN as null: χ²/dof without redundancy.
+  auto number = [&](const char* key) {
+    const nlohmann::json& v = at(key);
+    if (v.is_null()) return std::nan("");
+    if (!v.is_number()) throw_input_error(path, 0, field + "." + key, "expected a number");
+    return v.get<double>();
+  };
+  auto count = [&](const char* key) {
+    const nlohmann::json& v = at(key);
+    if (!v.is_number_integer() || v.get<long>() < 0)
+      throw_input_error(path, 0, field + "." + key, "expected a non-negative integer");
+    return v.get<long>();
+  };
+  auto names = [&](const char* key) {
+    const nlohmann::json& v = at(key);
+    std::vector<std::string> out;
+    if (!v.is_array()) throw_input_error(path, 0, field + "." + key, "expected an array of strings");
+    for (const auto& x : v) {
+      if (!x.is_string()) throw_input_error(path, 0, field + "." + key, "expected an array of strings");
+      out.push_back(x.get<std::string>());
+    }
+    return out;
+  };
+  NetworkStatisticsRecord r;
+  r.variance_factor = number("variance_factor");
+  r.chi2 = number("chi2");
+  const nlohmann::json& dof = at("dof");
+  if (!dof.is_number_integer()) throw_input_error(path, 0, field + ".dof", "expected an integer");
+  r.dof = dof.get<long>();
+  r.epochs_seen_by_1 = count("epochs_seen_by_1");
+  r.epochs_seen_by_2 = count("epochs_seen_by_2");
+  r.epochs_seen_by_3_or_more = count("epochs_seen_by_3_or_more");
+  r.float_epochs_used = count("float_epochs_used");
+  r.ppk_outliers = names("ppk_outliers");
+  r.image_outliers = count("image_outliers");
+  r.cameras_alone = names("cameras_alone");
+  const nlohmann::json& rank = at("rank_deficient");
+  if (!rank.is_boolean()) throw_input_error(path, 0, field + ".rank_deficient", "expected true or false");
+  r.rank_deficient = rank.get<bool>();
+  return r;
 }
 
 nlohmann::json network_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc) {

@@ -18,6 +18,26 @@ namespace rangecal {
 /// ("" for poles).
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 
+/// The statistics object read back (the report's network section): NetworkStatistics with the PPK
+/// outliers and the cameras alone by name.
+struct NetworkStatisticsRecord {
+  double variance_factor = 0;  ///< χ²/dof; NaN when written as null (no redundancy)
+  double chi2 = 0;
+  long dof = 0;
+  long epochs_seen_by_1 = 0, epochs_seen_by_2 = 0, epochs_seen_by_3_or_more = 0;
+  long float_epochs_used = 0;
+  std::vector<std::string> ppk_outliers;  ///< UTC of each flagged epoch
+  long image_outliers = 0;
+  std::vector<std::string> cameras_alone;  ///< camera ids
+  bool rank_deficient = false;
+};
+
+/// Parses `j` as written by network_statistics_json. `path` and `field` (the object's JSON path,
+/// e.g. "stages.calibrate.counts.network") name it in messages: a missing key or a value of the
+/// wrong type throws rangecal::Error (input) naming `field.<key>`.
+NetworkStatisticsRecord parse_network_statistics_json(const nlohmann::json& j, const std::string& path,
+                                                      const std::string& field);
+
 /// network.json's text.
 nlohmann::json network_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 void write_network_json(const std::string& path, const nlohmann::json& j);

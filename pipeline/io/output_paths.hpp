@@ -12,10 +12,14 @@ namespace rangecal {
 // Mission files, under output_dir.
 inline constexpr const char* kLampTrackCsv = "gnss/lamp_track.csv";  ///< gnss stage
 inline constexpr const char* kIntersectionCsv = "intersection.csv";  ///< intersect stage
-inline constexpr const char* kSummaryJson = "summary.json";          ///< report stage
-inline constexpr const char* kReportHtml = "report.html";            ///< report stage
-inline constexpr const char* kRunJson = "run.json";                  ///< every stage, its own section
-inline constexpr const char* kMonteCarloCsv = "montecarlo.csv";      ///< `rangecal montecarlo`
+/// calibrate stage, method `network`: its statistics and joint covariance (pipeline/io/network_json.hpp).
+inline constexpr const char* kNetworkJson = "network.json";
+/// calibrate stage, method `network`: the adjusted lamp track (pipeline/io/lamp_track_adjusted_csv.hpp).
+inline constexpr const char* kLampTrackAdjustedCsv = "gnss/lamp_track_adjusted.csv";
+inline constexpr const char* kSummaryJson = "summary.json";      ///< report stage
+inline constexpr const char* kReportHtml = "report.html";        ///< report stage
+inline constexpr const char* kRunJson = "run.json";              ///< every stage, its own section
+inline constexpr const char* kMonteCarloCsv = "montecarlo.csv";  ///< `rangecal montecarlo`
 
 // Camera files, under output_dir/<camera id>.
 inline constexpr const char* kAlignedCsv = "aligned.csv";                  ///< align stage (our intermediate)

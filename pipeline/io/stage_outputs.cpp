@@ -32,7 +32,12 @@ std::vector<std::string> stage_output_files(const MissionConfig& cfg, const std:
     std::vector<std::string> files = {kCalibrationJson, kCameraOpencvYml, kDltCoefficientsCsv,
                                       kArgusProfileTxt, kResidualsCsv,    kMethodsCsv};
     for (const std::string& m : calibration_method_names()) files.push_back(compare_calibration_json(m));
-    return per_camera(cfg, files);
+    std::vector<std::string> out = per_camera(cfg, files);
+    // The network's files: a rerun by another method must not leave them to be read as its own
+    // (the report's network section, the intersect stage's cross covariances).
+    out.push_back(mission_output(cfg, kNetworkJson));
+    out.push_back(mission_output(cfg, kLampTrackAdjustedCsv));
+    return out;
   }
   if (stage == "intersect") return {mission_output(cfg, kIntersectionCsv)};
   if (stage == "report") return {mission_output(cfg, kSummaryJson), mission_output(cfg, kReportHtml)};

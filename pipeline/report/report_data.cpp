@@ -15,7 +15,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// run.json: version, config hash, warnings per stage and the calibrate stage's failure reasons.
+// run.json: version, config hash, warnings per stage, and the calibrate stage's failure reasons,
+// network statistics and default-method choice.
 void read_run_json(const std::string& path, ReportData* data,
                    std::vector<std::pair<std::string, std::string>>* failures) {
   const nlohmann::json doc = parse_json_text(read_file_text(path), path, ErrorKind::input);
@@ -46,10 +47,20 @@ void read_run_json(const std::string& path, ReportData* data,
       }
     }
     data->stage_warnings.push_back(sw);
-    if (name == "calibrate" && stage.contains("counts") && stage["counts"].is_object())
-      for (const auto& [cam, c] : stage["counts"].items())
-        if (c.is_object() && c.contains("failed") && c["failed"].is_string())
-          failures->emplace_back(cam, c["failed"].get<std::string>());
+    if (name != "calibrate" || !stage.contains("counts") || !stage["counts"].is_object()) continue;
+    const nlohmann::json& counts = stage["counts"];
+    for (const auto& [cam, c] : counts.items())
+      if (c.is_object() && c.contains("failed") && c["failed"].is_string())
+        failures->emplace_back(cam, c["failed"].get<std::string>());
+    if (counts.contains("network"))
+      data->network_statistics =
+          parse_network_statistics_json(counts["network"], path, "stages.calibrate.counts.network");
+    if (counts.contains("method_choice") && counts["method_choice"].is_object()) {
+      const nlohmann::json& m = counts["method_choice"];
+      if (m.contains("method") && m["method"].is_string())
+        data->method_choice = m["method"].get<std::string>();
+      if (m.contains("why") && m["why"].is_string()) data->method_choice_why = m["why"].get<std::string>();
+    }
   }
 }
 
@@ -75,7 +86,8 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
     data.lamp_track = t;
   }
   // The network bundle's adjusted track (docs/outputs.md): its presence turns the network section on.
-  data.network_track = fs::exists(mission_output(output_dir, "gnss/lamp_track_adjusted.csv"));
+  const std::string adjusted = mission_output(output_dir, kLampTrackAdjustedCsv);
+  if (fs::exists(adjusted)) data.network_track = read_lamp_track_adjusted_csv(adjusted);
 
   for (const std::string& id : camera_ids) {
     CameraReportData cam;

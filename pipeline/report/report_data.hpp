@@ -15,7 +15,9 @@
 #include "gnss/track/lamp_track.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/intersection_csv.hpp"
+#include "pipeline/io/lamp_track_adjusted_csv.hpp"
 #include "pipeline/io/methods_csv.hpp"
+#include "pipeline/io/network_json.hpp"
 #include "pipeline/io/residuals_csv.hpp"
 #include "vision/camera/calibration_result.hpp"
 
@@ -68,10 +70,17 @@ struct ReportData {
   double pick_sigma_px = 0.5;
   /// The lamp centroid σ the calibration assumed (px, kDefaultPixelSigmaPx): the noise model.
   double pixel_sigma_px = 0.1;
-  /// The check-pole mean ΔR bar (m): rangecal's quality bar (docs/accuracy_analysis.md).
+  /// The check-pole mean ΔR bar (m): the config's intersect.bar_mean_dR_m, by default rangecal's
+  /// quality bar (docs/accuracy_analysis.md).
   double bar_mean_dR_m = 0.010;
-  /// `gnss/lamp_track_adjusted.csv` exists (the network bundle ran): the network section renders.
-  bool network_track = false;
+  /// `gnss/lamp_track_adjusted.csv`, the network bundle's adjusted lamp track; absent: the network
+  /// did not run, and the report has no network section.
+  std::optional<std::vector<LampTrackAdjustedRow>> network_track;
+  /// run.json `stages.calibrate.counts.network` (the network's statistics); absent without it.
+  std::optional<NetworkStatisticsRecord> network_statistics;
+  /// run.json `stages.calibrate.counts.method_choice` (docs/config.md "Default method"): the
+  /// method the default rule chose and why; empty when the config named the method.
+  std::string method_choice, method_choice_why;
 };
 
 /// Reads `output_dir` for the given cameras. Missing files are recorded as absent; malformed files

@@ -494,6 +494,29 @@ SliceStats slice_stats(const IntersectionSigmaSlice& sl) {
   return st;
 }
 
+// Which calibration method ran (the verdict): the network when its adjusted track exists, else
+// what the default rule or the config chose.
+std::string method_sentence(const ReportData& d) {
+  std::vector<std::string> methods;
+  for (const CameraReportData& c : d.cameras)
+    if (c.calibration && std::find(methods.begin(), methods.end(), c.calibration->method) == methods.end())
+      methods.push_back(c.calibration->method);
+  const std::string why = d.method_choice_why.empty() ? "" : " (" + html_escape(d.method_choice_why) + ")";
+  if (d.network_track)
+    return "<p class=\"method\">Calibration method: <b>network adjustment</b>, the cameras and the lamp "
+           "track adjusted together" +
+           why + "; its statistics and the track's corrections are in the network section below.</p>\n";
+  std::string list;
+  for (const std::string& m : methods) list += (list.empty() ? "" : ", ") + html_escape(m);
+  if (list.empty()) list = html_escape(d.method_choice);  // no calibration.json: what the rule chose
+  if (list.empty()) return "";
+  const bool network = std::find(methods.begin(), methods.end(), "network") != methods.end();
+  return "<p class=\"method\">Calibration method: <b>" + list + "</b>" + why +
+         (network ? "; gnss/lamp_track_adjusted.csv is missing, so the network's track is not shown."
+                  : "; each camera calibrated on its own, no network adjustment.") +
+         "</p>\n";
+}
+
 std::string verdict_section(const ReportData& d, const std::vector<CameraFigures>& figs,
                             const std::optional<IntersectionSigmaSlice>& slice) {
   std::string s = "<section id=\"verdict\">\n<h2>Verdict</h2>\n<table class=\"verdict\">\n<tr>" +
@@ -523,7 +546,7 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
          td(fmt("%.3f", f.consistency.expected_rms_px)) + td(fmt("%.2f", ratio)) +
          td(fmt("%.3f", f.centre_sigma_px)) + td(reading, "txt") + "</tr>\n";
   }
-  s += "</table>\n";
+  s += "</table>\n" + method_sentence(d);
   const SliceStats st = slice ? slice_stats(*slice) : SliceStats{};
   if (d.intersection && !d.intersection->empty()) {
     const IntersectionMeans m = intersection_means(*d.intersection);
@@ -533,7 +556,9 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
          " cm, RMS " + fmt("%.2f", m.rms_dR * 100) + " cm against the predicted 1&#963; " +
          fmt("%.2f", m.mean_sigma_m * 100) + " cm (mean); bar: mean &#916;R &#8804; " +
          fmt("%.1f", d.bar_mean_dR_m * 100) +
-         " cm (rangecal's quality bar, docs/accuracy_analysis.md): " + (pass ? "met" : "NOT met") + ".</p>\n";
+         " cm (the config's intersect.bar_mean_dR_m; rangecal's quality bar is 1 cm, "
+         "docs/accuracy_analysis.md): " +
+         (pass ? "met" : "NOT met") + ".</p>\n";
   } else {
     s += "<p class=\"missing\">No check poles intersected: the calibration is not checked against an "
          "independent survey.</p>\n";
@@ -700,12 +725,161 @@ std::string intersection_plots(const ReportData& d, const std::optional<Intersec
   return s;
 }
 
+// The largest correction component over the epochs whose fix was kept (a flagged epoch's
+// correction is its PPK error, shown in its own table).
+struct LargestCorrection {
+  const LampTrackAdjustedRow* row = nullptr;
+  int axis = 0;
+};
+LargestCorrection largest_kept_correction(const std::vector<LampTrackAdjustedRow>& rows) {
+  LargestCorrection m;
+  for (const LampTrackAdjustedRow& r : rows)
+    for (int i = 0; i < 3; ++i)
+      if (!r.flagged && (!m.row || std::abs(r.correction[i]) > std::abs(m.row->correction[m.axis])))
+        m.row = &r, m.axis = i;
+  return m;
+}
+
+// What the variance factor says: χ²/dof of a model whose σ are right has mean 1 and sd √(2/dof);
+// within 3 sd it is read as agreeing (docs/optimisation.md: the σ are a-priori, not scaled).
+std::string variance_factor_reading(const NetworkStatisticsRecord& st) {
+  const double f = st.variance_factor;
+  if (!std::isfinite(f) || st.dof <= 0) return "No redundancy: the variance factor cannot be computed.";
+  const double sd = std::sqrt(2.0 / static_cast<double>(st.dof));
+  if (std::abs(f - 1) <= 3 * sd)
+    return "<span class=\"ok\">The variance factor is within its expected 1 &#177; " + fmt("%.3f", sd) +
+           " (&#8730;(2/dof)): the residuals are as large as the assumed noise (lamp centroid &#963; and PPK "
+           "sd) predicts, so the &#963; below are realistic.</span>";
+  if (f > 1)
+    return "<span class=\"bad\">The variance factor is " + fmt("%.2f", f) + ", above its expected 1 &#177; " +
+           fmt("%.3f", sd) +
+           ": the residuals are larger than the assumed noise; the &#963; below (a-priori, not scaled) are "
+           "optimistic by about &#8730;" +
+           fmt("%.2f", f) + " = " + fmt("%.2f", std::sqrt(f)) +
+           "&#215;. Look at the residual plots and the flagged epochs.</span>";
+  return "<span class=\"warn\">The variance factor is " + fmt("%.2f", f) + ", below its expected 1 &#177; " +
+         fmt("%.3f", sd) +
+         ": the residuals are smaller than the assumed noise, so the &#963; below are conservative.</span>";
+}
+
+// The network statistics (run.json stages.calibrate.counts.network) and what they mean.
+std::string network_statistics_table(const NetworkStatisticsRecord& st, std::size_t rows) {
+  std::string s = "<table class=\"network-stats\">\n";
+  auto row = [&](const std::string& k, const std::string& v, const std::string& note) {
+    s += "<tr>" + th(k) + td(v) + td(note, "txt") + "</tr>\n";
+  };
+  row("variance factor &#967;&#178;/dof", fmt("%.3f", st.variance_factor),
+      "should be &#8776; 1 (&#967;&#178; " + fmt("%.1f", st.chi2) + ", dof " + std::to_string(st.dof) + ")");
+  row("epochs in the adjusted track", std::to_string(rows), "rows of gnss/lamp_track_adjusted.csv");
+  row("seen by 1 camera", std::to_string(st.epochs_seen_by_1), "enter as in the per-camera bundle");
+  row("seen by 2 cameras", std::to_string(st.epochs_seen_by_2), "tie the cameras together");
+  row("seen by &#8805; 3 cameras", std::to_string(st.epochs_seen_by_3_or_more), "tie the cameras together");
+  row("PPK epochs flagged", std::to_string(st.ppk_outliers.size()),
+      "fix disagrees with the rays: its prior dropped");
+  if (st.float_epochs_used > 0)
+    row("float epochs used", std::to_string(st.float_epochs_used), "PPK quality 2, with their own sd");
+  row("image outliers", std::to_string(st.image_outliers), "lamp observations left out");
+  s += "</table>\n";
+  const long tied = st.epochs_seen_by_2 + st.epochs_seen_by_3_or_more;
+  s +=
+      "<p>" + variance_factor_reading(st) + " " + std::to_string(tied) +
+      " epochs were seen by two or more cameras: at each of them the cameras must agree on one lamp "
+      "position, which is what ties their relative geometry together; " +
+      std::to_string(st.epochs_seen_by_1) +
+      " seen by one camera add to that camera alone, as in its own bundle. " +
+      (st.ppk_outliers.empty()
+           ? std::string("No PPK fix was flagged.")
+           : std::to_string(st.ppk_outliers.size()) +
+                 " PPK fixes disagreed with what the cameras saw beyond the whitened &#967;&#178; test "
+                 "(&#945; = 10<sup>&#8722;4</sup>): their priors were dropped, and those lamp positions come "
+                 "from the rays alone.") +
+      "</p>\n";
+  if (!st.cameras_alone.empty()) {
+    std::string ids;
+    for (const std::string& c : st.cameras_alone) ids += (ids.empty() ? "" : ", ") + html_escape(c);
+    s += "<p class=\"warn\">Sharing no epoch with another camera (calibrated from their own epochs alone): " +
+         ids + ".</p>\n";
+  }
+  if (st.rank_deficient)
+    s += "<p class=\"bad\">The network is rank-deficient: no joint covariance (see the calibrate stage's "
+         "warnings).</p>\n";
+  return s;
+}
+
+// The network section (docs/outputs.md): statistics, the corrections per axis against time over
+// the adjusted position's ±1σ with the flagged epochs marked, and the flagged epochs' list.
 std::string network_section(const ReportData& d) {
   if (!d.network_track) return "";
-  return "<section id=\"network\">\n<h2>Network adjustment</h2>\n<p>gnss/lamp_track_adjusted.csv is present: "
-         "the lamp track was adjusted by the network bundle. Its corrections per axis over time are not "
-         "drawn "
-         "yet.</p>\n</section>\n";
+  const std::vector<LampTrackAdjustedRow>& rows = *d.network_track;
+  std::string s =
+      "<section id=\"network\">\n<h2>Network adjustment</h2>\n<p>The cameras and the lamp track were "
+      "adjusted together (docs/optimisation.md, \"Network bundle\"): each lamp epoch is one point seen by "
+      "the cameras, held by its PPK fix with the fix's own &#963;; the correction is adjusted &#8722; PPK "
+      "fix.</p>\n";
+  if (d.network_statistics)
+    s += network_statistics_table(*d.network_statistics, rows.size());
+  else
+    s += "<p class=\"missing\">run.json has no network statistics (stages.calibrate.counts.network).</p>\n";
+  if (rows.empty()) return s + "<p class=\"missing\">The adjusted track has no epochs.</p>\n</section>\n";
+
+  const LargestCorrection big = largest_kept_correction(rows);
+  if (big.row)
+    s += "<p>Largest correction of a kept fix: &#916;" + std::string(1, "ENU"[big.axis]) + " " +
+         fmt("%.2f", big.row->correction[big.axis] * 100) + " cm at " + format_iso8601_utc(big.row->utc, 3) +
+         " (&#963; of the adjusted position " + fmt("%.2f", big.row->sd_enu[big.axis] * 100) + " cm).</p>\n";
+  // What the corrections are measured against: the PPK fixes' own sd (the corrections' expected size
+  // where the fix is sound); the band is the adjusted position's σ.
+  if (d.lamp_track && !d.lamp_track->epochs.empty()) {
+    Eigen::Vector3d median_sd;
+    for (int i = 0; i < 3; ++i) {
+      std::vector<double> sd;
+      for (const LampEpoch& e : d.lamp_track->epochs) sd.push_back(e.sd_enu[i]);
+      std::nth_element(sd.begin(), sd.begin() + static_cast<std::ptrdiff_t>(sd.size() / 2), sd.end());
+      median_sd[i] = sd[sd.size() / 2];
+    }
+    s += "<p>The PPK fixes' own sd (gnss/lamp_track.csv, median) is " + fmt("%.2f", median_sd.x() * 100) +
+         " / " + fmt("%.2f", median_sd.y() * 100) + " / " + fmt("%.2f", median_sd.z() * 100) +
+         " cm in E / N / U: corrections of about that size are the PPK noise the network took out. The "
+         "band in each chart is &#177;1&#963; of the adjusted position: how well the cameras and the fix "
+         "together place each epoch.</p>\n";
+  }
+  std::vector<double> t;
+  std::vector<bool> flagged;
+  for (const LampTrackAdjustedRow& r : rows) {
+    t.push_back(seconds_between(rows.front().utc, r.utc));
+    flagged.push_back(r.flagged);
+  }
+  for (int i = 0; i < 3; ++i) {
+    std::vector<double> dcm, scm;
+    for (const LampTrackAdjustedRow& r : rows) {
+      dcm.push_back(r.correction[i] * 100);
+      scm.push_back(r.sd_enu[i] * 100);
+    }
+    const std::string axis(1, "ENU"[i]);
+    s += figure(
+        svg_correction_series(t, dcm, scm, flagged, "d" + axis + " (cm), adjusted − PPK",
+                              std::string("network-d") + "ENU"[i],
+                              "Lamp-track correction d" + axis + " against time"),
+        "&#916;" + axis +
+            " correction per epoch (cm); band: &#177;1&#963; of the adjusted position; red &#215;: flagged "
+            "PPK epochs");
+  }
+  std::size_t n_flagged = 0;
+  for (const LampTrackAdjustedRow& r : rows) n_flagged += r.flagged;
+  s += "<h3>Flagged PPK epochs (" + std::to_string(n_flagged) + ")</h3>\n";
+  if (n_flagged == 0) return s + "<p>None.</p>\n</section>\n";
+  s += "<table class=\"flagged\">\n<tr>" + th("UTC") + th("t /s") + th("&#916;E /cm") + th("&#916;N /cm") +
+       th("&#916;U /cm") + th("|&#916;| /cm") + "</tr>\n";
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const LampTrackAdjustedRow& r = rows[k];
+    if (!r.flagged) continue;
+    s += "<tr>" + td(format_iso8601_utc(r.utc, 3), "txt") + td(fmt("%.3f", t[k]));
+    for (int i = 0; i < 3; ++i) s += td(fmt("%.2f", r.correction[i] * 100));
+    s += td(fmt("%.2f", r.correction.norm() * 100)) + "</tr>\n";
+  }
+  return s +
+         "</table>\n<p>The correction of a flagged epoch is how far its PPK fix lay from where the "
+         "cameras put the lamp.</p>\n</section>\n";
 }
 
 }  // namespace

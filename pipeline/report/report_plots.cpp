@@ -235,42 +235,83 @@ std::string svg_site_side(const SiteMap& m, const std::string& id) {
   return s;
 }
 
-std::string svg_residual_scatter(const std::vector<double>& x, const std::vector<double>& y,
-                                 const std::vector<double>& sigma, const std::vector<bool>& used,
-                                 const std::string& x_label, const std::string& y_label,
-                                 const std::string& id, const std::string& title) {
+namespace {
+
+// What band_scatter draws beyond the points: the band's multiple of σ, the plot's width, the
+// markers of flagged points and a key under the axes.
+struct BandScatterStyle {
+  double band_k = 2;
+  double width = 380;
+  std::vector<bool> flagged;  ///< empty: none; true: a red × instead of the dot
+  std::string key;            ///< empty: no key; else the key's text, after the three markers
+};
+
+// y against x over the band ±k·σ about zero (σ per point; a polygon through the points sorted by
+// x), with the zero line. A point outside the band is larger than k of its own σ. `used` false
+// draws a hollow red ring, style.flagged true a red × (either list may be empty).
+std::string band_scatter(const std::vector<double>& x, const std::vector<double>& y,
+                         const std::vector<double>& sigma, const std::vector<bool>& used,
+                         const std::string& x_label, const std::string& y_label, const std::string& id,
+                         const std::string& title, const BandScatterStyle& style) {
   ChartAxes a;
   a.left = 60;
   a.top = 12;
-  a.width = 380;
+  a.width = style.width;
   a.height = 150;
   const Eigen::Vector2d xr = padded_range(x, 0.02, 1e-6);
+  const double k = style.band_k;
   double ymax = 0;
   for (std::size_t i = 0; i < y.size(); ++i) {
     if (std::isfinite(y[i])) ymax = std::max(ymax, std::abs(y[i]));
-    if (i < sigma.size() && std::isfinite(sigma[i])) ymax = std::max(ymax, 2 * sigma[i]);
+    if (i < sigma.size() && std::isfinite(sigma[i])) ymax = std::max(ymax, k * sigma[i]);
   }
   ymax = ymax > 0 ? ymax * 1.1 : 1;
   a.x0 = xr[0], a.x1 = xr[1], a.y0 = -ymax, a.y1 = ymax;
-  std::string s = svg_open(a.right() + 14, a.bottom() + 40, id, title);
+  std::string s = svg_open(a.right() + 14, a.bottom() + (style.key.empty() ? 40 : 58), id, title);
   s += "<g class=\"data\">\n";
-  // The ±2σ band through the points sorted by x.
+  // The ±kσ band through the points sorted by x, one polygon per run of points: a gap over 5× the
+  // median step (the UAV flying back down between ascents) is left open, not bridged by a band no
+  // point supports; a point alone gets a band half a median step to each side.
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < x.size() && i < sigma.size(); ++i)
     if (std::isfinite(x[i]) && std::isfinite(sigma[i])) order.push_back(i);
   std::stable_sort(order.begin(), order.end(), [&](std::size_t p, std::size_t q) { return x[p] < x[q]; });
-  if (!order.empty()) {
-    std::string up, down;
-    for (std::size_t i : order) up += n2(a.X(x[i])) + "," + n2(a.Y(2 * sigma[i])) + " ";
-    for (auto it = order.rbegin(); it != order.rend(); ++it)
-      down += n2(a.X(x[*it])) + "," + n2(a.Y(-2 * sigma[*it])) + " ";
+  std::vector<double> steps;
+  for (std::size_t j = 1; j < order.size(); ++j) steps.push_back(x[order[j]] - x[order[j - 1]]);
+  double median_step = 0;
+  if (!steps.empty()) {
+    std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2),
+                     steps.end());
+    median_step = steps[steps.size() / 2];
+  }
+  const double gap = median_step > 0 ? 5 * median_step : INFINITY;
+  auto vertex = [&](double xv, double yv) {
+    return n2(a.X(std::clamp(xv, a.x0, a.x1))) + "," + n2(a.Y(yv)) + " ";
+  };
+  for (std::size_t b = 0, j = 1; j <= order.size(); ++j) {
+    if (j < order.size() && x[order[j]] - x[order[j - 1]] <= gap) continue;
+    const double h = j - b == 1 ? median_step / 2 : 0;  // half-width of a lone point's band
+    std::string up, down;  // upper edge left to right, then lower edge right to left
+    for (std::size_t q = b; q < j; ++q) {
+      const std::size_t i = order[q];
+      up += vertex(x[i] - h, k * sigma[i]) + (h > 0 ? vertex(x[i] + h, k * sigma[i]) : "");
+    }
+    for (std::size_t q = j; q-- > b;) {
+      const std::size_t i = order[q];
+      down += (h > 0 ? vertex(x[i] + h, -k * sigma[i]) : "") + vertex(x[i] - h, -k * sigma[i]);
+    }
     down.pop_back();
     s += "<polygon class=\"band\" points=\"" + up + down + "\" fill=\"#d5e3f3\" stroke=\"none\"/>\n";
+    b = j;
   }
   s += "<line class=\"zero\" x1=\"" + n2(a.left) + "\" y1=\"" + n2(a.Y(0)) + "\" x2=\"" + n2(a.right()) +
        "\" y2=\"" + n2(a.Y(0)) + "\" stroke=\"#999\" stroke-width=\"0.6\"/>\n";
   for (std::size_t i = 0; i < x.size() && i < y.size(); ++i) {
     if (!std::isfinite(x[i]) || !std::isfinite(y[i])) continue;
+    if (i < style.flagged.size() && style.flagged[i]) {
+      s += cross(a.X(x[i]), a.Y(y[i]), 3, "flagged", "#d62728");
+      continue;
+    }
     const bool ok = used.empty() || used[i];
     s += "<circle class=\"" + std::string(ok ? "point" : "rejected-point") + "\" cx=\"" + n2(a.X(x[i])) +
          "\" cy=\"" + n2(a.Y(y[i])) + "\" r=\"1.80\" fill=\"" + (ok ? "#1f5fa8" : "none") + "\" stroke=\"" +
@@ -278,8 +319,38 @@ std::string svg_residual_scatter(const std::vector<double>& x, const std::vector
   }
   s += "</g>\n";
   s += svg_axes(a, x_label, y_label, 6, 4, 44);
+  if (!style.key.empty()) {
+    const double ky = a.bottom() + 48;
+    s += "<g class=\"key\" font-size=\"11\"><circle cx=\"" + n2(a.left + 4) + "\" cy=\"" + n2(ky - 4) +
+         "\" r=\"2.20\" fill=\"#1f5fa8\"/>" + text(a.left + 12, ky, "epoch") + "<rect x=\"" +
+         n2(a.left + 60) + "\" y=\"" + n2(ky - 9) + "\" width=\"14\" height=\"10\" fill=\"#d5e3f3\"/>" +
+         text(a.left + 78, ky, "±" + tick_label(k) + "σ") +
+         cross(a.left + 124, ky - 4, 3, "key-flagged", "#d62728") +
+         text(a.left + 132, ky, html_escape(style.key)) + "</g>\n";
+  }
   s += "</svg>\n";
   return s;
+}
+
+}  // namespace
+
+std::string svg_residual_scatter(const std::vector<double>& x, const std::vector<double>& y,
+                                 const std::vector<double>& sigma, const std::vector<bool>& used,
+                                 const std::string& x_label, const std::string& y_label,
+                                 const std::string& id, const std::string& title) {
+  return band_scatter(x, y, sigma, used, x_label, y_label, id, title, BandScatterStyle{});
+}
+
+std::string svg_correction_series(const std::vector<double>& t_s, const std::vector<double>& d_cm,
+                                  const std::vector<double>& sigma_cm, const std::vector<bool>& flagged,
+                                  const std::string& y_label, const std::string& id,
+                                  const std::string& title) {
+  BandScatterStyle style;
+  style.band_k = 1;
+  style.width = 700;
+  style.flagged = flagged;
+  style.key = "flagged PPK epoch (its fix dropped)";
+  return band_scatter(t_s, d_cm, sigma_cm, {}, "time since the first epoch (s)", y_label, id, title, style);
 }
 
 std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_px,

@@ -1,6 +1,7 @@
 #pragma once
 // The charts of report.html beyond the image plots of svg_plot.hpp: the site map (plan and side
-// view), residuals against a variable with the noise model's ±2σ band, colour maps over the image
+// view), residuals against a variable with the noise model's ±2σ band and the network's lamp-track
+// corrections against time with their ±1σ, colour maps over the image
 // (projection uncertainty, calibration difference) and over a horizontal slice of the flight volume
 // (predicted intersection σ), displacement vectors over the image (distortion), the correlation
 // matrix, the check poles' error bars and the data funnel. Pure functions of typed data returning
@@ -52,11 +53,20 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id);
 /// Side view: horizontal distance from the cameras' mean centre against height U.
 std::string svg_site_side(const SiteMap& m, const std::string& id);
 
-/// Residuals y (px) against x with the band ±2σ (σ per point), rejected points hollow red.
+/// Residuals y (px) against x with the band ±2σ (σ per point; left open across a gap over 5× the
+/// median step in x), rejected points hollow red.
 std::string svg_residual_scatter(const std::vector<double>& x, const std::vector<double>& y,
                                  const std::vector<double>& sigma, const std::vector<bool>& used,
                                  const std::string& x_label, const std::string& y_label,
                                  const std::string& id, const std::string& title);
+
+/// One axis of the network's lamp-track corrections (cm) against time since the first epoch (s)
+/// over the band ±1σ of the adjusted position (cm) about zero, flagged PPK epochs as red ×
+/// (path.flagged) and the others as dots (circle.point), with a key. The residual plot's layout.
+std::string svg_correction_series(const std::vector<double>& t_s, const std::vector<double>& d_cm,
+                                  const std::vector<double>& sigma_cm, const std::vector<bool>& flagged,
+                                  const std::string& y_label, const std::string& id,
+                                  const std::string& title);
 
 /// A colour map over the image (values ny × nx at cell centres u_px × v_px) with contours and a
 /// colour bar labelled `value_label`; `marks` (px) are drawn as small × (e.g. cells that exceed).

@@ -197,9 +197,9 @@ void run_network(const MissionConfig& cfg, const std::vector<CameraInputs>& inpu
   }
   for (const std::string& w : r.warnings) log->warnings.push_back("network: " + w);
   log->counts["network"] = network_statistics_json(r, utc);
-  write_network_json(mission_output(cfg, "network.json"), network_json(r, utc));
+  write_network_json(mission_output(cfg, kNetworkJson), network_json(r, utc));
   if (!track.epochs.empty())
-    write_file_atomic(mission_output(cfg, "gnss/lamp_track_adjusted.csv"),
+    write_file_atomic(mission_output(cfg, kLampTrackAdjustedCsv),
                       format_lamp_track_adjusted_csv(track, r, n.epoch_of_point));
 }
 

@@ -44,9 +44,10 @@ nlohmann::json means_json(const IntersectionMeans& m) {
 
 void require_intersect_inputs(const MissionConfig& cfg) {
   if (cfg.poles_file.empty())
-    throw_input_error(cfg.config_path, 0, "poles",
-                      "no pole survey in the config; the intersect stage needs \"poles\" (docs/formats.md) and "
-                      "cameras' \"pole_observations\"");
+    throw_input_error(
+        cfg.config_path, 0, "poles",
+        "no pole survey in the config; the intersect stage needs \"poles\" (docs/formats.md) and "
+        "cameras' \"pole_observations\"");
   if (!any_camera_has_picks(cfg))
     throw_input_error(cfg.config_path, 0, "cameras[].pole_observations",
                       "no camera has pole picks; the intersect stage needs \"pole_observations\" "
@@ -112,10 +113,10 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
   // takes the cross blocks of the network's joint covariance (docs/intersection.md).
   CrossCovariances cross;
   if (all_network && cameras.size() >= 2) {
-    cross = read_network_cross_covariances(mission_output(cfg, "network.json"), ids, &parameters);
+    cross = read_network_cross_covariances(mission_output(cfg, kNetworkJson), ids, &parameters);
     if (cross.empty())
       log.warnings.push_back(
-          "the calibrations come from the network but " + mission_output(cfg, "network.json") +
+          "the calibrations come from the network but " + mission_output(cfg, kNetworkJson) +
           " does not hold their joint covariance: sigma_m takes the cameras as independent");
   }
   log.counts["joint_covariance"] = !cross.empty();

@@ -64,6 +64,7 @@ StageLog run_report_stage(const MissionConfig& cfg) {
   if (!cfg.poles_file.empty() && std::filesystem::exists(cfg.poles_file))
     data.survey = read_pole_survey(cfg.poles_file, cfg.origin);
   data.pick_sigma_px = cfg.intersect.pick_sigma_px;
+  data.bar_mean_dR_m = cfg.intersect.bar_mean_dR_m;
   data.pixel_sigma_px = kDefaultPixelSigmaPx;
   int calibrated = 0;
   for (std::size_t i = 0; i < data.cameras.size(); ++i) {

@@ -94,6 +94,8 @@ TEST(MissionConfig, FullExampleParses) {
   EXPECT_EQ(c.calibrate.compare, (std::vector<std::string>{"tsai", "tsai_sassa", "dlt_lmqn"}));
   EXPECT_TRUE(c.calibrate.use_control_poles);
   EXPECT_EQ(c.calibrate.seed, 7u);
+  EXPECT_DOUBLE_EQ(c.intersect.pick_sigma_px, 0.4);
+  EXPECT_DOUBLE_EQ(c.intersect.bar_mean_dR_m, 0.015);
   EXPECT_EQ(c.output_dir, (dir / "out").string());
 }
 
@@ -268,6 +270,19 @@ TEST(MissionConfig, ControlPoleSigmaIsReadAndMustBePositive) {
   EXPECT_DOUBLE_EQ(parse_mission_config(j.dump(), kPath, false).calibrate.control_sigma_m, 0.02);
   j["calibrate"] = {{"control_sigma_m", 0}};
   expect_error(j, "calibrate.control_sigma_m", "positive standard deviation");
+}
+
+TEST(MissionConfig, AccuracyBarIsReadAndRangeChecked) {
+  auto j = minimal();
+  EXPECT_DOUBLE_EQ(parse_mission_config(j.dump(), kPath, false).intersect.bar_mean_dR_m, 0.010);
+  j["intersect"] = {{"bar_mean_dR_m", 0.025}};
+  EXPECT_DOUBLE_EQ(parse_mission_config(j.dump(), kPath, false).intersect.bar_mean_dR_m, 0.025);
+  j["intersect"] = {{"bar_mean_dR_m", 0}};
+  expect_error(j, "intersect.bar_mean_dR_m", "positive distance in metres");
+  j["intersect"] = {{"bar_mean_dR_m", 10}};  // 10 mm written as metres
+  expect_error(j, "intersect.bar_mean_dR_m", "at most 1");
+  j["intersect"] = {{"bar_mean_dR_m", "1 cm"}};
+  expect_error(j, "intersect.bar_mean_dR_m", "positive distance in metres");
 }
 
 TEST(MissionConfigErrors, UnknownCompareMethod) {

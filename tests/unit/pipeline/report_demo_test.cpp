@@ -1,7 +1,8 @@
 // The demo's report.html in a headless browser: not blank, every section, axis labels with units on
 // every plot, no SVG element outside its svg nor a data element outside its plot area (bounding
 // boxes measured by the browser), self-contained and < 5 MB; and the numbers of the uncertainty map
-// and the correlation grid against the demo's calibration.json computed here.
+// and the correlation grid against the demo's calibration.json computed here, and the network
+// section's statistics against run.json.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -135,6 +136,44 @@ void check_plotted_numbers(const std::string& page) {
   }
 }
 
+std::size_t count_of(const std::string& hay, const std::string& needle) {
+  std::size_t n = 0;
+  for (std::size_t p = hay.find(needle); p != std::string::npos; p = hay.find(needle, p + needle.size())) ++n;
+  return n;
+}
+
+// The network section against run.json's network statistics and the adjusted track's rows.
+void check_network_numbers(const std::string& page) {
+  const nlohmann::json run = nlohmann::json::parse(test::read_text(out_dir() / "run.json"));
+  const nlohmann::json& st = run["stages"]["calibrate"]["counts"]["network"];
+  ASSERT_TRUE(st.is_object()) << "run.json has no network statistics";
+  const std::size_t a = page.find("<section id=\"network\">"), b = page.find("</section>", a);
+  ASSERT_NE(a, std::string::npos);
+  const std::string net = page.substr(a, b - a);
+  char vf[32];
+  std::snprintf(vf, sizeof vf, "%.3f", st["variance_factor"].get<double>());
+  auto cell = [&](const std::string& name, const std::string& value) {
+    EXPECT_NE(net.find("<tr><th>" + name + "</th><td class=\"num\">" + value + "</td>"), std::string::npos)
+        << name << " = " << value;
+  };
+  cell("variance factor &#967;&#178;/dof", vf);
+  cell("seen by 1 camera", std::to_string(st["epochs_seen_by_1"].get<int>()));
+  cell("seen by 2 cameras", std::to_string(st["epochs_seen_by_2"].get<int>()));
+  cell("seen by &#8805; 3 cameras", std::to_string(st["epochs_seen_by_3_or_more"].get<int>()));
+  cell("PPK epochs flagged", std::to_string(st["ppk_outliers"].size()));
+  // Every row of the adjusted track is one marker per chart, the flagged ones red ×.
+  const std::string csv = test::read_text(out_dir() / "gnss/lamp_track_adjusted.csv");
+  const std::size_t rows = count_of(csv, "\n") - 1, flagged = count_of(csv, ",1\n");
+  EXPECT_EQ(flagged, st["ppk_outliers"].size());
+  cell("epochs in the adjusted track", std::to_string(rows));
+  for (const char* id : {"network-dE", "network-dN", "network-dU"}) {
+    const std::size_t s0 = page.find(std::string("id=\"") + id + "\""), s1 = page.find("</svg>", s0);
+    const std::string svg = page.substr(s0, s1 - s0);
+    EXPECT_EQ(count_of(svg, "<circle class=\"point\""), rows - flagged) << id;
+    EXPECT_EQ(count_of(svg, "<path class=\"flagged\""), flagged) << id;
+  }
+}
+
 // One test: the demo run (most of the time) is made once per test process.
 TEST(ReportDemo, RendersInHeadlessChromiumInsideItsAreasWithNumbersOfTheData) {
   const std::string chromium = "/usr/bin/chromium";
@@ -157,9 +196,14 @@ TEST(ReportDemo, RendersInHeadlessChromiumInsideItsAreasWithNumbersOfTheData) {
         std::string::npos)
         << id;
   EXPECT_LT(page.find("id=\"verdict\""), page.find("id=\"mission\""));
-  // The demo runs the network (two cameras share epochs), so its adjusted track has a section.
+  // The demo runs the network (two cameras share epochs), so its adjusted track has a section, after
+  // the funnel, with one chart per axis and the verdict naming the method.
   EXPECT_TRUE(fs::exists(out_dir() / "gnss/lamp_track_adjusted.csv"));
-  EXPECT_NE(page.find("id=\"network\""), std::string::npos);
+  EXPECT_NE(page.find("<section id=\"network\">"), std::string::npos);
+  EXPECT_LT(page.find("id=\"funnel\""), page.find("id=\"network\""));
+  for (const char* id : {"network-dE", "network-dN", "network-dU"})
+    EXPECT_GT(page.find(std::string("id=\"") + id + "\""), page.find("id=\"network\"")) << id;
+  EXPECT_LT(page.find("<b>network adjustment</b>"), page.find("id=\"mission\""));
 
   const fs::path dir = test::scratch_dir("report_demo_browser");
   const fs::path png = dir / "shot.png", measured = dir / "measured.html", dom = dir / "dom.html";
@@ -186,10 +230,11 @@ TEST(ReportDemo, RendersInHeadlessChromiumInsideItsAreasWithNumbersOfTheData) {
   ASSERT_NE(a, std::string::npos) << "the measuring script did not run";
   std::istringstream lines(d.substr(a + 19, b - a - 19));
   std::string line;
-  int plots = 0;
+  int plots = 0, network_plots = 0;
   const std::regex unit(R"(\(([^)]+)\))");
   while (std::getline(lines, line)) {
     ++plots;
+    network_plots += line.rfind("network-d", 0) == 0;
     std::vector<std::string> f;
     std::stringstream ss(line);
     for (std::string x; std::getline(ss, x, '\t');) f.push_back(x);
@@ -200,9 +245,12 @@ TEST(ReportDemo, RendersInHeadlessChromiumInsideItsAreasWithNumbersOfTheData) {
     EXPECT_EQ(f[4], "0") << f[0] << " draws outside: " << (f.size() > 5 ? f[5] : "");
   }
   // Per calibrated camera: track, residual vectors, histogram, 4 residual plots, uncertainty,
-  // distortion, correlation (10); site plan and side view, pole bars, slice, funnel (5).
-  EXPECT_EQ(plots, 2 * 10 + 5);
+  // distortion, correlation (10); site plan and side view, pole bars, slice, funnel (5); the
+  // network's corrections dE, dN, dU (3), each measured above like every other plot.
+  EXPECT_EQ(network_plots, 3);
+  EXPECT_EQ(plots, 2 * 10 + 5 + 3);
   check_plotted_numbers(page);
+  check_network_numbers(page);
 }
 
 }  // namespace

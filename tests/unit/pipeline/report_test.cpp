@@ -1,7 +1,9 @@
 // The report stage (docs/outputs.md): an output folder built from synthetic data with the project's
 // own writers → summary.json numbers equal the inputs', report.html has the tables and one <svg>
 // per plot, reruns are byte-identical, a camera without calibration is reported (not an error), a
-// malformed input names file and line, and a headless browser renders the page (issue acceptance).
+// malformed input names file and line, the network section draws the adjusted track and run.json's
+// statistics, the verdict holds the check poles to the configured bar, and a headless browser
+// renders the page.
 #include "pipeline/stages/report_stage.hpp"
 
 #include <gtest/gtest.h>
@@ -11,6 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <regex>
+#include <sstream>
 
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
@@ -41,6 +45,10 @@ std::string fixed(const char* f, double x) {
   return b;
 }
 
+std::string td_num(const std::string& v) {
+  return "<td class=\"num\">" + v + "</td>";
+}
+
 // The check poles written to intersection.csv (metres): dE, dN, dU and sigma; dR follows.
 struct Pole {
   const char* id;
@@ -54,6 +62,43 @@ double pole_dr(const Pole& p) {
   return std::sqrt(p.dE * p.dE + p.dN * p.dN + p.dU * p.dU);
 }
 
+// The network's adjusted track written to gnss/lamp_track_adjusted.csv (metres): time since the
+// first epoch, corrections, the adjusted position's σ and the PPK-outlier flag. Two ascents 30 s apart;
+// epochs 2 and 4 flagged (their corrections are their PPK errors).
+struct AdjustedEpoch {
+  double t_s, dE, dN, dU, sdE, sdN, sdU;
+  int flag;
+};
+const AdjustedEpoch kAdjusted[] = {{0.0, 0.0012, -0.0008, 0.0031, 0.0015, 0.0018, 0.0040, 0},
+                                   {0.2, -0.0021, 0.0004, -0.0012, 0.0016, 0.0019, 0.0041, 0},
+                                   {0.4, 0.1500, -0.0900, 0.2200, 0.0030, 0.0035, 0.0080, 1},
+                                   {30.0, 0.0007, 0.0015, -0.0046, 0.0014, 0.0017, 0.0039, 0},
+                                   {30.2, -0.0600, 0.1200, -0.0300, 0.0031, 0.0036, 0.0082, 1},
+                                   {30.4, 0.0003, -0.0019, 0.0024, 0.0015, 0.0018, 0.0040, 0}};
+constexpr std::int64_t kAdjustedStartNs = 1'700'000'000'000'000'000;
+
+std::string adjusted_utc(const AdjustedEpoch& e) {
+  return format_iso8601_utc(UtcTime{kAdjustedStartNs + static_cast<std::int64_t>(std::llround(e.t_s * 1e9))});
+}
+
+// run.json's network statistics as the calibrate stage writes them (pipeline/io/network_json.hpp).
+nlohmann::json network_counts() {
+  nlohmann::json outliers = nlohmann::json::array();
+  for (const AdjustedEpoch& e : kAdjusted)
+    if (e.flag) outliers.push_back(adjusted_utc(e));
+  return {{"variance_factor", 1.0712},
+          {"chi2", 1284.4},
+          {"dof", 1199},
+          {"epochs_seen_by_1", 3},
+          {"epochs_seen_by_2", 70},
+          {"epochs_seen_by_3_or_more", 1},
+          {"float_epochs_used", 2},
+          {"ppk_outliers", outliers},
+          {"image_outliers", 4},
+          {"cameras_alone", nlohmann::json::array()},
+          {"rank_deficient", false}};
+}
+
 struct Fixture {
   MissionConfig cfg;
   CalibrationResult cal;          // cam1's calibration.json
@@ -64,7 +109,7 @@ struct Fixture {
 
 // A mission output folder: lamp track, cam1 calibrated (pairs, calibration.json, methods.csv),
 // cam2 whose calibration failed (pairs only, failure in run.json), intersection.csv, run.json.
-Fixture build_output(const fs::path& dir, bool with_intersection = true) {
+Fixture build_output(const fs::path& dir, bool with_intersection = true, bool with_network = false) {
   Fixture fx;
   fx.cfg.mission = "Range 3 <night> & \"dawn\" flights";
   fx.cfg.output_dir = (dir / "out").string();
@@ -163,6 +208,18 @@ Fixture build_output(const fs::path& dir, bool with_intersection = true) {
   StageLog cal_log;
   cal_log.stage = "calibrate";
   cal_log.counts["cam2"] = {{"failed", "points on one line <degenerate>"}};
+  if (with_network) {
+    std::string csv = "utc,E,N,U,sdE,sdN,sdU,dE,dN,dU,flag\n";
+    for (const AdjustedEpoch& e : kAdjusted)
+      csv += adjusted_utc(e) + ",0.5000,64.0000," + fixed("%.4f", 2.0 + e.t_s) + "," + fixed("%.4f", e.sdE) +
+             "," + fixed("%.4f", e.sdN) + "," + fixed("%.4f", e.sdU) + "," + fixed("%.4f", e.dE) + "," +
+             fixed("%.4f", e.dN) + "," + fixed("%.4f", e.dU) + "," + std::to_string(e.flag) + "\n";
+    test::write_text(out + "/gnss/lamp_track_adjusted.csv", csv);
+    cal_log.counts["network"] = network_counts();
+    cal_log.counts["method_choice"] = {{"method", "network"},
+                                       {"shared_epochs", 71},
+                                       {"why", "default: 71 epochs seen by two or more cameras"}};
+  }
   cal_log.warnings = {"cam2: calibration failed: points on one line <degenerate>"};
   update_run_log(fx.cfg, cal_log);
   return fx;
@@ -344,6 +401,201 @@ TEST(Report, MalformedIntersectionCsvNamesFileLineAndField) {
   }
 }
 
+// ---- network section ---------------------------------------------------------------------------
+
+// The svg with id `id` in `page`.
+std::string svg_by_id(const std::string& page, const std::string& id) {
+  const std::size_t a = page.find("<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"" + id + "\"");
+  if (a == std::string::npos) return "";
+  return page.substr(a, page.find("</svg>", a) - a);
+}
+
+// Data → drawing map of one axis, recovered from two of its tick labels (value, drawing coordinate).
+struct AxisMap {
+  double v0 = 0, c0 = 0, v1 = 1, c1 = 1;
+  double value(double c) const { return v0 + (c - c0) * (v1 - v0) / (c1 - c0); }
+  double per_unit() const { return std::abs((v1 - v0) / (c1 - c0)); }
+};
+AxisMap axis_from_ticks(const std::string& svg, bool y_axis) {
+  // svg_axes: x ticks "<text x=X(v) y=… text-anchor=middle>v", y ticks "<text x=… y=Y(v)+3.5
+  // text-anchor=end>v".
+  const std::regex re(y_axis ? R"re(<text x="[^"]+" y="([^"]+)" text-anchor="end">([^<]+)</text>)re"
+                             : R"re(<text x="([^"]+)" y="[^"]+" text-anchor="middle">([^<]+)</text>)re");
+  std::vector<std::pair<double, double>> ticks;  // (value, coordinate)
+  for (std::sregex_iterator it(svg.begin(), svg.end(), re), end; it != end; ++it)
+    ticks.emplace_back(std::stod((*it)[2]), std::stod((*it)[1]) - (y_axis ? 3.5 : 0.0));
+  AxisMap m;
+  EXPECT_GE(ticks.size(), 2u);
+  if (ticks.size() < 2) return m;
+  m.v0 = ticks.front().first, m.c0 = ticks.front().second;
+  m.v1 = ticks.back().first, m.c1 = ticks.back().second;
+  return m;
+}
+
+TEST(Report, NetworkSectionDrawsTheAdjustedTrackAndRunJsonStatistics) {
+  const fs::path dir = test::scratch_dir("report_network");
+  Fixture fx = build_output(dir, true, /*with_network=*/true);
+  run_report_stage(fx.cfg);
+  const std::string html = test::read_text(dir / "out/report.html");
+  const std::size_t sec = html.find("<section id=\"network\">");
+  ASSERT_NE(sec, std::string::npos);
+  EXPECT_NE(html.find("<h2>Network adjustment</h2>", sec), std::string::npos);
+  // The verdict names the method that ran and the default rule's reason.
+  const std::string verdict = html.substr(0, html.find("</section>"));
+  EXPECT_NE(verdict.find("<b>network adjustment</b>"), std::string::npos);
+  EXPECT_NE(verdict.find("default: 71 epochs seen by two or more cameras"), std::string::npos);
+
+  // The statistics table: run.json's numbers.
+  const std::string net = html.substr(sec, html.find("</section>", sec) - sec);
+  auto cell = [&](const std::string& name, const std::string& value) {
+    EXPECT_NE(net.find("<tr><th>" + name + "</th><td class=\"num\">" + value + "</td>"), std::string::npos)
+        << name << " = " << value;
+  };
+  cell("variance factor &#967;&#178;/dof", "1.071");
+  cell("epochs in the adjusted track", "6");
+  cell("seen by 1 camera", "3");
+  cell("seen by 2 cameras", "70");
+  cell("seen by &#8805; 3 cameras", "1");
+  cell("PPK epochs flagged", "2");
+  cell("float epochs used", "2");
+  cell("image outliers", "4");
+  EXPECT_NE(net.find("&#967;&#178; 1284.4, dof 1199"), std::string::npos);
+  // 1.0712 is within 3·√(2/1199) = 0.12 of 1.
+  EXPECT_NE(net.find("within its expected 1 &#177; 0.041"), std::string::npos);
+
+  // Each axis's chart: every epoch where the CSV puts it, read back through the chart's own ticks.
+  std::size_t n_flagged = 0;
+  for (const AdjustedEpoch& e : kAdjusted) n_flagged += e.flag;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::string svg = svg_by_id(html, std::string("network-d") + "ENU"[axis]);
+    ASSERT_FALSE(svg.empty()) << axis;
+    EXPECT_NE(svg.find("<rect class=\"area\""), std::string::npos);
+    EXPECT_NE(svg.find("time since the first epoch (s)"), std::string::npos);
+    EXPECT_NE(svg.find(std::string("d") + "ENU"[axis] + " (cm)"), std::string::npos);
+    const AxisMap X = axis_from_ticks(svg, false), Y = axis_from_ticks(svg, true);
+    std::vector<std::pair<double, double>> dots, crosses;
+    const std::regex dot(R"re(<circle class="point" cx="([^"]+)" cy="([^"]+)")re");
+    for (std::sregex_iterator it(svg.begin(), svg.end(), dot), end; it != end; ++it)
+      dots.emplace_back(X.value(std::stod((*it)[1])), Y.value(std::stod((*it)[2])));
+    // A red × of half-size 3 starts at its centre − (3, 3).
+    const std::regex cross(R"re(<path class="flagged" d="M([^ ]+) ([^L]+)L)re");
+    for (std::sregex_iterator it(svg.begin(), svg.end(), cross), end; it != end; ++it)
+      crosses.emplace_back(X.value(std::stod((*it)[1]) + 3), Y.value(std::stod((*it)[2]) + 3));
+    ASSERT_EQ(crosses.size(), n_flagged) << axis;
+    ASSERT_EQ(dots.size(), std::size(kAdjusted) - n_flagged) << axis;
+    // The band's upper edge: +1σ of each epoch, in time order; one polygon per ascent (the 29.6 s
+    // gap is left open), each its upper edge left to right, then its lower edge back.
+    const std::regex band(R"re(<polygon class="band" points="([^"]+)")re");
+    std::vector<double> upper;
+    int polygons = 0;
+    for (std::sregex_iterator it(svg.begin(), svg.end(), band), end; it != end; ++it, ++polygons) {
+      std::vector<std::string> xy;
+      std::istringstream pts((*it)[1].str());
+      for (std::string p; pts >> p;) xy.push_back(p);
+      for (std::size_t q = 0; q < xy.size() / 2; ++q)
+        upper.push_back(Y.value(std::stod(xy[q].substr(xy[q].find(',') + 1))));
+    }
+    EXPECT_EQ(polygons, 2) << axis;
+    ASSERT_EQ(upper.size(), std::size(kAdjusted));
+    const double tol_x = 0.011 * X.per_unit(), tol_y = 0.011 * Y.per_unit();  // 0.01-unit coordinates
+    std::size_t kd = 0, kc = 0;
+    for (std::size_t k = 0; k < std::size(kAdjusted); ++k) {
+      const AdjustedEpoch& e = kAdjusted[k];
+      const double d_cm = (axis == 0 ? e.dE : axis == 1 ? e.dN : e.dU) * 100;
+      const double s_cm = (axis == 0 ? e.sdE : axis == 1 ? e.sdN : e.sdU) * 100;
+      const std::pair<double, double>& p = e.flag ? crosses[kc++] : dots[kd++];
+      EXPECT_NEAR(p.first, e.t_s, tol_x) << axis << " epoch " << k;
+      EXPECT_NEAR(p.second, d_cm, tol_y) << axis << " epoch " << k;
+      EXPECT_NEAR(upper[k], s_cm, tol_y) << axis << " epoch " << k;
+    }
+  }
+  // The flagged epochs' list: their UTC and corrections (cm).
+  const std::size_t list = net.find("<table class=\"flagged\">");
+  ASSERT_NE(list, std::string::npos);
+  EXPECT_EQ(count(net.substr(list), "<tr><td class=\"txt\">"), n_flagged);
+  for (const AdjustedEpoch& e : kAdjusted) {
+    const std::string utc = adjusted_utc(e).substr(0, 23);  // milliseconds, as shown
+    EXPECT_EQ(net.find(utc, list) != std::string::npos, e.flag == 1) << utc;
+    if (!e.flag) continue;
+    EXPECT_NE(net.find(td_num(fixed("%.2f", e.dE * 100)) + td_num(fixed("%.2f", e.dN * 100)) +
+                           td_num(fixed("%.2f", e.dU * 100)),
+                       list),
+              std::string::npos);
+  }
+  // The largest correction of a kept fix: epoch 3's dU, −0.46 cm with σ 0.39 cm.
+  EXPECT_NE(net.find("&#916;U -0.46 cm at " + adjusted_utc(kAdjusted[3]).substr(0, 23)), std::string::npos);
+  EXPECT_NE(net.find("adjusted position 0.39 cm"), std::string::npos);
+  // The PPK sd the corrections compare with: the lamp track's 1, 1, 2 cm.
+  EXPECT_NE(net.find("(gnss/lamp_track.csv, median) is 1.00 / 1.00 / 2.00 cm"), std::string::npos);
+
+  // Without the adjusted track (another method ran): no section, and the verdict says so.
+  fs::remove(dir / "out/gnss/lamp_track_adjusted.csv");
+  StageLog bundle;
+  bundle.stage = "calibrate";
+  bundle.counts["method_choice"] = {{"method", "bundle"},
+                                    {"why", "default: no epoch seen by two or more calibrated cameras"}};
+  update_run_log(fx.cfg, bundle);
+  run_report_stage(fx.cfg);
+  const std::string without = test::read_text(dir / "out/report.html");
+  EXPECT_EQ(without.find("id=\"network\""), std::string::npos);
+  EXPECT_NE(
+      without.find("Calibration method: <b>bundle</b> (default: no epoch seen by two or more calibrated "
+                   "cameras); each camera calibrated on its own"),
+      std::string::npos);
+}
+
+TEST(Report, MalformedNetworkInputsNameFileLineAndField) {
+  const fs::path dir = test::scratch_dir("report_bad_network");
+  const Fixture fx = build_output(dir, true, /*with_network=*/true);
+  const fs::path csv = dir / "out/gnss/lamp_track_adjusted.csv";
+  const std::string good = test::read_text(csv);
+  std::string bad = good;
+  bad.replace(bad.rfind(",0\n"), 3, ",2\n");  // the last row's flag
+  test::write_text(csv, bad);
+  try {
+    run_report_stage(fx.cfg);
+    FAIL() << "a flag of 2 was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exit_code(), 3);
+    EXPECT_EQ(e.file(), csv.string());
+    EXPECT_EQ(e.line(), 7);
+    EXPECT_EQ(e.field(), "flag");
+  }
+  test::write_text(csv, good);
+  StageLog cal;
+  cal.stage = "calibrate";
+  cal.counts["network"] = network_counts();
+  cal.counts["network"]["epochs_seen_by_2"] = "70";
+  update_run_log(fx.cfg, cal);
+  try {
+    run_report_stage(fx.cfg);
+    FAIL() << "a string count was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exit_code(), 3);
+    EXPECT_EQ(e.field(), "stages.calibrate.counts.network.epochs_seen_by_2");
+    EXPECT_NE(std::string(e.what()).find("run.json"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Report, VerdictHoldsTheCheckPolesToTheConfiguredBar) {
+  // The poles' mean ΔR is 1.69 cm: over the default 1 cm bar, within a configured 2 cm.
+  double mean = 0;
+  for (const Pole& p : kPoles) mean += pole_dr(p) / 3;
+  ASSERT_GT(mean, 0.010);
+  ASSERT_LT(mean, 0.020);
+  const fs::path dir = test::scratch_dir("report_bar");
+  Fixture fx = build_output(dir);
+  run_report_stage(fx.cfg);
+  std::string html = test::read_text(dir / "out/report.html");
+  EXPECT_NE(html.find("bar: mean &#916;R &#8804; 1.0 cm"), std::string::npos);
+  EXPECT_NE(html.find("docs/accuracy_analysis.md): NOT met."), std::string::npos);
+  fx.cfg.intersect.bar_mean_dR_m = 0.020;
+  run_report_stage(fx.cfg);
+  html = test::read_text(dir / "out/report.html");
+  EXPECT_NE(html.find("bar: mean &#916;R &#8804; 2.0 cm"), std::string::npos);
+  EXPECT_NE(html.find("docs/accuracy_analysis.md): met."), std::string::npos);
+}
+
 // ---- plots -----------------------------------------------------------------------------------
 
 TEST(SvgPlot, NiceFloorGivesRoundNumbers) {
@@ -386,7 +638,8 @@ TEST(SvgPlot, LampTrackDrawsOnePolylinePerSegmentAtImageScale) {
   EXPECT_EQ(count(s, "<polyline"), 2u);
   EXPECT_NE(s.find("<circle class=\"rejected\" cx=\"102.00\" cy=\"140.00\""), std::string::npos);
   EXPECT_EQ(count(s, "<circle class=\"obs\""), 3u);
-  EXPECT_NE(s.find("<path class=\"proj\" d=\"M100.00 137.00L106.00 143.00M100.00 143.00L106.00 137.00\""), std::string::npos);
+  EXPECT_NE(s.find("<path class=\"proj\" d=\"M100.00 137.00L106.00 143.00M100.00 143.00L106.00 137.00\""),
+            std::string::npos);
   EXPECT_NE(s.find("id=\"t\""), std::string::npos);
 }
 
