@@ -6,12 +6,15 @@
 
 #include "optim/network/network_covariance.hpp"
 #include "optim/network/network_parameters.hpp"
-#include "pipeline/simulate/mission_simulator.hpp"
 
 namespace rangecal {
 
 PlannedNetwork planned_network(const Scenario& s, const PlanOptions& o) {
-  const SimMission m = simulate_mission(s);
+  return planned_network(simulate_mission(s), o);
+}
+
+PlannedNetwork planned_network(const SimMission& m, const PlanOptions& o) {
+  const Scenario& s = m.scenario;
   PlannedNetwork n;
   const std::int64_t max_ns = static_cast<std::int64_t>(std::llround(o.max_frame_offset_s * 1e9));
   std::map<std::size_t, std::size_t> point_of_epoch;

@@ -1,15 +1,16 @@
 #pragma once
-// The network a scenario would give (docs/accuracy_analysis.md `plan`; docs/accuracy_analysis.md): one point per
-// fix GNSS epoch that some camera sees (the align stage's nearest frame within
-// align.max_frame_offset_s, lamp in view), at the true lamp position with the epoch's PPK
-// covariance, and each camera's view of it — the exact pixel, the lamp's displacement from the
-// epoch to the frame and its velocity there; then, when the mission calibrates with control
-// poles, each control pole top in view under its survey σ with the pick σ. Noise-free: the priors
-// are the truth (a Monte Carlo adds the noise), so the Cramér–Rao bound can be evaluated here.
+// The network a scenario would give (docs/accuracy_analysis.md `plan`; docs/accuracy_analysis.md): one point
+// per fix GNSS epoch that some camera sees (the align stage's nearest frame within align.max_frame_offset_s,
+// lamp in view), at the true lamp position with the epoch's PPK covariance, and each camera's view of it —
+// the exact pixel, the lamp's displacement from the epoch to the frame and its velocity there; then, when the
+// mission calibrates with control poles, each control pole top in view under its survey σ with the pick σ.
+// Noise-free: the priors are the truth (a Monte Carlo adds the noise), so the Cramér–Rao bound can be
+// evaluated here.
 #include <vector>
 
 #include "optim/network/network_adjustment.hpp"
 #include "pipeline/analysis/route_plan.hpp"
+#include "pipeline/simulate/mission_simulator.hpp"
 #include "pipeline/simulate/scenario.hpp"
 
 namespace rangecal {
@@ -21,6 +22,9 @@ struct PlannedNetwork {
 };
 
 PlannedNetwork planned_network(const Scenario& s, const PlanOptions& options = {});
+
+/// The same from a mission already simulated (`rangecal plan` simulates each candidate once).
+PlannedNetwork planned_network(const SimMission& m, const PlanOptions& options = {});
 
 /// The network's Cramér–Rao bound of every camera's parameters named by `free` (the joint Fisher
 /// information with the points eliminated: the Schur complement of the noise-free network at the

@@ -1,6 +1,6 @@
 #pragma once
-// Flight planning before flying (docs/accuracy_analysis.md `plan`; docs/accuracy_analysis.md): from a scenario's
-// camera stations and routes alone — no images — the Cramér–Rao bound of every calibration
+// Flight planning before flying (docs/accuracy_analysis.md `plan`; docs/accuracy_analysis.md): from a
+// scenario's camera stations and routes alone — no images — the Cramér–Rao bound of every calibration
 // parameter and the predicted intersection 1σ at the poles, so a range can choose routes.
 //
 // Observations are the ones the pipeline would get: the simulator's trajectory and frame timing
@@ -14,7 +14,13 @@
 //     F = Σ_i J_iᵀ C_i⁻¹ J_i,   CRB = F⁻¹,
 // the smallest covariance any unbiased calibration from these data can reach. No priors enter:
 // the bound shows what the geometry alone determines.
+//
+// Beside this per-camera bound, the network calibration's (network_plan.hpp: every camera and one
+// point per epoch adjusted jointly), and for both methods the calibration-only intersection σ
+// through the flight volume, the per-camera one with the cross-covariance its cameras share
+// through the fixes (network_vs_per_camera.hpp). Tables and HTML: plan_tables.hpp.
 #include <Eigen/Core>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -41,6 +47,10 @@ struct PlanOptions {
   /// determined: the bundle's warning (optim/bundle/bundle_adjustment.cpp), twice one epoch's PPK noise.
   double clock_offset_limit_m = 0.02;
   double rank_tolerance = 1e-14;  ///< relative eigenvalue of the scaled F below which it is singular
+  /// Points through the flight volume over which the calibration-only intersection σ of both
+  /// methods is predicted (network_vs_per_camera.hpp flight_volume_points), and their fixed seed.
+  int volume_points = 400;
+  std::uint64_t volume_seed = 77;
 };
 
 /// The observations camera `camera_index` of the scenario would calibrate from (see above): the
@@ -74,6 +84,17 @@ struct CameraBound {
   std::vector<ParameterBound> parameters;
 };
 
+/// One observation's terms of F at the truth: J = ∂pixel/∂θ over `params` (the clock offset's column
+/// −J_X·v, optim/bundle/bundle_adjustment.hpp), J_X = ∂pixel/∂X, and the effective pixel covariance
+/// C = σ_px²·I + J_X·Σ_X·J_Xᵀ (σ_px the observation's own, else `default_pixel_sigma_px`).
+struct ObservationTerms {
+  Eigen::MatrixXd J;
+  Eigen::Matrix<double, 2, 3> Jx = Eigen::Matrix<double, 2, 3>::Zero();
+  Eigen::Matrix2d C = Eigen::Matrix2d::Identity();
+};
+ObservationTerms observation_terms(const Camera& truth, const std::vector<CameraParameter>& params,
+                                   const BundleObservation& ob, double default_pixel_sigma_px);
+
 /// The CRB of the parameters named by `free` (expanded like the bundle's) of `truth` from `obs`
 /// (pixels are not used: the bound is evaluated at the truth). Throws rangecal::Error
 /// (calibration) when a point lies behind the camera.
@@ -87,10 +108,40 @@ struct PoleBound {
   double sigma_m = std::numeric_limits<double>::quiet_NaN();  ///< predicted √trace Σ_X (m)
 };
 
+/// The network calibration's bound beside the per-camera one (docs/accuracy_analysis.md "Network
+/// beside per-camera"): the Cramér–Rao bound of the joint adjustment of every camera and one point
+/// per lamp epoch (network_plan.hpp network_cramer_rao_bound), split into cameras.
+struct NetworkBound {
+  /// Lamp epochs seen by ≥ 2 cameras. Only with some does `rangecal run` calibrate as a network
+  /// (its default then); otherwise the network is the per-camera calibration (`cameras` equal it).
+  int shared_epochs = 0;
+  bool applies() const { return shared_epochs > 0; }
+  bool singular = false;  ///< the reduced camera system is rank-deficient (σ undetermined)
+  Eigen::MatrixXd joint;  ///< all cameras' free parameters, cameras in order; empty when singular
+  /// Per camera its diagonal block: σ, correlation and flags as the per-camera bound's (no σ
+  /// inflation: NaN); n_points as the per-camera bound's.
+  std::vector<CameraBound> cameras;
+};
+
+/// Calibration-only intersection 1σ through the flight volume (m): the rms over the points of
+/// √trace Σ_cal of a point triangulated from noise-free pixels (network_vs_per_camera.hpp).
+struct VolumeIntersection {
+  int n_points = 0;  ///< points inside ≥ 2 images (0 with one camera)
+  /// The per-camera calibrations with their shared-fix cross-covariances: the honest prediction.
+  double per_camera_m = std::numeric_limits<double>::quiet_NaN();
+  /// The same with the cameras taken as independent (cross blocks dropped): what the separate
+  /// calibration.json files alone would predict.
+  double per_camera_independent_m = std::numeric_limits<double>::quiet_NaN();
+  double network_m = std::numeric_limits<double>::quiet_NaN();  ///< the network's joint covariance
+  double network_independent_m = std::numeric_limits<double>::quiet_NaN();  ///< its cross blocks dropped
+};
+
 struct FreeSetPlan {
   std::vector<std::string> free;
   std::vector<CameraBound> cameras;
   std::vector<PoleBound> poles;
+  NetworkBound network;
+  VolumeIntersection volume;
 };
 
 /// One candidate (a scenario) analysed for every free set.
@@ -103,13 +154,5 @@ struct RoutePlanAnalysis {
 /// fewer than 6 lamp points.
 RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name,
                                      const PlanOptions& options = {});
-
-/// Side-by-side table of the candidates (same cameras and poles expected; missing ones shown "-"):
-/// per free set, per camera and parameter the σ in each candidate (with "!" for poorly determined),
-/// the points per camera, then the poles' predicted 1σ.
-std::string format_plan_table(const std::vector<RoutePlanAnalysis>& candidates);
-
-/// The same tables as one self-contained HTML page (poorly determined cells highlighted).
-std::string format_plan_html(const std::vector<RoutePlanAnalysis>& candidates);
 
 }  // namespace rangecal

@@ -1,9 +1,11 @@
-// `rangecal plan SCENARIO.json [MORE.json ...] [--free LIST] [--pixel-sigma PX] [--html FILE]` (docs/cli.md, docs/accuracy_analysis.md):
-// the Cramér–Rao bound of each calibration parameter and the predicted intersection 1σ at the
-// poles from the scenario's camera stations and routes alone (pipeline/analysis/route_plan.hpp). Several
-// scenarios are candidate route sets, compared side by side. The scenario format has no room for
-// alternative routes (pipeline/simulate/scenario.cpp rejects unknown keys, and `simulate` must keep reading
-// the same file), so each candidate is its own scenario file, named by its file stem.
+// `rangecal plan SCENARIO.json [MORE.json ...] [--free LIST] [--pixel-sigma PX] [--html FILE]` (docs/cli.md,
+// docs/accuracy_analysis.md): the Cramér–Rao bound of each calibration parameter, per camera and for the
+// network, the calibration-only intersection σ through the flight volume for both methods and the
+// predicted intersection 1σ at the poles from the scenario's camera stations and routes alone
+// (pipeline/analysis/route_plan.hpp, plan_tables.hpp). Several scenarios are candidate route sets, compared
+// side by side. The scenario format has no room for alternative routes (pipeline/simulate/scenario.cpp
+// rejects unknown keys, and `simulate` must keep reading the same file), so each candidate is its own
+// scenario file, named by its file stem.
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
@@ -14,6 +16,7 @@
 
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
+#include "pipeline/analysis/plan_tables.hpp"
 #include "pipeline/analysis/route_plan.hpp"
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/simulate/scenario.hpp"
@@ -31,8 +34,9 @@ void add_plan_command(CLI::App& app, const CliContext& /*ctx*/) {
   auto args = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand(
       "plan",
-      "Predict calibration σ (Cramér–Rao) and pole intersection 1σ from scenario files; several "
-      "files are candidate route sets compared side by side");
+      "Predict calibration σ (Cramér–Rao, per camera and network), flight-volume and pole "
+      "intersection 1σ from scenario files; several files are candidate route sets compared side by "
+      "side");
   sub->add_option("SCENARIO", args->scenarios, "Scenario file(s) (JSON, docs/simulator.md)")->required();
   sub->add_option("--free", args->free,
                   "Free parameters (comma-separated; default f,k1,pose; also sx, k2, k3, p1, p2, a1, a2, "

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "config/error.hpp"
 #include "pipeline/analysis/monte_carlo.hpp"
@@ -57,6 +58,31 @@ TEST(Plan, CliComparesCandidatesSideBySide) {
   EXPECT_NE(html.find("<th>three</th><th>five</th>"), std::string::npos);
   EXPECT_NE(html.find("<td class=\"flag\">"), std::string::npos);  // u0 with three ascents
   EXPECT_NE(html.find("A1 check"), std::string::npos);
+
+  // The network beside the per-camera calibration: per candidate σ per-camera, σ network and their
+  // ratio, and both methods' calibration-only intersection σ through the flight volume.
+  EXPECT_NE(r.out.find("per-camera calibration and network, ratio = network / per-camera"), std::string::npos)
+      << r.out;
+  EXPECT_TRUE(
+      std::regex_search(r.out, std::regex("parameter +per-camera +network +ratio +per-camera +network")))
+      << r.out;
+  EXPECT_NE(r.out.find("Calibration-only intersection 1σ through the flight volume"), std::string::npos);
+  for (const char* row :
+       {"network / per-camera", "per-camera, cameras independent", "network, cross blocks dropped"})
+    EXPECT_NE(r.out.find(row), std::string::npos) << row;
+  EXPECT_NE(html.find("<th class=\"group\" colspan=\"3\">three</th>"), std::string::npos);
+  EXPECT_NE(html.find("<th>per-camera</th><th>network</th><th>ratio</th>"), std::string::npos);
+
+  // One camera: the network is the per-camera calibration, said so; nothing to intersect.
+  j["cameras"] = nlohmann::json::array({j["cameras"][0]});
+  test::write_text(dir / "one.json", j.dump(2));
+  const auto one =
+      test::run_cli("plan '" + (dir / "one.json").string() + "' '" + (dir / "three.json").string() + "'");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_NE(one.out.find("one: one camera — the network is the per-camera calibration"), std::string::npos)
+      << one.out;
+  EXPECT_NE(one.out.find("= per-camera"), std::string::npos);
+  EXPECT_NE(one.out.find("one: one camera — nothing to intersect"), std::string::npos);
 
   // The clock offset as a free parameter: its σ in seconds, and long candidate names are not cut.
   test::write_text(dir / "three_vertical_ascents.json", test::read_text(dir / "three.json"));

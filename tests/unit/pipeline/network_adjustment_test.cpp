@@ -360,7 +360,7 @@ void check_network_against_per_camera(const PlannedNetwork& truth, const std::ve
   }
 }
 
-// Measured (100 seeds): ratio 0.86 on the demo (76 epochs, 74 in both cameras), where the datum
+// Measured (100 seeds): ratio 0.86 on the demo (76 epochs, 72 in both cameras), where the datum
 // dominates; 0.78 over five ascents at mixed depth (docs/optimisation.md "Network bundle").
 TEST(NetworkAdjustment, DemoIntersectionErrorBelowPerCameraWithCalibratedSigmas) {
   check_network_against_per_camera(demo(), check_poles(demo_scenario()), 0.9);
