@@ -4,12 +4,14 @@
 // vision/triangulation/triangulation.hpp evaluated at a chosen world point X instead of a picked one.
 // With J_i = ∂pixel_i/∂X and K_i = ∂pixel_i/∂θ_i at X for every camera that sees X, and equal pick
 // σ in every camera (so the weights cancel from the calibration term),
-//   N = Σ J_iᵀ J_i,   Σ_cal = Σ_i N⁻¹ J_iᵀ K_i Σθ_i K_iᵀ J_i N⁻¹,   Σ_pick = σ_pick² N⁻¹,
-// the same expressions the intersect stage evaluates at a pole (docs/intersection.md).
+//   N = Σ J_iᵀ J_i,   Σ_cal = Σ_i Σ_j N⁻¹ J_iᵀ K_i Σθ_ij K_jᵀ J_j N⁻¹,   Σ_pick = σ_pick² N⁻¹,
+// with Σθ_ij = 0 for i ≠ j unless a joint (network) covariance gives the cross blocks: the same
+// expressions the intersect stage evaluates at a pole (docs/intersection.md).
 #include <Eigen/Core>
 #include <vector>
 
 #include "vision/camera/calibration_result.hpp"
+#include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
 
@@ -21,8 +23,11 @@ struct PredictedIntersection {
 
 /// The predicted covariance of the intersection of world point `X_enu_m` (m) by the cameras of
 /// `cams` that see it, each pick with σ `pick_sigma_px` per axis (px; 0 for calibration only).
+/// `cross` (indexed as `cams`, blocks in each calibration's parameter order; null: independent
+/// cameras) holds the cross blocks of a joint covariance.
 PredictedIntersection predict_intersection(const std::vector<const CalibrationResult*>& cams,
-                                           const Eigen::Vector3d& X_enu_m, double pick_sigma_px);
+                                           const Eigen::Vector3d& X_enu_m, double pick_sigma_px,
+                                           const CrossCovariances* cross = nullptr);
 
 /// √trace Σ_cal (m) over an nx × ny grid of a horizontal slice at height `up_m` (ENU U, m), cells
 /// covering [e_min, e_max] × [n_min, n_max] (m), values at cell centres; NaN where fewer than two
@@ -35,7 +40,7 @@ struct IntersectionSigmaSlice {
 };
 IntersectionSigmaSlice intersection_sigma_slice(const std::vector<const CalibrationResult*>& cams,
                                                 const Eigen::Vector2d& e_range_m,
-                                                const Eigen::Vector2d& n_range_m, double up_m, int nx,
-                                                int ny);
+                                                const Eigen::Vector2d& n_range_m, double up_m, int nx, int ny,
+                                                const CrossCovariances* cross = nullptr);
 
 }  // namespace rangecal

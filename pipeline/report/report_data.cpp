@@ -108,6 +108,20 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
       if (fid == id) cam.calibration_failure = why;
     data.cameras.push_back(std::move(cam));
   }
+  // Network calibrations are correlated: the predictions take network.json's cross blocks, in the
+  // order of the calibrated cameras (as the intersect stage does, docs/intersection.md).
+  std::vector<std::string> ids;
+  std::vector<std::vector<CameraParameter>> parameters;
+  bool all_network = true;
+  for (const CameraReportData& c : data.cameras) {
+    if (!c.calibration) continue;
+    ids.push_back(c.id);
+    parameters.push_back(c.calibration->parameters);
+    all_network = all_network && c.calibration->method == "network";
+  }
+  if (all_network && ids.size() >= 2)
+    data.network_cross =
+        read_network_cross_covariances(mission_output(output_dir, kNetworkJson), ids, &parameters);
 
   const std::string inter = mission_output(output_dir, kIntersectionCsv);
   if (fs::exists(inter)) data.intersection = read_intersection_csv(inter);

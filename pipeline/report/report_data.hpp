@@ -76,6 +76,9 @@ struct ReportData {
   /// `gnss/lamp_track_adjusted.csv`, the network bundle's adjusted lamp track; absent: the network
   /// did not run, and the report has no network section.
   std::optional<std::vector<LampTrackAdjustedRow>> network_track;
+  /// The cross blocks of network.json's joint covariance, indexed by the calibrated cameras in
+  /// config order; empty unless every calibration comes from the network.
+  CrossCovariances network_cross;
   /// run.json `stages.calibrate.counts.network` (the network's statistics); absent without it.
   std::optional<NetworkStatisticsRecord> network_statistics;
   /// run.json `stages.calibrate.counts.method_choice` (docs/config.md "Default method"): the

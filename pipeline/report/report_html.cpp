@@ -446,6 +446,11 @@ std::vector<const CalibrationResult*> calibrations(const ReportData& d) {
   return cams;
 }
 
+/// The joint covariance's cross blocks for calibrations(d), or null (cameras independent).
+const CrossCovariances* cross_of(const ReportData& d) {
+  return d.network_cross.empty() ? nullptr : &d.network_cross;
+}
+
 // The slice of the flight volume the intersection σ is predicted over: the lamp track's and the
 // poles' horizontal extent (10 % margin) at the mean height of the intersected check poles (else the
 // median lamp height).
@@ -473,7 +478,8 @@ std::optional<IntersectionSigmaSlice> flight_slice(const ReportData& d) {
     up = u[u.size() / 2];
   }
   return intersection_sigma_slice(cams, Eigen::Vector2d(lo.x() - pad.x(), hi.x() + pad.x()),
-                                  Eigen::Vector2d(lo.y() - pad.y(), hi.y() + pad.y()), up, 36, 28);
+                                  Eigen::Vector2d(lo.y() - pad.y(), hi.y() + pad.y()), up, 36, 28,
+                                  cross_of(d));
 }
 
 struct SliceStats {
@@ -701,7 +707,7 @@ std::string intersection_plots(const ReportData& d, const std::optional<Intersec
     for (const IntersectionRow& r : *d.intersection) {
       ids.push_back(r.id);
       dcm.push_back(r.d_enu * 100.0);
-      const PredictedIntersection p = predict_intersection(cams, r.survey_enu, d.pick_sigma_px);
+      const PredictedIntersection p = predict_intersection(cams, r.survey_enu, d.pick_sigma_px, cross_of(d));
       scm.push_back(
           p.n_cameras >= 2
               ? Eigen::Vector3d((p.cov_calibration_m2 + p.cov_pick_m2).diagonal().cwiseSqrt() * 100.0)

@@ -97,6 +97,16 @@ TEST(ReportFigures, PredictedIntersectionEqualsTheTriangulationsCovariance) {
   EXPECT_EQ(p.n_cameras, 2);
   EXPECT_LT((p.cov_calibration_m2 - t.cov_calibration_m2).norm(), 1e-6 * t.cov_calibration_m2.norm());
   EXPECT_LT((p.cov_pick_m2 - t.cov_pick_m2).norm(), 1e-6 * t.cov_pick_m2.norm());
+  // A joint (network) covariance: cross blocks of correlation 0.6 between the same parameters
+  // change the prediction exactly as they change the triangulation's.
+  const Eigen::MatrixXd ab = 0.6 * Eigen::MatrixXd(a.covariance.diagonal().cwiseSqrt().asDiagonal()) *
+                             Eigen::MatrixXd(b.covariance.diagonal().cwiseSqrt().asDiagonal());
+  const CrossCovariances cross = {{Eigen::MatrixXd(), ab},
+                                  {Eigen::MatrixXd(ab.transpose()), Eigen::MatrixXd()}};
+  const TriangulationResult tj = triangulate_point(views, "X", &cross);
+  const PredictedIntersection pj = predict_intersection({&a, &b}, X, 0.5, &cross);
+  EXPECT_GT((tj.cov_calibration_m2 - t.cov_calibration_m2).norm(), 0.05 * t.cov_calibration_m2.norm());
+  EXPECT_LT((pj.cov_calibration_m2 - tj.cov_calibration_m2).norm(), 1e-6 * tj.cov_calibration_m2.norm());
   // Outside camera b's view: no intersection there.
   EXPECT_LT(predict_intersection({&a, &b}, Eigen::Vector3d(-40, 40, 4), 0.5).n_cameras, 2);
   const IntersectionSigmaSlice s = intersection_sigma_slice({&a, &b}, {-1, 1}, {0, 2}, 4.5, 3, 3);
