@@ -99,7 +99,7 @@ export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 [ -x /usr/lib/llvm-14/bin/llvm-symbolizer ] && export ASAN_SYMBOLIZER_PATH=/usr/lib/llvm-14/bin/llvm-symbolizer
-# The sanitizer job runs the unit tests labelled `sanitize` (the layers below pipeline/; the rule is
+# The sanitizer job runs the unit tests labelled `sanitize` (the input layers config, gnss, vision; the rule is
 # declared once, with the reason, in tests/CMakeLists.txt) less the two detector tests that scan a
 # thousand full frames and the OpenCV / DLT export fits (numerical fits of a calibrated camera,
 # 15–95 s each under ASan); docs/reliability.md "Sanitizers" gives the measured times.
