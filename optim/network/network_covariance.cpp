@@ -1,86 +1,69 @@
 #include "optim/network/network_covariance.hpp"
 
-#include <ceres/ceres.h>
-
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
 
 #include "config/error.hpp"
+#include "optim/bundle/projection_jacobian.hpp"
 #include "optim/bundle/whitening.hpp"
-#include "optim/network/network_cost.hpp"
 
 namespace rangecal {
 namespace {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-using NetworkReprojectionCost =
-    ceres::AutoDiffCostFunction<NetworkReprojectionResidual, 2, kIntrinsicsBlockSize, kDistortionBlockSize,
-                                kPoseBlockSize, kClockBlockSize, kPointBlockSize>;
-
-using BundleReprojectionCost =
-    ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsicsBlockSize, kDistortionBlockSize,
-                                kPoseBlockSize, kClockBlockSize>;
+/// One observation's camera columns (free order; fixed capacity, no heap).
+using CameraJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kBundleParameterCount>;
 
 /// Camera columns (free order) of one observation's 2 × 18 Jacobian.
-MatrixXd free_columns(const NetworkLayout& l, std::size_t camera,
-                      const Eigen::Matrix<double, 2, kBundleParameterCount>& all) {
+CameraJacobian free_columns(const NetworkLayout& l, std::size_t camera,
+                            const Eigen::Matrix<double, 2, kBundleParameterCount>& all) {
   const std::vector<CameraParameter>& fr = l.free[camera];
-  MatrixXd Jc(2, static_cast<Eigen::Index>(fr.size()));
+  CameraJacobian Jc(2, static_cast<Eigen::Index>(fr.size()));
   for (std::size_t k = 0; k < fr.size(); ++k) Jc.col(static_cast<Eigen::Index>(k)) = all.col(index_of(fr[k]));
   return Jc;
 }
 
-/// The bundle-style residual of observation i of a single-view point and its camera Jacobian.
-void single_view_jacobian(const NetworkLayout& l, const NetworkParameterBlocks& b,
-                          const NetworkSelection& sel, std::size_t i, Eigen::Vector2d* r, MatrixXd* Jc) {
+/// ∂uv/∂(camera, world) of observation i at the seen point X + offset − v·δ (X its point's block or,
+/// for a single-view point, its prior).
+ProjectionJacobian observation_jacobian(const NetworkLayout& l, const NetworkParameterBlocks& b,
+                                        std::size_t i, const Eigen::Vector3d& X) {
   const NetworkObservation& o = (*l.observations)[i];
   const BundleParameterBlocks& cb = b.cameras[o.camera];
   const Camera& base = l.starts[o.camera];
-  BundleReprojectionCost cost(new ReprojectionResidual{(*l.points)[o.point].prior_enu + o.offset_m,
-                                                       o.velocity, o.pixel, sel.whitening[i], cb.R0,
-                                                       base.intr.dx_mm, base.intr.dy_mm});
-  Eigen::Matrix<double, 2, kIntrinsicsBlockSize, Eigen::RowMajor> j0;
-  Eigen::Matrix<double, 2, kDistortionBlockSize, Eigen::RowMajor> j1;
-  Eigen::Matrix<double, 2, kPoseBlockSize, Eigen::RowMajor> j2;
-  Eigen::Matrix<double, 2, kClockBlockSize> j3;
-  const double* params[4] = {cb.intr, cb.dist, cb.pose, cb.clock};
-  double* jac[4] = {j0.data(), j1.data(), j2.data(), j3.data()};
-  double res[2];
-  if (!cost.Evaluate(params, res, jac))
+  Eigen::Vector2d uv;
+  ProjectionJacobian pj;
+  if (!project_with_jacobian(cb.intr, cb.dist, cb.pose, cb.clock[0], cb.R0, base.intr.dx_mm, base.intr.dy_mm,
+                             X + o.offset_m, o.velocity, &uv, &pj))
     throw_calibration_error("network", (o.source.empty() ? "observation " + std::to_string(i) : o.source) +
                                            " cannot be projected at the solution");
-  Eigen::Matrix<double, 2, kBundleParameterCount> all;
-  all << j0, j1, j2, j3;
+  return pj;
+}
+
+/// The bundle-style residual of observation i of a single-view point and its camera Jacobian.
+void single_view_jacobian(const NetworkLayout& l, const NetworkParameterBlocks& b,
+                          const NetworkSelection& sel, std::size_t i, Eigen::Vector2d* r,
+                          CameraJacobian* Jc) {
+  const NetworkObservation& o = (*l.observations)[i];
+  const ProjectionJacobian pj = observation_jacobian(l, b, i, (*l.points)[o.point].prior_enu);
+  const Eigen::Matrix<double, 2, kBundleParameterCount> all = sel.whitening[i] * pj.camera;
   *Jc = free_columns(l, o.camera, all);
-  *r = Eigen::Vector2d(res[0], res[1]);
+  *r = sel.whitening[i] * (pj.uv - o.pixel);
 }
 
 /// Whitened residual and Jacobians of observation i: camera columns in its free order, point columns.
 void image_jacobian(const NetworkLayout& l, const NetworkParameterBlocks& b, std::size_t i,
-                    Eigen::Vector2d* r, MatrixXd* Jc, Eigen::Matrix<double, 2, 3>* Jp) {
+                    Eigen::Vector2d* r, CameraJacobian* Jc, Eigen::Matrix<double, 2, 3>* Jp) {
   const NetworkObservation& o = (*l.observations)[i];
-  const BundleParameterBlocks& cb = b.cameras[o.camera];
-  const Camera& base = l.starts[o.camera];
-  NetworkReprojectionCost cost(new NetworkReprojectionResidual{
-      o.offset_m, o.velocity, o.pixel, 1 / l.pixel_sigma(i), cb.R0, base.intr.dx_mm, base.intr.dy_mm});
-  Eigen::Matrix<double, 2, kIntrinsicsBlockSize, Eigen::RowMajor> j0;
-  Eigen::Matrix<double, 2, kDistortionBlockSize, Eigen::RowMajor> j1;
-  Eigen::Matrix<double, 2, kPoseBlockSize, Eigen::RowMajor> j2;
-  Eigen::Matrix<double, 2, kClockBlockSize> j3;
-  Eigen::Matrix<double, 2, kPointBlockSize, Eigen::RowMajor> j4;
-  const double* params[5] = {cb.intr, cb.dist, cb.pose, cb.clock, b.points[o.point].data()};
-  double* jac[5] = {j0.data(), j1.data(), j2.data(), j3.data(), j4.data()};
-  double res[2];
-  if (!cost.Evaluate(params, res, jac))
-    throw_calibration_error("network", (o.source.empty() ? "observation " + std::to_string(i) : o.source) +
-                                           " cannot be projected at the solution");
-  Eigen::Matrix<double, 2, kBundleParameterCount> all;
-  all << j0, j1, j2, j3;
+  const ProjectionJacobian pj =
+      observation_jacobian(l, b, i, Eigen::Map<const Eigen::Vector3d>(b.points[o.point].data()));
+  const double w = 1 / l.pixel_sigma(i);
+  const Eigen::Matrix<double, 2, kBundleParameterCount> all = w * pj.camera;
   *Jc = free_columns(l, o.camera, all);
-  *Jp = j4;
-  *r = Eigen::Vector2d(res[0], res[1]);
+  *Jp = w * pj.world;
+  *r = w * (pj.uv - o.pixel);
 }
 
 /// The camera priors' information and χ² (principal point, centre), as the per-camera bundle's.
@@ -133,14 +116,16 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
                                    const NetworkSelection& sel, std::size_t k, MatrixXd* U, double* chi2,
                                    int* rows) {
   PointLinearisation pl;
+  pl.W.reserve(l.starts.size());
   Eigen::Vector2d r;
-  MatrixXd Jc;
+  CameraJacobian Jc;
   if (!sel.single_view.empty() && sel.single_view[k]) {  // the bundle's residual: cameras only
     for (std::size_t i : l.by_point[k]) {
       if (!sel.observation[i]) continue;
       single_view_jacobian(l, b, sel, i, &r, &Jc);
       const std::size_t c = (*l.observations)[i].camera;
-      if (U) U->block(l.offset[c], l.offset[c], Jc.cols(), Jc.cols()) += Jc.transpose() * Jc;
+      if (U)
+        U->block(l.offset[c], l.offset[c], Jc.cols(), Jc.cols()).noalias() += Jc.transpose().lazyProduct(Jc);
       if (chi2) *chi2 += r.squaredNorm();
       if (rows) *rows += 2;
       pl.cameras = 1;
@@ -163,11 +148,12 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
     pl.V += Jp.transpose() * Jp;
     auto it = std::find_if(pl.W.begin(), pl.W.end(), [&](const auto& w) { return w.first == c; });
     if (it == pl.W.end()) {
-      pl.W.emplace_back(c, MatrixXd::Zero(Jc.cols(), 3));
+      pl.W.emplace_back(c, CameraPointBlock::Zero(Jc.cols(), 3));
       it = pl.W.end() - 1;
     }
-    it->second += Jc.transpose() * Jp;
-    if (U) U->block(l.offset[c], l.offset[c], Jc.cols(), Jc.cols()) += Jc.transpose() * Jc;
+    it->second.noalias() += Jc.transpose().lazyProduct(Jp);
+    if (U)
+      U->block(l.offset[c], l.offset[c], Jc.cols(), Jc.cols()).noalias() += Jc.transpose().lazyProduct(Jc);
     if (chi2) *chi2 += r.squaredNorm();
     if (rows) *rows += 2;
   }
@@ -185,16 +171,28 @@ NetworkCovariance network_covariance(const NetworkLayout& l, const NetworkParame
   std::vector<PointLinearisation> lin(np);
   std::vector<Eigen::Matrix3d> Vinv(np, Eigen::Matrix3d::Zero());
   int n_points = 0;
+  constexpr int kChunk = 256;
+  MatrixXd H = MatrixXd::Zero(n, 3 * kChunk);
+  int filled = 0;
+  auto flush = [&]() {
+    if (filled == 0) return;
+    out.S.selfadjointView<Eigen::Lower>().rankUpdate(H.leftCols(3 * filled), -1.0);
+    H.leftCols(3 * filled).setZero();
+    filled = 0;
+  };
   for (std::size_t k = 0; k < np; ++k) {
     lin[k] = linearise_point(l, b, sel, k, &out.S, &out.chi2, &out.residuals);
     if (lin[k].V.isZero(0)) continue;  // not in the solve
     ++n_points;
     Vinv[k] = lin[k].V.inverse();
-    // S −= W_k·V_k⁻¹·W_kᵀ over every pair of cameras that saw point k.
-    for (const auto& [ca, Wa] : lin[k].W)
-      for (const auto& [cb, Wb] : lin[k].W)
-        out.S.block(l.offset[ca], l.offset[cb], Wa.rows(), Wb.rows()) -= Wa * Vinv[k] * Wb.transpose();
+    // S −= W_k·V_k⁻¹·W_kᵀ = (W_k·L_k)(W_k·L_k)ᵀ, V_k⁻¹ = L_k·L_kᵀ: the columns W_k·L_k of a chunk
+    // of points side by side (zero where a camera did not see the point), one product per chunk.
+    const Eigen::Matrix3d L = Vinv[k].llt().matrixL();
+    for (const auto& [c, W] : lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * L;
+    if (++filled == kChunk) flush();
   }
+  flush();
+  out.S = out.S.selfadjointView<Eigen::Lower>();
   add_camera_priors(l, b, &out.S, &out.chi2, &out.residuals);
   out.S = 0.5 * (out.S + out.S.transpose()).eval();
   out.parameters = n + 3 * n_points;
@@ -258,7 +256,7 @@ NetworkCovariance network_covariance(const NetworkLayout& l, const NetworkParame
       out.point_cov[k] = p.prior_cov - K * JX * p.prior_cov;
       if (out.joint.size() > 0) {
         Eigen::Vector2d r;
-        MatrixXd Jc;
+        CameraJacobian Jc;
         single_view_jacobian(l, b, sel, i, &r, &Jc);
         const MatrixXd KJ = K * sel.whitening[i].inverse() * Jc;  // ∂X/∂θ through the raw pixel Jacobian
         const int nf = static_cast<int>(Jc.cols());
@@ -267,15 +265,31 @@ NetworkCovariance network_covariance(const NetworkLayout& l, const NetworkParame
       }
     }
   }
+  // W_kᵀ·Σ_cc·W_k for a chunk of points at once: Σ_cc times their W_k side by side.
+  std::vector<std::size_t> chunk;
+  MatrixXd SW;
+  auto finish_chunk = [&]() {
+    if (out.joint.size() > 0 && !chunk.empty()) SW.noalias() = out.joint * H.leftCols(3 * filled);
+    for (std::size_t j = 0; j < chunk.size(); ++j) {
+      const std::size_t k = chunk[j];
+      Eigen::Matrix3d add = Eigen::Matrix3d::Zero();
+      if (out.joint.size() > 0)
+        for (const auto& [c, W] : lin[k].W)
+          add.noalias() +=
+              W.transpose() * SW.block(l.offset[c], 3 * static_cast<Eigen::Index>(j), W.rows(), 3);
+      out.point_cov[k] = Vinv[k] + Vinv[k] * add * Vinv[k];
+    }
+    H.leftCols(3 * filled).setZero();
+    filled = 0;
+    chunk.clear();
+  };
   for (std::size_t k = 0; k < np; ++k) {
     if (Vinv[k].isZero(0)) continue;
-    Eigen::Matrix3d add = Eigen::Matrix3d::Zero();
-    if (out.joint.size() > 0)
-      for (const auto& [ca, Wa] : lin[k].W)
-        for (const auto& [cb, Wb] : lin[k].W)
-          add += Wa.transpose() * out.joint.block(l.offset[ca], l.offset[cb], Wa.rows(), Wb.rows()) * Wb;
-    out.point_cov[k] = Vinv[k] + Vinv[k] * add * Vinv[k];
+    for (const auto& [c, W] : lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3) = W;
+    chunk.push_back(k);
+    if (++filled == kChunk) finish_chunk();
   }
+  finish_chunk();
   return out;
 }
 

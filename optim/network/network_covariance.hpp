@@ -19,11 +19,14 @@
 
 namespace rangecal {
 
+/// A camera's free columns against a point's three (n_free × 3; fixed capacity, no heap).
+using CameraPointBlock = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, kBundleParameterCount, 3>;
+
 /// One point's share of the normal equations.
 struct PointLinearisation {
   Eigen::Matrix3d V = Eigen::Matrix3d::Zero();  ///< V_k (m⁻²)
   /// W_k per observing camera: (camera index, J_cᵀJ_p over that camera's used observations, n_free × 3).
-  std::vector<std::pair<std::size_t, Eigen::MatrixXd>> W;
+  std::vector<std::pair<std::size_t, CameraPointBlock>> W;
   int cameras = 0;  ///< cameras with a used observation of the point
 };
 

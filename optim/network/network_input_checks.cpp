@@ -31,24 +31,24 @@ void check_network_input(const std::vector<NetworkCamera>& cameras, const std::v
   if (cameras.empty()) throw_calibration_error("network", "no cameras");
   for (std::size_t k = 0; k < points.size(); ++k) {
     const NetworkPoint& p = points[k];
-    const std::string at = p.source.empty() ? "point " + std::to_string(k + 1) : p.source;
-    if (!p.prior_enu.allFinite()) throw_calibration_error(at + ".prior", "E, N, U must be finite");
+    auto at = [&] { return p.source.empty() ? "point " + std::to_string(k + 1) : p.source; };
+    if (!p.prior_enu.allFinite()) throw_calibration_error(at() + ".prior", "E, N, U must be finite");
     const Eigen::LLT<Eigen::Matrix3d> llt(p.prior_cov);
     if (!p.prior_cov.allFinite() || llt.info() != Eigen::Success || !(p.prior_cov.diagonal().minCoeff() > 0))
-      throw_calibration_error(at + ".covariance",
+      throw_calibration_error(at() + ".covariance",
                               "the prior covariance must be finite and positive definite");
   }
   for (std::size_t i = 0; i < observations.size(); ++i) {
     const NetworkObservation& o = observations[i];
-    const std::string at = o.source.empty() ? "observation " + std::to_string(i + 1) : o.source;
+    auto at = [&] { return o.source.empty() ? "observation " + std::to_string(i + 1) : o.source; };
     if (o.camera >= cameras.size())
       throw_calibration_error(
-          at, "refers to camera " + std::to_string(o.camera) + " of " + std::to_string(cameras.size()));
+          at(), "refers to camera " + std::to_string(o.camera) + " of " + std::to_string(cameras.size()));
     if (o.point >= points.size())
       throw_calibration_error(
-          at, "refers to point " + std::to_string(o.point) + " of " + std::to_string(points.size()));
+          at(), "refers to point " + std::to_string(o.point) + " of " + std::to_string(points.size()));
     if (!o.offset_m.allFinite())
-      throw_calibration_error(at + ".offset", "must be finite (got NaN or infinity)");
+      throw_calibration_error(at() + ".offset", "must be finite (got NaN or infinity)");
   }
   for (std::size_t c = 0; c < cameras.size(); ++c) {
     const BundleSetup setup = network_camera_setup(cameras[c].options);

@@ -37,6 +37,8 @@ std::vector<std::size_t> flag_ppk_outliers(const NetworkLayout& l, const Network
                                            double alpha, NetworkSelection* sel,
                                            std::vector<NetworkPointResult>* points) {
   std::vector<std::size_t> flagged;
+  const double quantile[4] = {0, chi2_upper_quantile(1, alpha), chi2_upper_quantile(2, alpha),
+                              chi2_upper_quantile(3, alpha)};
   for (std::size_t k = 0; k < l.by_point.size(); ++k) {
     const NetworkPoint& p = (*l.points)[k];
     if (p.control_pole || !sel->prior[k]) continue;
@@ -56,7 +58,7 @@ std::vector<std::size_t> flag_ppk_outliers(const NetworkLayout& l, const Network
     }
     NetworkPointResult& pr = (*points)[k];
     pr.ppk_test_d2 = d2, pr.ppk_test_dof = m;
-    if (m > 0 && d2 > chi2_upper_quantile(m, alpha)) {
+    if (m > 0 && d2 > quantile[m]) {
       pr.ppk_outlier = true;
       sel->prior[k] = 0;
       flagged.push_back(k);
