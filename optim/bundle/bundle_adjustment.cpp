@@ -12,6 +12,7 @@
 #include "optim/bundle/bundle_input_checks.hpp"
 #include "optim/bundle/bundle_parameters.hpp"
 #include "optim/bundle/reprojection_cost.hpp"
+#include "optim/bundle/reprojection_cost_function.hpp"
 
 namespace rangecal {
 
@@ -34,8 +35,6 @@ using Eigen::MatrixXd;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-using ReprojectionCost = ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsicsBlockSize,
-                                                     kDistortionBlockSize, kPoseBlockSize, kClockBlockSize>;
 using PrincipalPointCost = ceres::AutoDiffCostFunction<PrincipalPointPrior, 2, kIntrinsicsBlockSize>;
 using CenterCost = ceres::AutoDiffCostFunction<CenterPrior, 3, kPoseBlockSize>;
 
@@ -96,7 +95,7 @@ void build_problem(BundleParameterBlocks& st, const Camera& base, const std::vec
   bool lf_used = false;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!used[i]) continue;
-    auto* cost = new ReprojectionCost(new ReprojectionResidual{
+    auto* cost = new ReprojectionCostFunction(ReprojectionResidual{
         obs[i].world, obs[i].velocity, obs[i].pixel, W[i], st.R0, base.intr.dx_mm, base.intr.dy_mm});
     problem->AddResidualBlock(cost, lf, st.intr, st.dist, st.pose, st.clock);
     lf_used = lf_used || lf;

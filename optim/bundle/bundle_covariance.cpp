@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "config/error.hpp"
+#include "optim/bundle/reprojection_cost_function.hpp"
 
 namespace rangecal {
 
@@ -16,8 +17,6 @@ WhitenedSystem whitened_system(const BundleParameterBlocks& st, const Camera& ba
                                const std::vector<BundleObservation>& obs, const std::vector<char>& used,
                                const std::vector<Eigen::Matrix2d>& W, const BundleSetup& setup,
                                const BundleOptions& opt) {
-  using ReprojectionCost = ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsicsBlockSize,
-                                                       kDistortionBlockSize, kPoseBlockSize, kClockBlockSize>;
   constexpr int kPose0 = index_of(CameraParameter::wx);
   int rows = 0;
   for (char u : used) rows += u ? 2 : 0;
@@ -29,8 +28,8 @@ WhitenedSystem whitened_system(const BundleParameterBlocks& st, const Camera& ba
   int row = 0;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!used[i]) continue;
-    ReprojectionCost cost(new ReprojectionResidual{obs[i].world, obs[i].velocity, obs[i].pixel, W[i], st.R0,
-                                                   base.intr.dx_mm, base.intr.dy_mm});
+    ReprojectionCostFunction cost(ReprojectionResidual{obs[i].world, obs[i].velocity, obs[i].pixel, W[i],
+                                                       st.R0, base.intr.dx_mm, base.intr.dy_mm});
     Eigen::Matrix<double, 2, kIntrinsicsBlockSize, Eigen::RowMajor> j0;
     Eigen::Matrix<double, 2, kDistortionBlockSize, Eigen::RowMajor> j1;
     Eigen::Matrix<double, 2, kPoseBlockSize, Eigen::RowMajor> j2;

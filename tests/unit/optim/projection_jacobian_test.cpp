@@ -103,8 +103,9 @@ TEST(ProjectionJacobian, BundleCostFunctionEqualsAutomaticDifferentiation) {
   b.pose[0] = 1e-3, b.pose[1] = -2e-3, b.pose[2] = 5e-4;
   Eigen::Matrix2d W;
   W << 0.8, 0.1, -0.3, 1.2;
-  const ReprojectionResidual functor{Vector3d(1.0, 63.0, 6.0), Vector3d(0.5, -1, 4), Vector2d(700, 350), W,
-                                     b.R0, cam.intr.dx_mm, cam.intr.dy_mm};
+  const ReprojectionResidual functor{
+      Vector3d(1.0, 63.0, 6.0), Vector3d(0.5, -1, 4), Vector2d(700, 350), W, b.R0,
+      cam.intr.dx_mm,           cam.intr.dy_mm};
   ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsicsBlockSize, kDistortionBlockSize,
                               kPoseBlockSize, kClockBlockSize>
       ad(new ReprojectionResidual(functor));
