@@ -224,6 +224,39 @@ void count_epochs(const NetworkLayout& l, const NetworkSelection& sel, NetworkSt
     if (!shares[c]) st->cameras_alone.push_back(c);
 }
 
+/// σ of each camera's free parameters (free order) from `cov`'s joint covariance (a-priori); an
+/// empty vector for every camera when it is rank-deficient.
+std::vector<Eigen::VectorXd> camera_sigmas(const NetworkLayout& l, const NetworkCovariance& cov) {
+  std::vector<Eigen::VectorXd> out(l.setups.size());
+  if (cov.rank_deficient || cov.joint.size() == 0) return out;
+  for (std::size_t c = 0; c < out.size(); ++c)
+    out[c] = cov.joint.diagonal().segment(l.offset[c], l.setups[c].n_free).cwiseSqrt();
+  return out;
+}
+
+/// The float epochs' share: the covariance again at the same solution with their priors and image
+/// observations left out (a linearised "without them", no second solve).
+FloatEpochContribution float_epoch_contribution(const NetworkLayout& l, const NetworkParameterBlocks& b,
+                                                const NetworkSelection& sel, const NetworkCovariance& with,
+                                                int epochs, double rank_tolerance) {
+  FloatEpochContribution f;
+  f.epochs = epochs;
+  f.sigma_with = camera_sigmas(l, with);
+  NetworkSelection without = sel;
+  for (std::size_t k = 0; k < l.by_point.size(); ++k) {
+    const NetworkPoint& p = (*l.points)[k];
+    if (p.control_pole || p.quality < 2) continue;
+    without.prior[k] = 0;
+    for (std::size_t i : l.by_point[k]) without.observation[i] = 0;
+  }
+  drop_undetermined_points(l, &without);
+  refresh_single_view(l, b, &without);
+  f.sigma_without =
+      camera_sigmas(l, network_covariance(l, b, without, scene_distance(l),
+                                          max_speed(l, static_cast<std::size_t>(-1)), rank_tolerance));
+  return f;
+}
+
 /// Camera c's result: its marginal of the joint covariance, residuals and flags of its observations.
 BundleResult camera_result(const NetworkLayout& l, const NetworkParameterBlocks& b, std::size_t c,
                            const std::vector<std::size_t>& mine, const ImageOutlierTest& test,
@@ -361,6 +394,9 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
     pr.prior_used = sel.prior[k] != 0;
     pr.used = pr.prior_used || seen[k] > 0;
   }
+  if (st.float_epochs_used > 0)
+    out.float_epochs = float_epoch_contribution(l, b, sel, cov, st.float_epochs_used,
+                                                cameras.front().options.rank_tolerance);
   out.warnings = cov.warnings;
   if (!st.ppk_outliers.empty())
     out.warnings.push_back(

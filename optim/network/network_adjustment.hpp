@@ -80,6 +80,15 @@ struct NetworkStatistics {
   std::vector<std::size_t> cameras_alone;
 };
 
+/// What the float epochs add (gnss.accept_quality with 2; docs/optimisation.md, "Float epochs"):
+/// each camera's a-priori σ of its free parameters with the float epochs and without them — the
+/// joint covariance at the same solution with their priors and image observations left out.
+struct FloatEpochContribution {
+  int epochs = 0;  ///< float epochs in the final solve; 0: none, and the vectors are empty
+  std::vector<Eigen::VectorXd> sigma_with;     ///< per camera, its calibration.parameters order
+  std::vector<Eigen::VectorXd> sigma_without;  ///< per camera; empty when undetermined without them
+};
+
 struct NetworkResult {
   /// Per camera, in input order: calibration (method "network", covariance = its marginal of the
   /// joint covariance), details, residuals and outlier flags over that camera's observations in
@@ -93,6 +102,7 @@ struct NetworkResult {
   std::vector<int> joint_offset;
   std::vector<NetworkPointResult> points;
   NetworkStatistics statistics;
+  FloatEpochContribution float_epochs;
   std::vector<std::string> warnings;  ///< network-wide (camera warnings are in each calibration)
 };
 

@@ -9,6 +9,19 @@
 #include "config/error.hpp"
 
 namespace rangecal {
+namespace {
+
+/// network.json at `path` parsed; rangecal::Error (input) when it is not JSON.
+nlohmann::json parse_network_file(const std::string& path) {
+  std::ifstream in(path);
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw_input_error(path, 0, "", std::string("not valid JSON: ") + e.what());
+  }
+}
+
+}  // namespace
 
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc) {
   const NetworkStatistics& s = r.statistics;
@@ -96,7 +109,70 @@ nlohmann::json network_json(const NetworkResult& r, const std::vector<std::strin
   }
   j["joint_covariance"] = rows;
   j["statistics"] = network_statistics_json(r, epoch_utc);
+  const FloatEpochContribution& f = r.float_epochs;
+  if (f.epochs > 0) {
+    auto list = [](const Eigen::VectorXd& v) {
+      if (v.size() == 0) return nlohmann::json(nullptr);
+      return nlohmann::json(std::vector<double>(v.data(), v.data() + v.size()));
+    };
+    nlohmann::json fc = nlohmann::json::array();
+    for (std::size_t c = 0; c < r.cameras.size() && c < f.sigma_with.size(); ++c)
+      fc.push_back(
+          {{"id", r.cameras[c].calibration.camera_id},
+           {"parameters", parameter_names(r.cameras[c].calibration.parameters)},
+           {"sigma_with", list(f.sigma_with[c])},
+           {"sigma_without", list(c < f.sigma_without.size() ? f.sigma_without[c] : Eigen::VectorXd())}});
+    j["float_epochs"] = {{"epochs", f.epochs}, {"cameras", fc}};
+  }
   return j;
+}
+
+std::optional<FloatEpochsRecord> read_network_float_epochs(const std::string& path) {
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  const nlohmann::json j = parse_network_file(path);
+  if (!j.is_object() || !j.contains("float_epochs")) return std::nullopt;
+  const nlohmann::json& f = j["float_epochs"];
+  auto bad = [&](const std::string& field, const std::string& why) {
+    throw_input_error(path, 0, field, why);
+  };
+  if (!f.is_object()) bad("float_epochs", "expected an object");
+  if (!f.contains("epochs") || !f["epochs"].is_number_integer() || f["epochs"].get<long>() < 0)
+    bad("float_epochs.epochs", "expected a non-negative integer");
+  if (!f.contains("cameras") || !f["cameras"].is_array()) bad("float_epochs.cameras", "expected an array");
+  FloatEpochsRecord r;
+  r.epochs = f["epochs"].get<long>();
+  for (std::size_t c = 0; c < f["cameras"].size(); ++c) {
+    const nlohmann::json& cj = f["cameras"][c];
+    const std::string at = "float_epochs.cameras[" + std::to_string(c) + "]";
+    if (!cj.is_object() || !cj.contains("id") || !cj["id"].is_string()) bad(at + ".id", "expected a string");
+    FloatEpochsRecord::Camera cam;
+    cam.id = cj["id"].get<std::string>();
+    if (!cj.contains("parameters") || !cj["parameters"].is_array())
+      bad(at + ".parameters", "expected an array");
+    for (const auto& n : cj["parameters"]) {
+      const std::optional<CameraParameter> p =
+          n.is_string() ? parameter_from_name(n.get<std::string>()) : std::nullopt;
+      if (!p) bad(at + ".parameters", "expected camera parameter names");
+      cam.parameters.push_back(*p);
+    }
+    auto sigmas = [&](const char* key, bool may_be_null) {
+      std::vector<double> v;
+      if (!cj.contains(key)) bad(at + "." + key, "missing");
+      const nlohmann::json& a = cj[key];
+      if (a.is_null() && may_be_null) return v;
+      if (!a.is_array() || a.size() != cam.parameters.size())
+        bad(at + "." + key, "expected one σ per parameter (" + std::to_string(cam.parameters.size()) + ")");
+      for (const auto& x : a) {
+        if (!x.is_number() || !(x.get<double>() >= 0)) bad(at + "." + key, "expected σ ≥ 0");
+        v.push_back(x.get<double>());
+      }
+      return v;
+    };
+    cam.sigma_with = sigmas("sigma_with", false);
+    cam.sigma_without = sigmas("sigma_without", true);
+    r.cameras.push_back(std::move(cam));
+  }
+  return r;
 }
 
 void write_network_json(const std::string& path, const nlohmann::json& j) {
@@ -106,13 +182,7 @@ void write_network_json(const std::string& path, const nlohmann::json& j) {
 CrossCovariances read_network_cross_covariances(const std::string& path, const std::vector<std::string>& ids,
                                                 const std::vector<std::vector<CameraParameter>>* parameters) {
   if (!std::filesystem::exists(path)) return {};
-  std::ifstream in(path);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw_input_error(path, 0, "", std::string("not valid JSON: ") + e.what());
-  }
+  const nlohmann::json j = parse_network_file(path);
   try {
     std::vector<int> offset, size;
     std::vector<std::string> names;

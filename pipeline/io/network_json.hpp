@@ -4,8 +4,11 @@
 // calibration.json covariance, the cross blocks what the intersection needs to know that the
 // cameras are correlated. Keys: method, cameras [{id, parameters}], joint_covariance (rows, cameras
 // in order), statistics {variance_factor, chi2, dof, epochs_seen_by_1/2/3_or_more, ppk_outliers
-// (utc), image_outliers, float_epochs_used, cameras_alone}.
+// (utc), image_outliers, float_epochs_used, cameras_alone}, and when float epochs were used
+// float_epochs {epochs, cameras [{id, parameters, sigma_with, sigma_without (null when the cameras
+// are undetermined without them)}]} — what they add (docs/optimisation.md, "Float epochs").
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +40,23 @@ struct NetworkStatisticsRecord {
 /// wrong type throws rangecal::Error (input) naming `field.<key>`.
 NetworkStatisticsRecord parse_network_statistics_json(const nlohmann::json& j, const std::string& path,
                                                       const std::string& field);
+
+/// network.json's `float_epochs` read back: each camera's a-priori σ (its parameters' units, in
+/// `parameters` order) with the float epochs and without them.
+struct FloatEpochsRecord {
+  struct Camera {
+    std::string id;
+    std::vector<CameraParameter> parameters;
+    std::vector<double> sigma_with;
+    std::vector<double> sigma_without;  ///< empty: undetermined without the float epochs
+  };
+  long epochs = 0;
+  std::vector<Camera> cameras;
+};
+
+/// `float_epochs` of network.json at `path`; nullopt when the file is missing or has none. Throws
+/// rangecal::Error (input) naming `float_epochs.<key>` for a malformed object.
+std::optional<FloatEpochsRecord> read_network_float_epochs(const std::string& path);
 
 /// network.json's text.
 nlohmann::json network_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);

@@ -122,6 +122,8 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
   if (all_network && ids.size() >= 2)
     data.network_cross =
         read_network_cross_covariances(mission_output(output_dir, kNetworkJson), ids, &parameters);
+  if (data.network_track)
+    data.network_float_epochs = read_network_float_epochs(mission_output(output_dir, kNetworkJson));
 
   const std::string inter = mission_output(output_dir, kIntersectionCsv);
   if (fs::exists(inter)) data.intersection = read_intersection_csv(inter);

@@ -79,6 +79,9 @@ struct ReportData {
   /// The cross blocks of network.json's joint covariance, indexed by the calibrated cameras in
   /// config order; empty unless every calibration comes from the network.
   CrossCovariances network_cross;
+  /// network.json `float_epochs`: the σ with and without the float epochs; absent when none were
+  /// used (or the network did not run).
+  std::optional<FloatEpochsRecord> network_float_epochs;
   /// run.json `stages.calibrate.counts.network` (the network's statistics); absent without it.
   std::optional<NetworkStatisticsRecord> network_statistics;
   /// run.json `stages.calibrate.counts.method_choice` (docs/config.md "Default method"): the

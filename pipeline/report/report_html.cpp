@@ -812,6 +812,28 @@ std::string network_statistics_table(const NetworkStatisticsRecord& st, std::siz
   return s;
 }
 
+// What the float epochs add (network.json float_epochs): per camera and parameter the a-priori σ
+// with them and without them, and the ratio.
+std::string float_epochs_table(const FloatEpochsRecord& f) {
+  std::string s =
+      "<h3>What the " + std::to_string(f.epochs) +
+      " float epochs add</h3>\n<p>PPK float epochs (quality 2, accepted by gnss.accept_quality) "
+      "enter with their own, larger &#963;. Below, each camera's 1&#963; with them and without them "
+      "(the covariance at the same solution with their fixes and image observations left out): a "
+      "ratio near 1 says they add little.</p>\n<table class=\"float-epochs\">\n<tr>" +
+      th("Camera") + th("Parameter") + th("1&#963; with") + th("1&#963; without") + th("without / with") +
+      th("Unit") + "</tr>\n";
+  for (const FloatEpochsRecord::Camera& c : f.cameras)
+    for (std::size_t i = 0; i < c.parameters.size() && i < c.sigma_with.size(); ++i) {
+      const bool has = i < c.sigma_without.size();
+      s += "<tr>" + td(html_escape(c.id), "txt") + td(parameter_name(c.parameters[i]), "txt") +
+           td(fmt("%.4g", c.sigma_with[i])) + td(has ? fmt("%.4g", c.sigma_without[i]) : "undetermined") +
+           td(has && c.sigma_with[i] > 0 ? fmt("%.3f", c.sigma_without[i] / c.sigma_with[i]) : kDash) +
+           td(parameter_unit(c.parameters[i]), "txt") + "</tr>\n";
+    }
+  return s + "</table>\n";
+}
+
 // The network section (docs/outputs.md): statistics, the corrections per axis against time over
 // the adjusted position's ±1σ with the flagged epochs marked, and the flagged epochs' list.
 std::string network_section(const ReportData& d) {
@@ -826,6 +848,8 @@ std::string network_section(const ReportData& d) {
     s += network_statistics_table(*d.network_statistics, rows.size());
   else
     s += "<p class=\"missing\">run.json has no network statistics (stages.calibrate.counts.network).</p>\n";
+  if (d.network_float_epochs && d.network_float_epochs->epochs > 0)
+    s += float_epochs_table(*d.network_float_epochs);
   if (rows.empty()) return s + "<p class=\"missing\">The adjusted track has no epochs.</p>\n</section>\n";
 
   const LargestCorrection big = largest_kept_correction(rows);

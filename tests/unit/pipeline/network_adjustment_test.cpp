@@ -413,5 +413,55 @@ TEST(NetworkAdjustment, CamerasSharingNoEpochAreCalibratedFromTheirOwnEpochs) {
   EXPECT_NEAR(r.cameras[1].calibration.camera.intr.f_mm, b.calibration.camera.intr.f_mm, 1e-6 * 135);
 }
 
+// What float epochs add: every fourth shared epoch made a float (PPK quality 2, sd × 5, noise drawn
+// with it). The σ "without them" is held against a network run that never had them: the same
+// epochs' points and observations removed from its input, its own a-priori σ (to 2 %: that run's
+// solution differs by the noise the floats carried).
+TEST(NetworkAdjustment, FloatEpochsReportWhatTheyAdd) {
+  PlannedNetwork n = demo();
+  std::vector<int> views(n.points.size(), 0);
+  for (const NetworkObservation& o : n.observations) ++views[o.point];
+  std::vector<char> is_float(n.points.size(), 0);
+  int floats = 0, shared = 0;
+  for (std::size_t k = 0; k < n.points.size(); ++k)
+    if (views[k] >= 2 && !n.points[k].control_pole && shared++ % 4 == 0) {
+      n.points[k].quality = 2;
+      n.points[k].prior_cov *= 25;
+      is_float[k] = 1, ++floats;
+    }
+  n = noisy(n, 21);
+  const NetworkResult r = network_adjust(network_cameras(n), n.points, n.observations);
+  ASSERT_EQ(r.statistics.float_epochs_used, floats);
+  const FloatEpochContribution& f = r.float_epochs;
+  EXPECT_EQ(f.epochs, floats);
+  ASSERT_EQ(f.sigma_with.size(), 2u);
+  ASSERT_EQ(f.sigma_without.size(), 2u);
+
+  PlannedNetwork fixed_only = n;
+  fixed_only.observations.clear();
+  for (const NetworkObservation& o : n.observations)
+    if (!is_float[o.point]) fixed_only.observations.push_back(o);
+  const NetworkResult ref =
+      network_adjust(network_cameras(fixed_only), fixed_only.points, fixed_only.observations);
+  EXPECT_EQ(ref.statistics.float_epochs_used, 0);
+  EXPECT_EQ(ref.float_epochs.epochs, 0);
+  EXPECT_TRUE(ref.float_epochs.sigma_with.empty());
+  for (std::size_t c = 0; c < 2; ++c) {
+    const BundleResult& cam = r.cameras[c];
+    const VectorXd with = cam.covariance_unscaled.diagonal().cwiseSqrt();
+    const VectorXd without = ref.cameras[c].covariance_unscaled.diagonal().cwiseSqrt();
+    ASSERT_EQ(f.sigma_with[c].size(), with.size());
+    ASSERT_EQ(f.sigma_without[c].size(), with.size());
+    for (Eigen::Index i = 0; i < with.size(); ++i) {
+      const std::string name = parameter_name(cam.calibration.parameters[static_cast<std::size_t>(i)]);
+      EXPECT_NEAR(f.sigma_with[c][i], with[i], 1e-9 * with[i]) << name;
+      EXPECT_NEAR(f.sigma_without[c][i], without[i], 0.02 * without[i]) << name;
+      EXPECT_GT(f.sigma_without[c][i], f.sigma_with[c][i]) << name;  // information only adds
+    }
+  }
+  std::printf("float epochs: %d of %d shared; cam1 σ f %.4f mm with, %.4f without\n", floats, shared,
+              f.sigma_with[0][0], f.sigma_without[0][0]);
+}
+
 }  // namespace
 }  // namespace rangecal

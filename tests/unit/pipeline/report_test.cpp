@@ -21,6 +21,7 @@
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/methods_csv.hpp"
+#include "pipeline/io/network_json.hpp"
 #include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/report/report_html.hpp"
 #include "pipeline/report/svg_plot.hpp"
@@ -574,6 +575,48 @@ TEST(Report, MalformedNetworkInputsNameFileLineAndField) {
     EXPECT_EQ(e.exit_code(), 3);
     EXPECT_EQ(e.field(), "stages.calibrate.counts.network.epochs_seen_by_2");
     EXPECT_NE(std::string(e.what()).find("run.json"), std::string::npos) << e.what();
+  }
+}
+
+// What the float epochs add: network.json written by the calibrate stage's own writer, read back by
+// the report, shown per camera and parameter with the ratio; a malformed object names its field.
+TEST(Report, NetworkSectionShowsWhatTheFloatEpochsAdd) {
+  const fs::path dir = test::scratch_dir("report_float_epochs");
+  const Fixture fx = build_output(dir, true, /*with_network=*/true);
+  NetworkResult r;
+  r.cameras.resize(2);
+  r.cameras[0].calibration.camera_id = "cam1";
+  r.cameras[1].calibration.camera_id = "cam2";
+  for (BundleResult& c : r.cameras) c.calibration.parameters = {CameraParameter::f, CameraParameter::k1};
+  r.float_epochs.epochs = 9;
+  r.float_epochs.sigma_with = {Eigen::Vector2d(0.6, 2e-6), Eigen::Vector2d(0.7, 3e-6)};
+  r.float_epochs.sigma_without = {Eigen::Vector2d(0.8, 2.5e-6), Eigen::VectorXd()};
+  const fs::path network = dir / "out/network.json";
+  write_network_json(network.string(), network_json(r, {}));
+  run_report_stage(fx.cfg);
+  const std::string html = test::read_text(dir / "out/report.html");
+  const std::size_t at = html.find("What the 9 float epochs add");
+  ASSERT_NE(at, std::string::npos);
+  const std::string table = html.substr(at, html.find("</table>", at) - at);
+  EXPECT_NE(table.find("<td class=\"txt\">cam1</td><td class=\"txt\">f</td><td class=\"num\">0.6</td><td "
+                       "class=\"num\">0.8</td><td class=\"num\">1.333</td><td class=\"txt\">mm</td>"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("<td class=\"txt\">cam2</td><td class=\"txt\">k1</td><td class=\"num\">3e-06</td><td "
+                       "class=\"num\">undetermined</td>"),
+            std::string::npos)
+      << table;
+
+  nlohmann::json j = read_json(network);
+  j["float_epochs"]["cameras"][0]["sigma_without"] = {0.8};
+  test::write_text(network, j.dump());
+  try {
+    run_report_stage(fx.cfg);
+    FAIL() << "one σ for two parameters was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exit_code(), 3);
+    EXPECT_EQ(e.file(), network.string());
+    EXPECT_EQ(e.field(), "float_epochs.cameras[0].sigma_without");
   }
 }
 
