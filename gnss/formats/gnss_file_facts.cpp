@@ -186,17 +186,28 @@ FileFacts dataflash_file_facts(const std::string& path) {
   return f;
 }
 
+namespace {
+
+/// The facts every UTC-stamped CSV of ours shares: kind, size, time system, span and rate of `t`.
+FileFacts utc_csv_facts(const std::string& path, const char* kind, const std::string& text,
+                        const std::vector<UtcTime>& t) {
+  FileFacts f;
+  f.path = path;
+  f.kind = kind;
+  f.size_bytes = text.size();
+  f.time_system = "UTC (ISO 8601 with Z)";
+  set_series(&f, t);
+  return f;
+}
+
+}  // namespace
+
 FileFacts attitude_csv_file_facts(const std::string& path) {
   const std::string text = read_file_text(path);
   const AttitudeSeries a = parse_attitude_csv(text, path);
-  FileFacts f;
-  f.path = path;
-  f.kind = "attitude CSV";
-  f.size_bytes = text.size();
-  f.time_system = "UTC (ISO 8601 with Z)";
   std::vector<UtcTime> t;
   for (const auto& s : a.samples) t.push_back(s.utc);
-  set_series(&f, t);
+  FileFacts f = utc_csv_facts(path, "attitude CSV", text, t);
   f.counts.emplace_back("samples", a.samples.size());
   return f;
 }
@@ -204,18 +215,13 @@ FileFacts attitude_csv_file_facts(const std::string& path) {
 FileFacts lamp_track_file_facts(const std::string& path) {
   const std::string text = read_file_text(path);
   const LampTrack track = parse_lamp_track_csv(text, path);
-  FileFacts f;
-  f.path = path;
-  f.kind = "lamp track CSV";
-  f.size_bytes = text.size();
-  f.time_system = "UTC (ISO 8601 with Z)";
   std::vector<UtcTime> t;
   std::map<int, std::uint64_t> by_q;
   for (const auto& e : track.epochs) {
     t.push_back(e.utc);
     ++by_q[e.quality];
   }
-  set_series(&f, t);
+  FileFacts f = utc_csv_facts(path, "lamp track CSV", text, t);
   f.counts.emplace_back("epochs", track.epochs.size());
   add_quality_counts(&f, by_q, track.epochs.size());
   f.counts.emplace_back("gaps > 1.5 intervals", count_gaps(t, f.rate_hz));

@@ -41,29 +41,6 @@ using CenterCost = ceres::AutoDiffCostFunction<CenterPrior, 3, kPoseBlockSize>;
 // ---------------------------------------------------------------------------------------------
 // Set-up.
 
-BundleSetup make_bundle_setup(const BundleOptions& opt) {
-  BundleSetup s;
-  for (CameraParameter p : expand_free_parameters(opt.free))
-    s.free[static_cast<std::size_t>(index_of(p))] = true;
-  s.n_free = static_cast<int>(std::count(s.free.begin(), s.free.end(), true));
-  s.principal_point_prior =
-      opt.priors.use_principal_point && (s.is_free(CameraParameter::u0) || s.is_free(CameraParameter::v0));
-  s.center_prior =
-      opt.priors.use_center &&
-      (s.is_free(CameraParameter::CE) || s.is_free(CameraParameter::CN) || s.is_free(CameraParameter::CU));
-  return s;
-}
-
-/// docs/optimisation.md: a fixed principal point stays at its prior when one is given.
-Camera starting_camera(const Camera& initial, const BundleSetup& setup, const BundleOptions& opt) {
-  Camera start = initial;
-  if (opt.priors.use_principal_point && opt.priors.principal_point_px.allFinite()) {
-    if (!setup.is_free(CameraParameter::u0)) start.intr.u0_px = opt.priors.principal_point_px.x();
-    if (!setup.is_free(CameraParameter::v0)) start.intr.v0_px = opt.priors.principal_point_px.y();
-  }
-  return start;
-}
-
 std::vector<Matrix2d> whitening_matrices(const Camera& c, const std::vector<BundleObservation>& obs,
                                          const BundleOptions& opt) {
   std::vector<Matrix2d> W(obs.size());
@@ -216,12 +193,12 @@ Eigen::Matrix3d center_covariance(const CalibrationResult& cal) {
 
 BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObservation>& obs,
                            const BundleOptions& opt) {
-  const BundleSetup setup = make_bundle_setup(opt);
+  const BundleSetup setup = bundle_setup(opt);
   check_bundle_input(initial, obs, setup, opt);
   const std::size_t n = obs.size();
   double max_speed = 0;  // m/s, scales the clock offset in the rank test and its warning
   for (const auto& o : obs) max_speed = std::max(max_speed, o.velocity.norm());
-  const Camera start = starting_camera(initial, setup, opt);
+  const Camera start = bundle_starting_camera(initial, setup, opt);
 
   BundleResult out;
   BundleDetails& d = out.details;

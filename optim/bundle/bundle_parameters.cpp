@@ -44,4 +44,26 @@ std::vector<CameraParameter> BundleSetup::free_parameters() const {
   return out;
 }
 
+BundleSetup bundle_setup(const BundleOptions& opt) {
+  BundleSetup s;
+  for (CameraParameter p : expand_free_parameters(opt.free))
+    s.free[static_cast<std::size_t>(index_of(p))] = true;
+  s.n_free = static_cast<int>(std::count(s.free.begin(), s.free.end(), true));
+  s.principal_point_prior =
+      opt.priors.use_principal_point && (s.is_free(CameraParameter::u0) || s.is_free(CameraParameter::v0));
+  s.center_prior =
+      opt.priors.use_center &&
+      (s.is_free(CameraParameter::CE) || s.is_free(CameraParameter::CN) || s.is_free(CameraParameter::CU));
+  return s;
+}
+
+Camera bundle_starting_camera(const Camera& initial, const BundleSetup& setup, const BundleOptions& opt) {
+  Camera start = initial;
+  if (opt.priors.use_principal_point && opt.priors.principal_point_px.allFinite()) {
+    if (!setup.is_free(CameraParameter::u0)) start.intr.u0_px = opt.priors.principal_point_px.x();
+    if (!setup.is_free(CameraParameter::v0)) start.intr.v0_px = opt.priors.principal_point_px.y();
+  }
+  return start;
+}
+
 }  // namespace rangecal

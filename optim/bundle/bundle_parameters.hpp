@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/bundle/reprojection_cost.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
@@ -42,5 +43,14 @@ struct BundleSetup {
   /// The free parameters in canonical order.
   std::vector<CameraParameter> free_parameters() const;
 };
+
+/// The free parameters of `options` (calibrate.free expanded) and the priors in use: the principal
+/// point prior when u0 or v0 is free, the centre prior when a centre coordinate is (the per-camera
+/// bundle's and every network camera's set-up).
+BundleSetup bundle_setup(const BundleOptions& options);
+
+/// The starting camera: `initial` with a fixed principal point at its prior when one is given
+/// (docs/optimisation.md, "Bundle adjustment").
+Camera bundle_starting_camera(const Camera& initial, const BundleSetup& setup, const BundleOptions& options);
 
 }  // namespace rangecal

@@ -51,8 +51,8 @@ void check_network_input(const std::vector<NetworkCamera>& cameras, const std::v
       throw_calibration_error(at() + ".offset", "must be finite (got NaN or infinity)");
   }
   for (std::size_t c = 0; c < cameras.size(); ++c) {
-    const BundleSetup setup = network_camera_setup(cameras[c].options);
-    const Camera start = network_starting_camera(cameras[c].initial, setup, cameras[c].options);
+    const BundleSetup setup = bundle_setup(cameras[c].options);
+    const Camera start = bundle_starting_camera(cameras[c].initial, setup, cameras[c].options);
     check_bundle_input(start, camera_bundle_observations(c, points, observations), setup, cameras[c].options);
   }
 }

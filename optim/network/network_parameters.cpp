@@ -8,28 +8,6 @@
 
 namespace rangecal {
 
-BundleSetup network_camera_setup(const BundleOptions& opt) {
-  BundleSetup s;
-  for (CameraParameter p : expand_free_parameters(opt.free))
-    s.free[static_cast<std::size_t>(index_of(p))] = true;
-  s.n_free = static_cast<int>(std::count(s.free.begin(), s.free.end(), true));
-  s.principal_point_prior =
-      opt.priors.use_principal_point && (s.is_free(CameraParameter::u0) || s.is_free(CameraParameter::v0));
-  s.center_prior =
-      opt.priors.use_center &&
-      (s.is_free(CameraParameter::CE) || s.is_free(CameraParameter::CN) || s.is_free(CameraParameter::CU));
-  return s;
-}
-
-Camera network_starting_camera(const Camera& initial, const BundleSetup& setup, const BundleOptions& opt) {
-  Camera start = initial;
-  if (opt.priors.use_principal_point && opt.priors.principal_point_px.allFinite()) {
-    if (!setup.is_free(CameraParameter::u0)) start.intr.u0_px = opt.priors.principal_point_px.x();
-    if (!setup.is_free(CameraParameter::v0)) start.intr.v0_px = opt.priors.principal_point_px.y();
-  }
-  return start;
-}
-
 Eigen::Matrix3d prior_whitening(const Eigen::Matrix3d& cov) {
   const Eigen::Matrix3d L = cov.llt().matrixL();
   return L.inverse();
@@ -53,8 +31,8 @@ NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,
   NetworkLayout l;
   l.cameras = &cameras, l.points = &points, l.observations = &observations;
   for (const NetworkCamera& c : cameras) {
-    l.setups.push_back(network_camera_setup(c.options));
-    l.starts.push_back(network_starting_camera(c.initial, l.setups.back(), c.options));
+    l.setups.push_back(bundle_setup(c.options));
+    l.starts.push_back(bundle_starting_camera(c.initial, l.setups.back(), c.options));
     l.free.push_back(l.setups.back().free_parameters());
     l.offset.push_back(l.n_camera_parameters);
     l.n_camera_parameters += l.setups.back().n_free;

@@ -56,13 +56,6 @@ struct NetworkSelection {
 void refresh_single_view(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
                          NetworkSelection* selection);
 
-/// The per-camera bundle's set-up for `options` (free parameters, priors in use).
-BundleSetup network_camera_setup(const BundleOptions& options);
-
-/// The starting camera: `initial` with a fixed principal point at its prior when one is given
-/// (docs/optimisation.md, as the per-camera bundle).
-Camera network_starting_camera(const Camera& initial, const BundleSetup& setup, const BundleOptions& options);
-
 /// L⁻¹ with L·Lᵀ = Σ (Σ positive definite; m⁻¹).
 Eigen::Matrix3d prior_whitening(const Eigen::Matrix3d& cov);
 

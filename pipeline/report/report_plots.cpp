@@ -353,10 +353,10 @@ std::string svg_correction_series(const std::vector<double>& t_s, const std::vec
   return band_scatter(t_s, d_cm, sigma_cm, {}, "time since the first epoch (s)", y_label, id, title, style);
 }
 
-std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_px,
-                          const std::vector<double>& v_px, const Eigen::MatrixXd& values,
-                          const std::string& value_label, const std::string& id, const std::string& title,
-                          const std::vector<Eigen::Vector2d>& marks) {
+namespace {
+
+/// Axes over a camera image, 520 drawing units wide: pixel edges −0.5 … W − 0.5, v down.
+ChartAxes image_frame_axes(const PlotFrame& frame) {
   ChartAxes a;
   a.left = 56;
   a.top = 40;
@@ -364,6 +364,16 @@ std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_p
   a.height = 520.0 * std::max(1, frame.height_px) / std::max(1, frame.width_px);
   a.x0 = -0.5, a.x1 = frame.width_px - 0.5, a.y0 = -0.5, a.y1 = frame.height_px - 0.5;
   a.y_down = true;
+  return a;
+}
+
+}  // namespace
+
+std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_px,
+                          const std::vector<double>& v_px, const Eigen::MatrixXd& values,
+                          const std::string& value_label, const std::string& id, const std::string& title,
+                          const std::vector<Eigen::Vector2d>& marks) {
+  const ChartAxes a = image_frame_axes(frame);
   double vmax = 0;
   for (Eigen::Index k = 0; k < values.size(); ++k)
     if (std::isfinite(values(k))) vmax = std::max(vmax, values(k));
@@ -384,13 +394,7 @@ std::string svg_image_map(const PlotFrame& frame, const std::vector<double>& u_p
 std::string svg_image_vectors(const PlotFrame& frame, const std::vector<Eigen::Vector2d>& at,
                               const std::vector<Eigen::Vector2d>& vec, const std::string& what,
                               const std::string& id, const std::string& title) {
-  ChartAxes a;
-  a.left = 56;
-  a.top = 40;
-  a.width = 520;
-  a.height = 520.0 * std::max(1, frame.height_px) / std::max(1, frame.width_px);
-  a.x0 = -0.5, a.x1 = frame.width_px - 0.5, a.y0 = -0.5, a.y1 = frame.height_px - 0.5;
-  a.y_down = true;
+  const ChartAxes a = image_frame_axes(frame);
   const double scale = a.width / std::max(1, frame.width_px);  // drawing units per px
   double vmax = 0;
   for (const Eigen::Vector2d& v : vec) vmax = std::max(vmax, v.norm());

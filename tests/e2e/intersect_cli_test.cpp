@@ -1,7 +1,7 @@
-// The intersect stage (docs/intersection.md, docs/outputs.md intersection.csv, §6 `rangecal intersect`): triangulated
-// poles against the truth of synthetic seed-002-like cameras (1280×800, 20 µm, 135 mm, ~64 m from
-// the poles), Table 4's mean row against hand computation, the predicted sigma_m against Monte
-// Carlo, warnings that do not stop the other poles, the CSV format, and both CLI forms.
+// The intersect stage (docs/intersection.md, docs/outputs.md intersection.csv, §6 `rangecal intersect`):
+// triangulated poles against the truth of synthetic seed-002-like cameras (1280×800, 20 µm, 135 mm, ~64 m
+// from the poles), Table 4's mean row against hand computation, the predicted sigma_m against Monte Carlo,
+// warnings that do not stop the other poles, the CSV format, and both CLI forms.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,58 +17,11 @@
 #include "pipeline/stages/intersect_stage.hpp"
 #include "pipeline/steps/intersection.hpp"
 #include "support/paths.hpp"
+#include "support/pole_field.hpp"
 #include "support/synthetic_camera.hpp"
 
 namespace rangecal {
 namespace {
-
-const Eigen::Vector3d kAim(0, 0, 4);
-
-Camera range_cam(const std::string& id, const Eigen::Vector3d& center) {
-  return test::range_camera_at(id, center, kAim);
-}
-
-/// Three cameras ~64 m from the pole field (seed 002 had two; a third checks N > 2 views).
-std::vector<Camera> cameras() {
-  return {range_cam("cam1", {-45, -45, 1.5}), range_cam("cam2", {45, -45, 1.8}),
-          range_cam("cam3", {0, 64, 2.0})};
-}
-
-/// Six check poles A1–A6 and two control poles C1, C2 (true pole tops, ENU m).
-std::vector<SurveyedPole> truth_poles() {
-  const struct {
-    const char* id;
-    PoleRole role;
-    double e, n, u;
-  } t[] = {{"A1", PoleRole::check, -3.0, -2.0, 3.5},  {"A2", PoleRole::check, 2.5, -1.0, 4.2},
-           {"A3", PoleRole::check, 0.0, 2.0, 4.8},    {"A4", PoleRole::check, -1.5, 3.0, 3.9},
-           {"A5", PoleRole::check, 3.0, 2.5, 4.4},    {"A6", PoleRole::check, 1.0, -3.0, 3.6},
-           {"C1", PoleRole::control, -2.0, 0.0, 4.1}, {"C2", PoleRole::control, 2.0, 1.0, 3.8}};
-  std::vector<SurveyedPole> v;
-  for (const auto& p : t) v.push_back({p.id, p.role, {p.e, p.n, p.u}, 0});
-  return v;
-}
-
-/// Exact picks of every pole in every camera (asserting they fall inside the image).
-std::vector<IntersectCamera> exact_views(const std::vector<SurveyedPole>& poles = truth_poles()) {
-  std::vector<IntersectCamera> out;
-  for (const Camera& c : cameras()) {
-    IntersectCamera ic;
-    ic.id = c.id;
-    ic.camera = c;
-    EXPECT_NEAR((c.pose.center() - kAim).norm(), 64, 1.5);
-    for (const SurveyedPole& p : poles) {
-      PolePick pick;
-      pick.id = p.id;
-      EXPECT_TRUE(project(c, p.enu, &pick.uv));
-      EXPECT_TRUE(pick.uv.x() > 20 && pick.uv.x() < 1260 && pick.uv.y() > 20 && pick.uv.y() < 780)
-          << c.id << " " << p.id << " " << pick.uv.transpose();
-      ic.picks.push_back(pick);
-    }
-    out.push_back(ic);
-  }
-  return out;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Files and the CLI.
@@ -97,7 +50,7 @@ std::string q(const std::filesystem::path& p) {
 
 TEST(IntersectCommand, StandaloneFormPrintsTriangulatedPoints) {
   const auto dir = test::scratch_dir("intersect_standalone");
-  const auto views = exact_views();
+  const auto views = test::pole_field_views();
   std::string args = "intersect";
   for (int k = 0; k < 2; ++k) {
     write_calibration_json((dir / (views[k].id + ".json")).string(), calibration_of(views[k].camera));
@@ -109,7 +62,7 @@ TEST(IntersectCommand, StandaloneFormPrintsTriangulatedPoints) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const CsvTable t = parse_csv(r.out, "stdout");
   ASSERT_EQ(t.header, (std::vector<std::string>{"id", "E", "N", "U", "rms_px"}));
-  const auto poles = truth_poles();
+  const auto poles = test::pole_field_truth();
   ASSERT_EQ(t.records.size(), poles.size());
   for (std::size_t i = 0; i < poles.size(); ++i) {
     EXPECT_EQ(t.text(t.records[i], 0), poles[i].id);
@@ -146,14 +99,14 @@ std::filesystem::path build_mission(const std::string& name, bool with_poles) {
   test::write_text(dir / "frames.csv", "frame,file,utc\n");
   std::string poles = "id,role,E,N,U\n";
   char buf[160];
-  for (const auto& p : truth_poles()) {
+  for (const auto& p : test::pole_field_truth()) {
     std::snprintf(buf, sizeof buf, "%s,%s,%.4f,%.4f,%.4f\n", p.id.c_str(), to_string(p.role), p.enu.x(),
                   p.enu.y(), p.enu.z());
     poles += buf;
   }
   test::write_text(dir / "survey/poles.csv", poles);
   std::string cams;
-  const auto views = exact_views();
+  const auto views = test::pole_field_views();
   for (const auto& v : views) {
     test::write_text(dir / v.id / "poles_px.csv", picks_csv(v));
     cams += std::string(cams.empty() ? "" : ",") + R"({"id": ")" + v.id +
@@ -183,9 +136,9 @@ TEST(IntersectCommand, StageFormWritesIntersectionCsvAndRunLog) {
   EXPECT_NE(r.out.find("cam3"), std::string::npos) << r.out;  // the skipped camera is reported
   const auto rows = read_intersection_csv((dir / "out/intersection.csv").string());
   ASSERT_EQ(rows.size(), 6u);
-  const auto truth = truth_poles();
+  const auto truth = test::pole_field_truth();
   // Expected sigma_m from the same cameras, covariance and pick σ, computed here directly.
-  auto views = exact_views();
+  auto views = test::pole_field_views();
   views.pop_back();
   CalibrationResult c1;
   c1.parameters = test::parameters({"f", "CE", "CN", "CU"});

@@ -1,174 +1,19 @@
-// The report stage (docs/outputs.md): an output folder built from synthetic data with the project's
-// own writers → summary.json numbers equal the inputs', report.html has the tables and one <svg>
-// per plot, reruns are byte-identical, a camera without calibration is reported (not an error), a
-// malformed input names file and line, and a headless browser renders the page (issue acceptance).
-#include "pipeline/stages/report_stage.hpp"
-
+// `rangecal report MISSION.json` (docs/cli.md): on an output folder built from synthetic data with
+// the project's own writers (tests/support/report_output.hpp, the folder the report's unit tests
+// read), the command writes report.html for that mission and records its stage in run.json.
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <cstdio>
-#include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-
-#include "config/error.hpp"
-#include "gnss/formats/lamp_track_csv.hpp"
-#include "pipeline/io/calibration_json.hpp"
-#include "pipeline/io/correspondences_csv.hpp"
-#include "pipeline/io/methods_csv.hpp"
-#include "pipeline/io/residuals_csv.hpp"
-#include "pipeline/report/report_html.hpp"
-#include "pipeline/report/svg_plot.hpp"
-#include "pipeline/stages/calibrate_stage.hpp"
 #include "support/paths.hpp"
-#include "support/synthetic_camera.hpp"
+#include "support/report_output.hpp"
 
 namespace rangecal {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string fixed(const char* f, double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, x);
-  return b;
-}
-
-// The check poles written to intersection.csv (metres): dE, dN, dU and sigma; dR follows.
-struct Pole {
-  const char* id;
-  double dE, dN, dU, sigma;
-};
-const Pole kPoles[] = {{"A1", 0.0120, -0.0050, 0.0031, 0.0110},
-                       {"A2", -0.0042, 0.0211, -0.0008, 0.0120},
-                       {"A3", 0.0007, 0.0033, 0.0152, 0.0105}};
-
-double pole_dr(const Pole& p) {
-  return std::sqrt(p.dE * p.dE + p.dN * p.dN + p.dU * p.dU);
-}
-
-struct Fixture {
-  MissionConfig cfg;
-  CalibrationResult cal;          // cam1's calibration.json
-  std::size_t cam1_pairs = 0;     // lamp pairs in cam1/correspondences.csv
-  std::size_t cam1_rejected = 0;  // of them marked used = 0
-  std::size_t cam1_segments = 0;  // ascents (and the pole tops), each a separate time block
-};
-
-// A mission output folder: lamp track, cam1 calibrated (pairs, calibration.json, methods.csv),
-// cam2 whose calibration failed (pairs only, failure in run.json), intersection.csv, run.json.
-Fixture build_output(const fs::path& dir, bool with_intersection = true) {
-  Fixture fx;
-  fx.cfg.mission = "Range 3 <night> & \"dawn\" flights";
-  fx.cfg.output_dir = (dir / "out").string();
-  fx.cfg.config_path = (dir / "mission.json").string();
-  for (const char* id : {"cam1", "cam2"}) {
-    CameraConfig c;
-    c.id = id;
-    c.sensor.width_px = 1280;
-    c.sensor.height_px = 800;
-    c.sensor.pixel_size_um[0] = c.sensor.pixel_size_um[1] = 20;
-    c.nominal_focal_mm = 135;
-    fx.cfg.cameras.push_back(c);
-  }
-  const std::string out = fx.cfg.output_dir;
-
-  LampTrack track;
-  for (int i = 0; i < 5; ++i) {
-    LampEpoch e;
-    e.utc = UtcTime{1'700'000'000'000'000'000 + i * 200'000'000LL};
-    e.enu = Eigen::Vector3d(0.5, 64.0, 2.0 + i);
-    e.sd_enu = Eigen::Vector3d(0.01, 0.01, 0.02);
-    e.quality = 1;
-    track.epochs.push_back(e);
-  }
-  write_lamp_track_csv(out + "/gnss/lamp_track.csv", track);
-
-  // cam1: the seed 002 range camera; pixels with 0.2 px noise, two pairs marked as rejected.
-  const Camera truth = test::range_camera(-3.4e-4, 1.0, 0.6, -0.3);
-  const auto obs = test::observe(truth, test::range_world_points(truth), 0.2, 0.0, 7);
-  // Frames 10 ms apart along an ascent (or the pole tops); 60 s between them, as when the UAV flies
-  // down out of view and climbs the next route, so Fig. 6 draws one polyline per segment.
-  std::vector<Correspondence> pairs;
-  std::int64_t t = 1'700'000'000'000'000'000;
-  fx.cam1_segments = obs.empty() ? 0 : 1;
-  for (std::size_t i = 0; i < obs.size(); ++i) {
-    const bool new_segment = i > 0 && std::abs(obs[i].world.x() - obs[i - 1].world.x()) > 0.5;
-    fx.cam1_segments += new_segment;
-    t += i == 0 ? 0 : new_segment ? 60'000'000'000LL : 10'000'000LL;
-    Correspondence c;
-    c.utc = UtcTime{t};
-    c.enu = obs[i].world;
-    c.uv = obs[i].pixel;
-    c.used = !(i == 3 || i == 17);
-    Eigen::Vector2d p;
-    project(truth, c.enu, &p);
-    c.residual_px = (c.uv - p).norm();
-    pairs.push_back(c);
-  }
-  fx.cam1_pairs = pairs.size();
-  fx.cam1_rejected = 2;
-  write_correspondences_csv(out + "/cam1/correspondences.csv", pairs);
-  // The calibrate stage's residuals.csv says which pairs the calibration used.
-  std::vector<ResidualRow> residuals;
-  for (const Correspondence& c : pairs) {
-    ResidualRow row;
-    row.utc = c.utc;
-    row.enu = c.enu;
-    row.uv = c.uv;
-    row.used = *c.used;
-    residuals.push_back(row);
-  }
-  write_residuals_csv(out + "/cam1/residuals.csv", residuals);
-  write_correspondences_csv(out + "/cam2/correspondences.csv", pairs);
-
-  CalibrationResult& r = fx.cal;
-  r.camera_id = "cam1";
-  r.method = "bundle";
-  r.camera = truth;
-  r.camera.id = "cam1";
-  r.parameters = test::parameters({"f", "k1"});
-  r.covariance = Eigen::Matrix2d(Eigen::Vector2d(0.0123 * 0.0123, 2.5e-6 * 2.5e-6).asDiagonal());
-  r.reprojection.rms_px = 0.2137;
-  r.reprojection.mean_px = 0.1876;
-  r.reprojection.max_px = 0.6543;
-  r.reprojection.n_used = static_cast<int>(pairs.size() - 2);
-  r.reprojection.n_rejected = 2;
-  r.warnings = {"f and Tz correlated <0.995>"};
-  write_calibration_json(out + "/cam1/calibration.json", r);
-  CalibrationResult tsai = r;
-  tsai.method = "tsai";
-  tsai.camera.intr.f_mm = 132.43;
-  tsai.covariance.resize(0, 0);
-  tsai.parameters.clear();
-  tsai.reprojection.rms_px = 0.99;
-  test::write_text(out + "/cam1/methods.csv", format_methods_csv({method_row(r), method_row(tsai)}));
-
-  if (with_intersection) {
-    std::string csv = "id,E,N,U,E_survey,N_survey,U_survey,dE,dN,dU,dR,sigma_m\n";
-    for (const Pole& p : kPoles)
-      csv += std::string(p.id) + ",1.0000,62.0000,4.0000,1.0000,62.0000,4.0000," + fixed("%.4f", p.dE) + "," +
-             fixed("%.4f", p.dN) + "," + fixed("%.4f", p.dU) + "," + fixed("%.6f", pole_dr(p)) + "," +
-             fixed("%.4f", p.sigma) + "\n";
-    test::write_text(out + "/intersection.csv", csv);
-  }
-
-  StageLog cal_log;
-  cal_log.stage = "calibrate";
-  cal_log.counts["cam2"] = {{"failed", "points on one line <degenerate>"}};
-  cal_log.warnings = {"cam2: calibration failed: points on one line <degenerate>"};
-  update_run_log(fx.cfg, cal_log);
-  return fx;
-}
-
-nlohmann::json read_json(const fs::path& p) {
-  return nlohmann::json::parse(test::read_text(p));
-}
-
 TEST(Report, CliCommandWritesTheReport) {
   const fs::path dir = test::scratch_dir("report_cli");
-  const Fixture fx = build_output(dir);
+  test::write_report_output(dir);
   test::write_text(dir / "gnss/rover.pos", "% not read by the report stage\n");
   test::write_text(dir / "mission.json", R"({
     "mission": "cli report",
@@ -184,7 +29,7 @@ TEST(Report, CliCommandWritesTheReport) {
   const test::CliResult r = test::run_cli("report '" + (dir / "mission.json").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(test::read_text(dir / "out/report.html").find("cli report"), std::string::npos);
-  EXPECT_TRUE(read_json(dir / "out/run.json")["stages"].contains("report"));
+  EXPECT_TRUE(test::read_json(dir / "out/run.json")["stages"].contains("report"));
 }
 
 }  // namespace

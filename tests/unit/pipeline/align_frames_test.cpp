@@ -8,6 +8,7 @@
 
 #include "config/error.hpp"
 #include "pipeline/io/aligned_csv.hpp"
+#include "support/expect_error.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {
@@ -237,16 +238,7 @@ TEST(AlignStage, ReportAsJson) {
   EXPECT_TRUE(j.contains("rejected_gap"));
 }
 
-template <typename F>
-Error expect_error(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no rangecal::Error thrown";
-  return Error(ErrorKind::usage, "", 0, "", "none");
-}
+using test::expect_error;
 
 TEST(AlignStage, BadInput) {
   const LampTrack tr = make_track(2.0);

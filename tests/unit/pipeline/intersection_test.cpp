@@ -1,7 +1,7 @@
-// The intersect stage (docs/intersection.md, docs/outputs.md intersection.csv, §6 `rangecal intersect`): triangulated
-// poles against the truth of synthetic seed-002-like cameras (1280×800, 20 µm, 135 mm, ~64 m from
-// the poles), Table 4's mean row against hand computation, the predicted sigma_m against Monte
-// Carlo, warnings that do not stop the other poles, the CSV format, and both CLI forms.
+// The intersect stage (docs/intersection.md, docs/outputs.md intersection.csv, §6 `rangecal intersect`):
+// triangulated poles against the truth of synthetic seed-002-like cameras (1280×800, 20 µm, 135 mm, ~64 m
+// from the poles), Table 4's mean row against hand computation, the predicted sigma_m against Monte Carlo,
+// warnings that do not stop the other poles, the CSV format, and both CLI forms.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,62 +17,15 @@
 #include "pipeline/stages/intersect_stage.hpp"
 #include "pipeline/steps/intersection.hpp"
 #include "support/paths.hpp"
+#include "support/pole_field.hpp"
 #include "support/synthetic_camera.hpp"
 
 namespace rangecal {
 namespace {
 
-const Eigen::Vector3d kAim(0, 0, 4);
-
-Camera range_cam(const std::string& id, const Eigen::Vector3d& center) {
-  return test::range_camera_at(id, center, kAim);
-}
-
-/// Three cameras ~64 m from the pole field (seed 002 had two; a third checks N > 2 views).
-std::vector<Camera> cameras() {
-  return {range_cam("cam1", {-45, -45, 1.5}), range_cam("cam2", {45, -45, 1.8}),
-          range_cam("cam3", {0, 64, 2.0})};
-}
-
-/// Six check poles A1–A6 and two control poles C1, C2 (true pole tops, ENU m).
-std::vector<SurveyedPole> truth_poles() {
-  const struct {
-    const char* id;
-    PoleRole role;
-    double e, n, u;
-  } t[] = {{"A1", PoleRole::check, -3.0, -2.0, 3.5},  {"A2", PoleRole::check, 2.5, -1.0, 4.2},
-           {"A3", PoleRole::check, 0.0, 2.0, 4.8},    {"A4", PoleRole::check, -1.5, 3.0, 3.9},
-           {"A5", PoleRole::check, 3.0, 2.5, 4.4},    {"A6", PoleRole::check, 1.0, -3.0, 3.6},
-           {"C1", PoleRole::control, -2.0, 0.0, 4.1}, {"C2", PoleRole::control, 2.0, 1.0, 3.8}};
-  std::vector<SurveyedPole> v;
-  for (const auto& p : t) v.push_back({p.id, p.role, {p.e, p.n, p.u}, 0});
-  return v;
-}
-
-/// Exact picks of every pole in every camera (asserting they fall inside the image).
-std::vector<IntersectCamera> exact_views(const std::vector<SurveyedPole>& poles = truth_poles()) {
-  std::vector<IntersectCamera> out;
-  for (const Camera& c : cameras()) {
-    IntersectCamera ic;
-    ic.id = c.id;
-    ic.camera = c;
-    EXPECT_NEAR((c.pose.center() - kAim).norm(), 64, 1.5);
-    for (const SurveyedPole& p : poles) {
-      PolePick pick;
-      pick.id = p.id;
-      EXPECT_TRUE(project(c, p.enu, &pick.uv));
-      EXPECT_TRUE(pick.uv.x() > 20 && pick.uv.x() < 1260 && pick.uv.y() > 20 && pick.uv.y() < 780)
-          << c.id << " " << p.id << " " << pick.uv.transpose();
-      ic.picks.push_back(pick);
-    }
-    out.push_back(ic);
-  }
-  return out;
-}
-
 TEST(Intersection, NoiseFreePicksRecoverTheTruth) {
-  const auto poles = truth_poles();
-  const IntersectionResult r = intersect_poles(exact_views(), poles, 0.5);
+  const auto poles = test::pole_field_truth();
+  const IntersectionResult r = intersect_poles(test::pole_field_views(), poles, 0.5);
   EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
   ASSERT_EQ(r.poles.size(), poles.size());
   for (std::size_t i = 0; i < poles.size(); ++i) {
@@ -95,11 +48,11 @@ TEST(Intersection, NoiseFreePicksRecoverTheTruth) {
 
 TEST(Intersection, MeanRowIsTable4MeanOfCheckPolesByHand) {
   // Survey = truth + offset, picks exact ⇒ d = −offset exactly (3-4-5 triangles for easy ΔR).
-  auto survey = truth_poles();
+  auto survey = test::pole_field_truth();
   const Eigen::Vector3d off[8] = {{0.03, 0.04, 0},    {0, -0.03, 0.04}, {-0.06, 0, 0.08}, {0, 0, 0.02},
                                   {0.012, 0, -0.016}, {0, 0, 0},        {0.3, 0.4, 0},    {0, 0, 1.0}};
   for (int i = 0; i < 8; ++i) survey[i].enu += off[i];
-  const IntersectionResult r = intersect_poles(exact_views(truth_poles()), survey, 0.5);
+  const IntersectionResult r = intersect_poles(test::pole_field_views(), survey, 0.5);
   EXPECT_NEAR(r.poles[0].d_enu.x(), -0.03, 1e-6);
   EXPECT_NEAR(r.poles[0].d_enu.y(), -0.04, 1e-6);
   EXPECT_NEAR(r.poles[2].dR, 0.10, 1e-6);
@@ -122,8 +75,8 @@ TEST(Intersection, MeanRowIsTable4MeanOfCheckPolesByHand) {
 }
 
 TEST(Intersection, PredictedSigmaMatchesMonteCarloOfNoisyPicks) {
-  const auto poles = truth_poles();
-  const auto exact = exact_views();
+  const auto poles = test::pole_field_truth();
+  const auto exact = test::pole_field_views();
   std::mt19937_64 rng(4511);
   std::normal_distribution<double> g(0.0, 0.5);
   const int trials = 300;
@@ -155,8 +108,8 @@ TEST(Intersection, PredictedSigmaMatchesMonteCarloOfNoisyPicks) {
 }
 
 TEST(Intersection, CalibrationCovarianceRaisesSigma) {
-  const auto poles = truth_poles();
-  auto views = exact_views();
+  const auto poles = test::pole_field_truth();
+  auto views = test::pole_field_views();
   const double pick_only = intersect_poles(views, poles, 0.5).poles[0].sigma_m;
   // A 5 cm camera-centre uncertainty on cam1 must show in the predicted error of every pole.
   CalibrationResult cal;
@@ -219,7 +172,7 @@ TEST(Intersection, JointCovarianceOfANetworkEqualsDirectPropagation) {
   const std::vector<CameraParameter> params = {CameraParameter::f,  CameraParameter::wx, CameraParameter::wy,
                                                CameraParameter::wz, CameraParameter::CE, CameraParameter::CN,
                                                CameraParameter::CU};
-  auto views = exact_views();
+  auto views = test::pole_field_views();
   const std::size_t nc = views.size(), np = params.size();
   const auto n = static_cast<Eigen::Index>(nc * np);
   Eigen::VectorXd scale(n);
@@ -251,7 +204,7 @@ TEST(Intersection, JointCovarianceOfANetworkEqualsDirectPropagation) {
         cross[a][b] = joint.block(ia, static_cast<Eigen::Index>(b * np), static_cast<Eigen::Index>(np),
                                   static_cast<Eigen::Index>(np));
   }
-  const auto poles = truth_poles();
+  const auto poles = test::pole_field_truth();
   const double pick = 0.5;
   const IntersectionResult indep = intersect_poles(views, poles, pick);
   const IntersectionResult net = intersect_poles(views, poles, pick, &cross);
@@ -273,7 +226,7 @@ TEST(Intersection, JointCovarianceOfANetworkEqualsDirectPropagation) {
 }
 
 TEST(Intersection, OneCameraPolesUnknownIdsAndFailuresWarnButOthersProceed) {
-  auto views = exact_views();
+  auto views = test::pole_field_views();
   // A2 picked only in cam1.
   for (int k : {1, 2}) views[k].picks.erase(views[k].picks.begin() + 1);
   // Z9 (not in the survey) in cam1 and cam2: triangulated, not compared.
@@ -290,7 +243,7 @@ TEST(Intersection, OneCameraPolesUnknownIdsAndFailuresWarnButOthersProceed) {
   views[2].picks.push_back(twin.picks[0]);
   views.push_back(twin);
 
-  const IntersectionResult r = intersect_poles(views, truth_poles(), 0.5);
+  const IntersectionResult r = intersect_poles(views, test::pole_field_truth(), 0.5);
   auto warned = [&](const std::string& a, const std::string& b) {
     for (const auto& w : r.warnings)
       if (w.find(a) != std::string::npos && w.find(b) != std::string::npos) return true;
@@ -312,12 +265,12 @@ TEST(Intersection, OneCameraPolesUnknownIdsAndFailuresWarnButOthersProceed) {
 }
 
 TEST(IntersectionCsv, ExactColumnsFixedDecimalsRoundTripAndByteIdentical) {
-  auto survey = truth_poles();
+  auto survey = test::pole_field_truth();
   survey[0].enu += Eigen::Vector3d(0.01234, 0.00002, 0);  // dN rounds to −0.0000 → "0.0000"
-  const IntersectionResult r = intersect_poles(exact_views(truth_poles()), survey, 0.5);
+  const IntersectionResult r = intersect_poles(test::pole_field_views(), survey, 0.5);
   const std::string text = format_intersection_csv(intersection_rows(r));
   EXPECT_EQ(text, format_intersection_csv(
-                      intersection_rows(intersect_poles(exact_views(truth_poles()), survey, 0.5))));
+                      intersection_rows(intersect_poles(test::pole_field_views(), survey, 0.5))));
   EXPECT_EQ(text.substr(0, text.find('\n')), "id,E,N,U,E_survey,N_survey,U_survey,dE,dN,dU,dR,sigma_m");
   const std::string line1 =
       text.substr(text.find('\n') + 1, text.find('\n', text.find('\n') + 1) - text.find('\n') - 1);

@@ -8,6 +8,7 @@
 
 #include "config/error.hpp"
 #include "config/xml_tree.hpp"
+#include "support/expect_error.hpp"
 #include "support/paths.hpp"
 #include "vision/frames/frame_renderer.hpp"
 #include "vision/frames/photron_cih.hpp"
@@ -20,19 +21,7 @@ namespace {
 const std::string kBeam = test::external("photron-mraw/beam.cihx").string();
 const std::string kBall = test::external("photron-mraw/ball_12bit.cihx").string();
 
-// The rangecal::Error a call throws (a test failure when it throws nothing or anything else).
-Error expect_error(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not a rangecal::Error: " << e.what();
-    return Error(ErrorKind::usage, "", 0, "", "");
-  }
-  ADD_FAILURE() << "no rangecal::Error thrown";
-  return Error(ErrorKind::usage, "", 0, "", "");
-}
+using test::expect_error;
 
 bool contains(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;

@@ -15,6 +15,7 @@
 #include "pipeline/stages/align_stage.hpp"
 #include "pipeline/stages/detect_stage.hpp"
 #include "pipeline/stages/gnss_stage.hpp"
+#include "support/expect_error.hpp"
 #include "support/paths.hpp"
 #include "vision/detection/lamp_detector.hpp"
 #include "vision/frames/frame_renderer.hpp"
@@ -45,18 +46,7 @@ FrameSourceOptions lenient_sensor() {
   return s;
 }
 
-Error expect_error(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not a rangecal::Error: " << e.what();
-    return Error(ErrorKind::usage, "", 0, "", "");
-  }
-  ADD_FAILURE() << "no rangecal::Error thrown";
-  return Error(ErrorKind::usage, "", 0, "", "");
-}
+using test::expect_error;
 
 bool contains(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "config/error.hpp"
+#include "support/expect_error.hpp"
 #include "support/paths.hpp"
 #include "vision/frames/frame_renderer.hpp"
 #include "vision/frames/photron_mraw_reader.hpp"
@@ -19,18 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Error expect_error(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not a rangecal::Error: " << e.what();
-    return Error(ErrorKind::usage, "", 0, "", "");
-  }
-  ADD_FAILURE() << "no rangecal::Error thrown";
-  return Error(ErrorKind::usage, "", 0, "", "");
-}
+using test::expect_error;
 
 bool contains(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;

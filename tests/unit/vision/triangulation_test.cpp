@@ -7,6 +7,7 @@
 #include <random>
 
 #include "config/error.hpp"
+#include "support/expect_error.hpp"
 #include "support/synthetic_camera.hpp"
 
 namespace rangecal {
@@ -231,16 +232,7 @@ TEST(Triangulation, ParameterJacobianMatchesFiniteDifferences) {
   }
 }
 
-template <typename F>
-Error expect_error(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no rangecal::Error thrown";
-  return Error(ErrorKind::usage, "", 0, "", "none");
-}
+using test::expect_error;
 
 TEST(Triangulation, Errors) {
   auto views = two_views();
