@@ -35,17 +35,18 @@ void check_bundle_input(const Camera& cam, const std::vector<BundleObservation>&
                             "the camera-centre prior needs a finite value and σ > 0");
   for (std::size_t i = 0; i < obs.size(); ++i) {
     const auto& o = obs[i];
-    const std::string at = "observation " + std::to_string(i + 1);
+    // The name is built only for an error: a string per observation cost ~50 ms at 160,000.
+    const auto at = [i] { return "observation " + std::to_string(i + 1); };
     if (!o.world.allFinite())
-      throw_calibration_error(at + ".world", "E, N, U must be finite (got NaN or infinity)");
+      throw_calibration_error(at() + ".world", "E, N, U must be finite (got NaN or infinity)");
     if (!o.pixel.allFinite())
-      throw_calibration_error(at + ".pixel", "u, v must be finite (got NaN or infinity)");
+      throw_calibration_error(at() + ".pixel", "u, v must be finite (got NaN or infinity)");
     if (!o.world_cov.allFinite() || o.world_cov.diagonal().minCoeff() < 0)
-      throw_calibration_error(at + ".world_cov",
+      throw_calibration_error(at() + ".world_cov",
                               "the world-point covariance must be finite and non-negative");
-    if (!std::isfinite(o.pixel_sigma_px)) throw_calibration_error(at + ".pixel_sigma_px", "must be finite");
+    if (!std::isfinite(o.pixel_sigma_px)) throw_calibration_error(at() + ".pixel_sigma_px", "must be finite");
     if (!o.velocity.allFinite())
-      throw_calibration_error(at + ".velocity", "the lamp velocity must be finite (got NaN or infinity)");
+      throw_calibration_error(at() + ".velocity", "the lamp velocity must be finite (got NaN or infinity)");
   }
   if (setup.is_free(CameraParameter::clock_offset) &&
       std::none_of(obs.begin(), obs.end(),

@@ -1,7 +1,5 @@
 #include "optim/network/network_adjustment.hpp"
 
-#include <ceres/ceres.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,6 +13,7 @@
 #include "optim/network/network_input_checks.hpp"
 #include "optim/network/network_outliers.hpp"
 #include "optim/network/network_parameters.hpp"
+#include "optim/network/network_problem.hpp"
 
 namespace rangecal {
 namespace {
@@ -58,84 +57,7 @@ void drop_undetermined_points(const NetworkLayout& l, NetworkSelection* sel) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Solving.
-
-/// The packed index of canonical parameter `p` in `camera`, or −1 when it is not free.
-int packed_index(const CameraBlock& camera, CameraParameter p) {
-  for (int j = 0; j < camera.size; ++j)
-    if (camera.index[static_cast<std::size_t>(j)] == index_of(p)) return j;
-  return -1;
-}
-
-/// The principal-point and centre priors on whichever of those parameters are free.
-std::vector<ParameterPriorCost::Term> camera_prior_terms(const CameraBlock& camera, const BundleSetup& s,
-                                                         const BundlePriors& pr) {
-  std::vector<ParameterPriorCost::Term> terms;
-  auto add = [&](CameraParameter p, double mean, double sigma) {
-    const int j = packed_index(camera, p);
-    if (j >= 0) terms.push_back({j, mean, sigma});
-  };
-  if (s.principal_point_prior) {
-    add(CameraParameter::u0, pr.principal_point_px.x(), pr.principal_point_sigma_px);
-    add(CameraParameter::v0, pr.principal_point_px.y(), pr.principal_point_sigma_px);
-  }
-  if (s.center_prior)
-    for (int a = 0; a < 3; ++a) add(kCenterParameters[a], pr.center_enu_m[a], pr.center_sigma_m[a]);
-  return terms;
-}
-
-/// The Ceres problem: image residuals (robust loss), point priors (the same loss), camera priors;
-/// one block per camera (its free parameters, camera_block.hpp), points eliminated first.
-/// The robust loss of a solve (null: plain least squares).
-std::unique_ptr<ceres::LossFunction> make_loss(RobustLoss loss, double scale) {
-  if (loss == RobustLoss::huber) return std::make_unique<ceres::HuberLoss>(scale);
-  if (loss == RobustLoss::cauchy) return std::make_unique<ceres::CauchyLoss>(scale);
-  return nullptr;
-}
-
-/// `loss` is shared by the image residuals and point priors (the problem does not own it).
-void build_problem(const NetworkLayout& l, NetworkParameterBlocks& b, std::vector<CameraBlock>& cams,
-                   const NetworkSelection& sel, ceres::LossFunction* loss, ceres::Problem* problem,
-                   ceres::ParameterBlockOrdering* ordering) {
-  const std::vector<NetworkObservation>& obs = *l.observations;
-  for (std::size_t i = 0; i < obs.size(); ++i) {
-    if (!sel.observation[i]) continue;
-    const NetworkObservation& o = obs[i];
-    CameraBlock& cb = cams[o.camera];
-    const NetworkPoint& p = (*l.points)[o.point];
-    if (sel.single_view[o.point]) {  // the per-camera bundle's residual (network_parameters.hpp)
-      if (cb.size == 0) continue;    // a constant
-      problem->AddResidualBlock(
-          new ImageResidualCost(&cb, false, p.prior_enu, o.offset_m, o.velocity, o.pixel, sel.whitening[i]),
-          loss, cb.values.data());
-      continue;
-    }
-    auto* cost = new ImageResidualCost(&cb, true, p.prior_enu, o.offset_m, o.velocity, o.pixel,
-                                       Eigen::Matrix2d::Identity() / l.pixel_sigma(i));
-    if (cb.size > 0)
-      problem->AddResidualBlock(cost, loss, cb.values.data(), b.points[o.point].data());
-    else
-      problem->AddResidualBlock(cost, loss, b.points[o.point].data());
-  }
-  for (std::size_t k = 0; k < b.points.size(); ++k) {
-    if (!sel.prior[k] || sel.single_view[k]) continue;
-    problem->AddResidualBlock(new PointPriorCost((*l.points)[k].prior_enu, l.prior_whiten[k], 0), loss,
-                              b.points[k].data());
-    problem->AddResidualBlock(new PointPriorCost((*l.points)[k].prior_enu, l.prior_whiten[k], 1), loss,
-                              b.points[k].data());
-  }
-  for (std::size_t k = 0; k < b.points.size(); ++k)
-    if (problem->HasParameterBlock(b.points[k].data())) ordering->AddElementToGroup(b.points[k].data(), 0);
-  for (std::size_t c = 0; c < cams.size(); ++c) {
-    CameraBlock& cb = cams[c];
-    if (cb.size == 0 || !problem->HasParameterBlock(cb.values.data())) continue;  // no observation left
-    std::vector<ParameterPriorCost::Term> terms =
-        camera_prior_terms(cb, l.setups[c], (*l.cameras)[c].options.priors);
-    if (!terms.empty())
-      problem->AddResidualBlock(new ParameterPriorCost(cb.size, std::move(terms)), nullptr, cb.values.data());
-    ordering->AddElementToGroup(cb.values.data(), 1);
-  }
-}
+// Solving (network_problem.hpp).
 
 /// Relative tolerances (Ceres' function and parameter tolerance) of a solve whose result is the
 /// network's, and of the robust solve that only separates outliers before the final least-squares
@@ -145,47 +67,6 @@ void build_problem(const NetworkLayout& l, NetworkParameterBlocks& b, std::vecto
 /// ~10 µm a point, 0.001 px — and would cost six more iterations (docs/performance.md).
 constexpr double kFinalTolerance = 1e-12;
 constexpr double kSeparatingTolerance = 1e-6;
-
-/// One Levenberg–Marquardt solve (Schur elimination of the points); rotations re-based after.
-int solve(const NetworkLayout& l, NetworkParameterBlocks& b, const NetworkSelection& sel,
-          const NetworkOptions& opt, RobustLoss loss, double tolerance) {
-  std::vector<CameraBlock> cams;
-  for (std::size_t c = 0; c < b.cameras.size(); ++c)
-    cams.push_back(CameraBlock::pack(l.setups[c], b.cameras[c], l.starts[c]));
-  const std::unique_ptr<ceres::LossFunction> loss_function = make_loss(loss, opt.loss_scale);
-  ceres::Problem::Options po;
-  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  po.disable_all_safety_checks = true;  // the blocks are ours, each added once (build_problem)
-  ceres::Problem problem(po);
-  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  build_problem(l, b, cams, sel, loss_function.get(), &problem, ordering.get());
-  ceres::Solver::Options so;
-  so.minimizer_type = ceres::TRUST_REGION;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::DENSE_SCHUR;
-  so.linear_solver_ordering = ordering;
-  so.max_num_iterations = opt.max_iterations;
-  // The cameras start at the per-camera bundle's solution and the points at their PPK fixes, so the
-  // Gauss–Newton step is good from the first iteration. Ceres' default initial radius (1e4, i.e.
-  // damping 1e-4 of the diagonal) held back the weakly determined f–distance direction for ~10
-  // iterations per solve, and tolerances of 1e-14 added ~8 rejected steps at the end: 37 iterations
-  // on 2 cameras × 1,000 epochs where 9 reach the same solution (docs/performance.md, network).
-  so.initial_trust_region_radius = 1e12;
-  so.function_tolerance = tolerance;
-  so.gradient_tolerance = 1e-2 * tolerance;
-  so.parameter_tolerance = tolerance;
-  so.num_threads = std::max(1, opt.num_threads);
-  so.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
-  if (!summary.IsSolutionUsable() || !std::isfinite(summary.final_cost))
-    throw_calibration_error("network", "Levenberg–Marquardt failed: " + summary.message);
-  for (std::size_t c = 0; c < b.cameras.size(); ++c) {
-    cams[c].unpack(&b.cameras[c]);
-    b.cameras[c].rebase_rotation(l.starts[c]);
-  }
-  return static_cast<int>(summary.iterations.size());
-}
 
 // ---------------------------------------------------------------------------------------------
 // Results.
@@ -340,8 +221,10 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
 
   // 1. Robust solve, every prior in; single-view weights at the starting cameras.
   refresh_single_view(l, b, &sel);
-  st.iterations +=
-      solve(l, b, sel, opt, opt.loss, opt.resolve_without_outliers ? kSeparatingTolerance : kFinalTolerance),
+  NetworkProblem problem(l, &b, sel);
+  st.iterations += problem.solve(opt.loss, opt.loss_scale,
+                                 opt.resolve_without_outliers ? kSeparatingTolerance : kFinalTolerance,
+                                 opt.max_iterations, opt.num_threads),
       ++n_solves;
 
   // 2. PPK outliers (multi-ray epochs), then image outliers (the bundle's rule, per camera).
@@ -363,7 +246,10 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
                                                std::to_string(used) + ")");
     }
     refresh_single_view(l, b, &sel);  // weights at the robust solution, as the per-camera bundle
-    st.iterations += solve(l, b, sel, opt, RobustLoss::none, kFinalTolerance), ++n_solves;
+    problem.select(sel);
+    st.iterations +=
+        problem.solve(RobustLoss::none, opt.loss_scale, kFinalTolerance, opt.max_iterations, opt.num_threads),
+        ++n_solves;
     test = test_image_observations(l, b, sel, opt.outlier_threshold);
   } else {
     dropped = test.outlier;

@@ -26,6 +26,13 @@ bool ImageResidualCost::Evaluate(double const* const* parameters, double* residu
                                  double** jacobians) const {
   const int n = camera_->size;
   const int point_block = n > 0 ? 1 : 0;
+  if (!on_) {
+    residuals[0] = residuals[1] = 0;
+    if (jacobians && n > 0 && jacobians[0]) std::fill(jacobians[0], jacobians[0] + 2 * n, 0.0);
+    if (jacobians && point_free_ && jacobians[point_block])
+      std::fill(jacobians[point_block], jacobians[point_block] + 6, 0.0);
+    return true;
+  }
   double all[kBundleParameterCount];
   camera_->expand(n > 0 ? parameters[0] : nullptr, all);
   const Eigen::Vector3d X = point_free_

@@ -26,9 +26,15 @@ class ImageResidualCost final : public ceres::CostFunction {
                     const Eigen::Vector2d& pixel, const Eigen::Matrix2d& whitening);
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
+  /// A new W (the single-view whitening at the next solve's start cameras).
+  void set_whitening(const Eigen::Matrix2d& whitening) { whitening_ = whitening; }
+  /// Takes the residual out of the solve: r = 0 and J = 0 from now on (network_problem.hpp).
+  void switch_off() { on_ = false; }
+
  private:
   const CameraBlock* camera_;
   bool point_free_;
+  bool on_ = true;
   Eigen::Vector3d fixed_point_, offset_, velocity_;
   Eigen::Vector2d pixel_;
   Eigen::Matrix2d whitening_;
@@ -44,6 +50,9 @@ class PointPriorCost final : public ceres::SizedCostFunction<2, 3> {
   PointPriorCost(const Eigen::Vector3d& prior, const Eigen::Matrix3d& whitening, int half)
       : prior_(prior), whitening_(whitening), half_(half) {}
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+
+  /// Takes the prior out of the solve (whitening 0: r = 0, J = 0).
+  void switch_off() { whitening_.setZero(); }
 
  private:
   Eigen::Vector3d prior_;

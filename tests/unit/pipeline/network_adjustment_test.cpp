@@ -75,6 +75,8 @@ PlannedNetwork planned(const Scenario& s, const char* name) {
       if (!p.points[o.point].control_pole) kept.push_back(o);
     p.observations = kept;
   }
+  if (const char* scale = std::getenv("RANGECAL_NETWORK_TEST_PIXEL_SCALE"))  // e.g. 0.01: near-perfect images
+    for (NetworkObservation& o : p.observations) o.pixel_sigma_px *= std::atof(scale);
   std::printf("%s network: %zu points, %zu observations\n", name, p.points.size(), p.observations.size());
   return p;
 }

@@ -1,0 +1,55 @@
+#pragma once
+// The network's Ceres problem, built once and solved twice: the robust solve that separates the
+// outliers and the least-squares solve without them (network_adjustment.cpp). Building a problem
+// of 8 cameras × 20,000 epochs (200,000 residual blocks) and freeing it cost ~0.25 s, as much as
+// an iteration; between the solves only the loss, the weights of the single-view observations and
+// the set of observations and priors change, and those are changed in place: a residual that
+// leaves the solve is switched off (r = 0, J = 0), a point left with one camera's ray becomes that
+// camera's single-view residual (network_parameters.hpp), and a point left with nothing is held
+// constant (docs/performance.md, network bundle).
+#include <ceres/loss_function.h>
+#include <ceres/problem.h>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "optim/network/camera_block.hpp"
+#include "optim/network/network_cost_functions.hpp"
+#include "optim/network/network_parameters.hpp"
+
+namespace rangecal {
+
+class NetworkProblem {
+ public:
+  /// The problem of `selection` over `blocks` (whose point arrays the solves update in place).
+  NetworkProblem(const NetworkLayout& layout, NetworkParameterBlocks* blocks,
+                 const NetworkSelection& selection);
+  NetworkProblem(const NetworkProblem&) = delete;
+  NetworkProblem& operator=(const NetworkProblem&) = delete;
+
+  /// Takes `selection` (a subset of the one before: observations and priors only leave) and the
+  /// cameras of `blocks` as the next solve's start.
+  void select(const NetworkSelection& selection);
+
+  /// One Levenberg–Marquardt solve with `loss` (Schur elimination of the points) to relative
+  /// tolerance `tolerance`; writes the cameras back into the blocks, rotations re-based. Returns the
+  /// iterations.
+  int solve(RobustLoss loss, double loss_scale, double tolerance, int max_iterations, int num_threads);
+
+ private:
+  void add_image_residual(std::size_t i, const NetworkSelection& selection);
+  void pack_cameras();
+
+  const NetworkLayout& layout_;
+  NetworkParameterBlocks* blocks_;
+  std::vector<CameraBlock> cameras_;  // sized once: the costs point into it
+  ceres::LossFunctionWrapper* loss_;  // owned by problem_, shared by the image and prior residuals
+  std::unique_ptr<ceres::Problem> problem_;
+  std::vector<ImageResidualCost*> image_;              // per observation: its residual (null: none)
+  std::vector<char> image_single_view_;                // per observation: its residual is the single-view one
+  std::vector<std::array<PointPriorCost*, 2>> prior_;  // per point: its prior's two halves
+  std::vector<char> point_constant_;
+};
+
+}  // namespace rangecal
