@@ -29,13 +29,35 @@ Matrix3d left_jacobian(const Vector3d& w) {
 
 }  // namespace
 
+PoseRotation pose_rotation(const double* w, const Matrix3d& R0) {
+  PoseRotation r;
+  Matrix3d Rw;
+  ceres::AngleAxisToRotationMatrix(w, ceres::ColumnMajorAdapter3x3(Rw.data()));
+  r.R = Rw * R0;
+  r.Jl = left_jacobian(Vector3d(w[0], w[1], w[2]));
+  return r;
+}
+
 bool project_with_jacobian(const double* intr, const double* dist, const double* pose, double clock_s,
                            const Matrix3d& R0, double dx_mm, double dy_mm, const Vector3d& Xw,
                            const Vector3d& vel, Vector2d* uv, ProjectionJacobian* jacobian) {
-  Matrix3d Rw;
-  ceres::AngleAxisToRotationMatrix(pose, ceres::ColumnMajorAdapter3x3(Rw.data()));
-  const Matrix3d R = Rw * R0;
-  const Vector3d C(pose[3], pose[4], pose[5]);
+  PoseRotation rotation;
+  if (jacobian) {
+    rotation = pose_rotation(pose, R0);
+  } else {  // the pixel alone needs no J_l
+    Matrix3d Rw;
+    ceres::AngleAxisToRotationMatrix(pose, ceres::ColumnMajorAdapter3x3(Rw.data()));
+    rotation.R = Rw * R0;
+  }
+  return project_with_jacobian(intr, dist, rotation, pose + 3, clock_s, dx_mm, dy_mm, Xw, vel, uv, jacobian);
+}
+
+bool project_with_jacobian(const double* intr, const double* dist, const PoseRotation& rotation,
+                           const double* center, double clock_s, double dx_mm, double dy_mm,
+                           const Vector3d& Xw, const Vector3d& vel, Vector2d* uv,
+                           ProjectionJacobian* jacobian) {
+  const Matrix3d& R = rotation.R;
+  const Vector3d C(center[0], center[1], center[2]);
   const Vector3d xc = R * (Xw - vel * clock_s - C);
   if (!(xc.z() > 0)) return false;
   const double f = intr[0], sx = intr[1], a = xc.x() / xc.z(), b = xc.y() / xc.z();
@@ -73,7 +95,7 @@ bool project_with_jacobian(const double* intr, const double* dist, const double*
   J.col(3) = Vector2d(0, 1);
   J.middleCols<kDistortionBlockSize>(kIntrinsicsBlockSize) = -PJ * dDelta;
   constexpr int kW = kIntrinsicsBlockSize + kDistortionBlockSize;
-  J.middleCols<3>(kW) = -A * skew(xc) * left_jacobian(Vector3d(pose[0], pose[1], pose[2]));
+  J.middleCols<3>(kW) = -A * skew(xc) * rotation.Jl;
   J.middleCols<3>(kW + 3) = -AR;
   J.col(kW + kPoseBlockSize) = -AR * vel;
   jacobian->world = AR;

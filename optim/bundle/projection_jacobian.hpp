@@ -27,6 +27,22 @@ struct ProjectionJacobian {
   Eigen::Matrix<double, 2, 3> world;  ///< ∂(u, v)/∂Xw (px/m)
 };
 
+/// The parts of the chain that depend on the rotation alone: R = R(w)·R0 and J_l(w). The network
+/// computes them once per camera and evaluation instead of once per observation.
+struct PoseRotation {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();   ///< world ENU → camera
+  Eigen::Matrix3d Jl = Eigen::Matrix3d::Identity();  ///< left Jacobian of SO(3) at w
+};
+
+/// R(w)·R0 and J_l(w) of the rotation vector `w` (rad) about `R0`.
+PoseRotation pose_rotation(const double* w, const Eigen::Matrix3d& R0);
+
+/// As below, with the rotation given (`rotation` of pose[0..2]) and the centre `center` (ENU m).
+bool project_with_jacobian(const double* intr, const double* dist, const PoseRotation& rotation,
+                           const double* center, double clock_s, double dx_mm, double dy_mm,
+                           const Eigen::Vector3d& Xw, const Eigen::Vector3d& vel, Eigen::Vector2d* uv,
+                           ProjectionJacobian* jacobian);
+
 /// Projects the world point Xw (ENU m, at the epoch; the lamp moves with `vel` m/s) through the
 /// camera of the four bundle blocks (intr, dist, pose about R0, clock offset δ in s). With
 /// `jacobian` null only `uv` is computed. False behind the camera or when the distortion inverse

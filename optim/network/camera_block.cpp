@@ -46,6 +46,11 @@ void CameraBlock::expand(const double* x, double* out) const {
   for (int j = 0; j < size; ++j) out[index[static_cast<std::size_t>(j)]] = v[j];
 }
 
+void CameraBlock::prepare_evaluation() {
+  expand(nullptr, at.data());
+  rotation = pose_rotation(at.data() + kIntrinsicsBlockSize + kDistortionBlockSize, R0);
+}
+
 void CameraBlock::unpack(BundleParameterBlocks* blocks) const {
   double a[kBundleParameterCount];
   expand(nullptr, a);

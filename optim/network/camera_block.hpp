@@ -9,6 +9,7 @@
 #include <array>
 
 #include "optim/bundle/bundle_parameters.hpp"
+#include "optim/bundle/projection_jacobian.hpp"
 
 namespace rangecal {
 
@@ -26,6 +27,13 @@ struct CameraBlock {
   void expand(const double* x, double* out) const;
   /// Writes the block's values back into `blocks` (R0 unchanged).
   void unpack(BundleParameterBlocks* blocks) const;
+
+  /// The point Ceres evaluates at, per camera rather than per observation: every parameter with
+  /// `values` in place, and the rotation R(w)·R0 with its J_l. Set by prepare_evaluation, which the
+  /// network's Ceres problem calls before each evaluation (network_problem.hpp).
+  std::array<double, kBundleParameterCount> at{};
+  PoseRotation rotation;
+  void prepare_evaluation();
 };
 
 }  // namespace rangecal

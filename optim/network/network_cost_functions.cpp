@@ -33,8 +33,9 @@ bool ImageResidualCost::Evaluate(double const* const* parameters, double* residu
       std::fill(jacobians[point_block], jacobians[point_block] + 6, 0.0);
     return true;
   }
-  double all[kBundleParameterCount];
-  camera_->expand(n > 0 ? parameters[0] : nullptr, all);
+  // The camera at the evaluation point, expanded and its rotation formed once per evaluation
+  // (CameraBlock::prepare_evaluation): Ceres passes the same values in parameters[0].
+  const double* all = camera_->at.data();
   const Eigen::Vector3d X = point_free_
                                 ? Eigen::Vector3d(Eigen::Map<const Eigen::Vector3d>(parameters[point_block]))
                                 : fixed_point_;
@@ -42,10 +43,10 @@ bool ImageResidualCost::Evaluate(double const* const* parameters, double* residu
   const bool want_point = jacobians && point_free_ && jacobians[point_block];
   Eigen::Vector2d uv;
   ProjectionJacobian pj;
-  if (!project_with_jacobian(all, all + kIntrinsicsBlockSize,
-                             all + kIntrinsicsBlockSize + kDistortionBlockSize,
-                             all[kBundleParameterCount - 1], camera_->R0, camera_->dx_mm, camera_->dy_mm,
-                             X + offset_, velocity_, &uv, want_camera || want_point ? &pj : nullptr))
+  constexpr int kPose = kIntrinsicsBlockSize + kDistortionBlockSize;
+  if (!project_with_jacobian(all, all + kIntrinsicsBlockSize, camera_->rotation, all + kPose + 3,
+                             all[kBundleParameterCount - 1], camera_->dx_mm, camera_->dy_mm, X + offset_,
+                             velocity_, &uv, want_camera || want_point ? &pj : nullptr))
     return false;
   Eigen::Map<Eigen::Vector2d> r(residuals);
   r = whitening_ * (uv - pixel_);

@@ -40,9 +40,10 @@ ceres::LossFunction* new_loss(RobustLoss loss, double scale) {
   return nullptr;
 }
 
-ceres::Problem::Options problem_options() {
+ceres::Problem::Options problem_options(ceres::EvaluationCallback* callback) {
   ceres::Problem::Options po;
   po.disable_all_safety_checks = true;  // the blocks are ours, each added once
+  po.evaluation_callback = callback;
   return po;
 }
 
@@ -54,7 +55,7 @@ NetworkProblem::NetworkProblem(const NetworkLayout& layout, NetworkParameterBloc
       blocks_(blocks),
       cameras_(blocks->cameras.size()),
       loss_(new ceres::LossFunctionWrapper(nullptr, ceres::TAKE_OWNERSHIP)),
-      problem_(std::make_unique<ceres::Problem>(problem_options())),
+      problem_(std::make_unique<ceres::Problem>(problem_options(&evaluation_))),
       image_(layout.observations->size(), nullptr),
       image_single_view_(layout.observations->size(), 0),
       prior_(blocks->points.size(), {nullptr, nullptr}),
@@ -108,8 +109,10 @@ void NetworkProblem::add_image_residual(std::size_t i, const NetworkSelection& s
 
 void NetworkProblem::pack_cameras() {
   // In place: the costs hold the address of each camera's block.
-  for (std::size_t c = 0; c < cameras_.size(); ++c)
+  for (std::size_t c = 0; c < cameras_.size(); ++c) {
     cameras_[c] = CameraBlock::pack(layout_.setups[c], blocks_->cameras[c], layout_.starts[c]);
+    cameras_[c].prepare_evaluation();
+  }
 }
 
 void NetworkProblem::select(const NetworkSelection& sel) {

@@ -7,6 +7,7 @@
 // leaves the solve is switched off (r = 0, J = 0), a point left with one camera's ray becomes that
 // camera's single-view residual (network_parameters.hpp), and a point left with nothing is held
 // constant (docs/performance.md, network bundle).
+#include <ceres/evaluation_callback.h>
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
 
@@ -41,9 +42,23 @@ class NetworkProblem {
   void add_image_residual(std::size_t i, const NetworkSelection& selection);
   void pack_cameras();
 
+  /// Before each evaluation, every camera's evaluation point (CameraBlock::prepare_evaluation):
+  /// Ceres has then written the point it evaluates at into the camera blocks.
+  class CameraEvaluation final : public ceres::EvaluationCallback {
+   public:
+    explicit CameraEvaluation(std::vector<CameraBlock>* cameras) : cameras_(cameras) {}
+    void PrepareForEvaluation(bool, bool) override {
+      for (CameraBlock& c : *cameras_) c.prepare_evaluation();
+    }
+
+   private:
+    std::vector<CameraBlock>* cameras_;
+  };
+
   const NetworkLayout& layout_;
   NetworkParameterBlocks* blocks_;
   std::vector<CameraBlock> cameras_;  // sized once: the costs point into it
+  CameraEvaluation evaluation_{&cameras_};
   ceres::LossFunctionWrapper* loss_;  // owned by problem_, shared by the image and prior residuals
   std::unique_ptr<ceres::Problem> problem_;
   std::vector<ImageResidualCost*> image_;              // per observation: its residual (null: none)
