@@ -30,7 +30,7 @@ struct CameraBlock {
 
   /// The point Ceres evaluates at, per camera rather than per observation: every parameter with
   /// `values` in place, and the rotation R(w)·R0 with its J_l. Set by prepare_evaluation, which the
-  /// network's Ceres problem calls before each evaluation (network_problem.hpp).
+  /// network's Ceres problem calls before each evaluation (network_ceres_problem.hpp).
   std::array<double, kBundleParameterCount> at{};
   PoseRotation rotation;
   void prepare_evaluation();

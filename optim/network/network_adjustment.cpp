@@ -13,7 +13,7 @@
 #include "optim/network/network_input_checks.hpp"
 #include "optim/network/network_outliers.hpp"
 #include "optim/network/network_parameters.hpp"
-#include "optim/network/network_problem.hpp"
+#include "optim/network/network_ceres_problem.hpp"
 
 namespace rangecal {
 namespace {
@@ -57,7 +57,7 @@ void drop_undetermined_points(const NetworkLayout& l, NetworkSelection* sel) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Solving (network_problem.hpp).
+// Solving (network_ceres_problem.hpp).
 
 /// Relative tolerances (Ceres' function and parameter tolerance) of a solve whose result is the
 /// network's, and of the robust solve that only separates outliers before the final least-squares
@@ -221,7 +221,7 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
 
   // 1. Robust solve, every prior in; single-view weights at the starting cameras.
   refresh_single_view(l, b, &sel);
-  NetworkProblem problem(l, &b, sel);
+  NetworkCeresProblem problem(l, &b, sel);
   st.iterations += problem.solve(opt.loss, opt.loss_scale,
                                  opt.resolve_without_outliers ? kSeparatingTolerance : kFinalTolerance,
                                  opt.max_iterations, opt.num_threads),

@@ -28,7 +28,7 @@ class ImageResidualCost final : public ceres::CostFunction {
 
   /// A new W (the single-view whitening at the next solve's start cameras).
   void set_whitening(const Eigen::Matrix2d& whitening) { whitening_ = whitening; }
-  /// Takes the residual out of the solve: r = 0 and J = 0 from now on (network_problem.hpp).
+  /// Takes the residual out of the solve: r = 0 and J = 0 from now on (network_ceres_problem.hpp).
   void switch_off() { on_ = false; }
 
  private:

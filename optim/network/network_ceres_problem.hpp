@@ -21,13 +21,13 @@
 
 namespace rangecal {
 
-class NetworkProblem {
+class NetworkCeresProblem {
  public:
   /// The problem of `selection` over `blocks` (whose point arrays the solves update in place).
-  NetworkProblem(const NetworkLayout& layout, NetworkParameterBlocks* blocks,
-                 const NetworkSelection& selection);
-  NetworkProblem(const NetworkProblem&) = delete;
-  NetworkProblem& operator=(const NetworkProblem&) = delete;
+  NetworkCeresProblem(const NetworkLayout& layout, NetworkParameterBlocks* blocks,
+                      const NetworkSelection& selection);
+  NetworkCeresProblem(const NetworkCeresProblem&) = delete;
+  NetworkCeresProblem& operator=(const NetworkCeresProblem&) = delete;
 
   /// Takes `selection` (a subset of the one before: observations and priors only leave) and the
   /// cameras of `blocks` as the next solve's start.

@@ -1,4 +1,4 @@
-// The network's Ceres problem is built once and solved twice (optim/network/network_problem.hpp):
+// The network's Ceres problem is built once and solved twice (optim/network/network_ceres_problem.hpp):
 // between the robust and the least-squares solve, residuals leave by being switched off, a point
 // left with one ray becomes that camera's single-view residual, and a point left with nothing is
 // held. Held here against a problem built afresh for the second selection, from the same start:
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <random>
 
-#include "optim/network/network_problem.hpp"
+#include "optim/network/network_ceres_problem.hpp"
 #include "support/synthetic_camera.hpp"
 
 namespace rangecal {
@@ -75,14 +75,14 @@ NetworkParameterBlocks starting_blocks(const NetworkLayout& l) {
   return b;
 }
 
-TEST(NetworkProblem, SecondSolveInPlaceEqualsAFreshProblem) {
+TEST(NetworkCeresProblem, SecondSolveInPlaceEqualsAFreshProblem) {
   const Network n = make_network();
   const NetworkLayout l = make_network_layout(n.cameras, n.points, n.observations);
   NetworkParameterBlocks b = starting_blocks(l);
   NetworkSelection sel{
       std::vector<char>(n.observations.size(), 1), std::vector<char>(n.points.size(), 1), {}, {}};
   refresh_single_view(l, b, &sel);
-  NetworkProblem problem(l, &b, sel);
+  NetworkCeresProblem problem(l, &b, sel);
   problem.solve(RobustLoss::huber, 3.0, 1e-6, 50, 1);
 
   // Point 0 keeps one ray (becomes single-view), point 1 loses its prior, point 2 loses everything.
@@ -96,7 +96,7 @@ TEST(NetworkProblem, SecondSolveInPlaceEqualsAFreshProblem) {
   ASSERT_TRUE(sel.single_view[0]);
 
   NetworkParameterBlocks fresh_blocks = b;
-  NetworkProblem fresh(l, &fresh_blocks, sel);
+  NetworkCeresProblem fresh(l, &fresh_blocks, sel);
   problem.select(sel);
   const std::array<double, 3> held = b.points[2];
   problem.solve(RobustLoss::none, 3.0, 1e-12, 50, 1);

@@ -1,4 +1,4 @@
-#include "optim/network/network_problem.hpp"
+#include "optim/network/network_ceres_problem.hpp"
 
 #include <ceres/solver.h>
 
@@ -49,8 +49,8 @@ ceres::Problem::Options problem_options(ceres::EvaluationCallback* callback) {
 
 }  // namespace
 
-NetworkProblem::NetworkProblem(const NetworkLayout& layout, NetworkParameterBlocks* blocks,
-                               const NetworkSelection& selection)
+NetworkCeresProblem::NetworkCeresProblem(const NetworkLayout& layout, NetworkParameterBlocks* blocks,
+                                         const NetworkSelection& selection)
     : layout_(layout),
       blocks_(blocks),
       cameras_(blocks->cameras.size()),
@@ -86,7 +86,7 @@ NetworkProblem::NetworkProblem(const NetworkLayout& layout, NetworkParameterBloc
   }
 }
 
-void NetworkProblem::add_image_residual(std::size_t i, const NetworkSelection& sel) {
+void NetworkCeresProblem::add_image_residual(std::size_t i, const NetworkSelection& sel) {
   const NetworkObservation& o = (*layout_.observations)[i];
   CameraBlock& cb = cameras_[o.camera];
   const NetworkPoint& p = (*layout_.points)[o.point];
@@ -107,7 +107,7 @@ void NetworkProblem::add_image_residual(std::size_t i, const NetworkSelection& s
     problem_->AddResidualBlock(image_[i], loss_, blocks_->points[o.point].data());
 }
 
-void NetworkProblem::pack_cameras() {
+void NetworkCeresProblem::pack_cameras() {
   // In place: the costs hold the address of each camera's block.
   for (std::size_t c = 0; c < cameras_.size(); ++c) {
     cameras_[c] = CameraBlock::pack(layout_.setups[c], blocks_->cameras[c], layout_.starts[c]);
@@ -115,7 +115,7 @@ void NetworkProblem::pack_cameras() {
   }
 }
 
-void NetworkProblem::select(const NetworkSelection& sel) {
+void NetworkCeresProblem::select(const NetworkSelection& sel) {
   pack_cameras();
   for (std::size_t i = 0; i < image_.size(); ++i) {
     if (!image_[i]) continue;
@@ -141,8 +141,8 @@ void NetworkProblem::select(const NetworkSelection& sel) {
   }
 }
 
-int NetworkProblem::solve(RobustLoss loss, double loss_scale, double tolerance, int max_iterations,
-                          int num_threads) {
+int NetworkCeresProblem::solve(RobustLoss loss, double loss_scale, double tolerance, int max_iterations,
+                               int num_threads) {
   if (loss_) loss_->Reset(new_loss(loss, loss_scale), ceres::TAKE_OWNERSHIP);
   // Points first (eliminated), then the cameras; Ceres prunes the held points from the ordering it
   // is given, so each solve gets its own.
