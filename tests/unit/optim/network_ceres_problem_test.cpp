@@ -5,67 +5,13 @@
 // the same cameras and points to rounding.
 #include <gtest/gtest.h>
 
-#include <Eigen/Geometry>
 #include <cmath>
-#include <random>
 
 #include "optim/network/network_ceres_problem.hpp"
-#include "support/synthetic_camera.hpp"
+#include "support/synthetic_network.hpp"
 
 namespace rangecal {
 namespace {
-
-using Eigen::Matrix3d;
-using Eigen::Vector2d;
-using Eigen::Vector3d;
-
-struct Network {
-  std::vector<NetworkCamera> cameras;
-  std::vector<NetworkPoint> points;
-  std::vector<NetworkObservation> observations;
-};
-
-/// Three range cameras 64 m round a lamp volume, 300 epochs with 1 cm PPK noise, 0.05 px centroids;
-/// the cameras start off the truth (3 cm, 0.3 mrad, f × 1.002).
-Network make_network() {
-  Network n;
-  const Vector3d aim(0, 0, 20);
-  std::mt19937_64 rng(5);
-  std::normal_distribution<double> N01;
-  std::uniform_real_distribution<double> U(-1, 1);
-  std::vector<Camera> truth;
-  for (int c = 0; c < 3; ++c) {
-    const double a = 2 * M_PI * c / 3 + 0.3;
-    truth.push_back(test::range_camera_at("cam" + std::to_string(c + 1),
-                                          aim + Vector3d(64 * std::cos(a), 64 * std::sin(a), -18.5), aim));
-    NetworkCamera nc;
-    nc.initial = truth.back();
-    nc.initial.intr.f_mm *= 1.002;
-    const Vector3d C = truth.back().pose.center() + Vector3d(0.03, -0.02, 0.03);
-    nc.initial.pose.R =
-        Eigen::AngleAxisd(3e-4, Vector3d(1, -1, 0.5).normalized()).toRotationMatrix() * truth.back().pose.R;
-    nc.initial.pose.T = -nc.initial.pose.R * C;
-    nc.options.free = {"f", "k1", "pose"};
-    n.cameras.push_back(nc);
-  }
-  for (int k = 0; k < 300; ++k) {
-    const Vector3d X = aim + Vector3d(2.5 * U(rng), 2.5 * U(rng), 2.0 * U(rng));
-    NetworkPoint p;
-    p.prior_cov = Matrix3d::Identity() * 1e-4;
-    p.prior_enu = X + 0.01 * Vector3d(N01(rng), N01(rng), N01(rng));
-    for (std::size_t c = 0; c < truth.size(); ++c) {
-      NetworkObservation o;
-      if (!project(truth[c], X, &o.pixel) || !inside_image(truth[c].intr, o.pixel)) continue;
-      o.camera = c;
-      o.point = n.points.size();
-      o.pixel += 0.05 * Vector2d(N01(rng), N01(rng));
-      o.pixel_sigma_px = 0.05;
-      n.observations.push_back(o);
-    }
-    n.points.push_back(p);
-  }
-  return n;
-}
 
 NetworkParameterBlocks starting_blocks(const NetworkLayout& l) {
   NetworkParameterBlocks b;
@@ -76,7 +22,7 @@ NetworkParameterBlocks starting_blocks(const NetworkLayout& l) {
 }
 
 TEST(NetworkCeresProblem, SecondSolveInPlaceEqualsAFreshProblem) {
-  const Network n = make_network();
+  const test::SyntheticNetwork n = test::synthetic_network(3, 300, 5);
   const NetworkLayout l = make_network_layout(n.cameras, n.points, n.observations);
   NetworkParameterBlocks b = starting_blocks(l);
   NetworkSelection sel{

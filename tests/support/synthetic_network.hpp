@@ -1,0 +1,23 @@
+#pragma once
+// A synthetic network for the network bundle's tests and benchmarks (optim/network): seed-002-like
+// range cameras (1280×800, 20 µm, 135 mm) on a 64 m circle round a lamp volume 5 m × 5 m × 4 m
+// (centred 20 m above their tripods' level + 18.5 m), each epoch seen by every camera it falls in,
+// PPK fixes with 1 cm noise per axis, 0.05 px centroids. The cameras start off the truth by 2–4 cm,
+// 0.3 mrad and f × 1.002, as from a per-camera bundle. Deterministic by seed.
+#include <cstdint>
+#include <vector>
+
+#include "optim/network/network_adjustment.hpp"
+
+namespace rangecal::test {
+
+struct SyntheticNetwork {
+  std::vector<Camera> truth;
+  std::vector<NetworkCamera> cameras;  ///< free f, k1, pose
+  std::vector<NetworkPoint> points;    ///< epochs seen by at least one camera
+  std::vector<NetworkObservation> observations;
+};
+
+SyntheticNetwork synthetic_network(int n_cameras, int n_epochs, std::uint64_t seed);
+
+}  // namespace rangecal::test
