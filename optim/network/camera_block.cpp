@@ -47,8 +47,9 @@ void CameraBlock::expand(const double* x, double* out) const {
 }
 
 void CameraBlock::prepare_evaluation() {
-  expand(nullptr, at.data());
-  rotation = pose_rotation(at.data() + kIntrinsicsBlockSize + kDistortionBlockSize, R0);
+  for (int j = 0; j < size; ++j)
+    all[index[static_cast<std::size_t>(j)]] = values[static_cast<std::size_t>(j)];
+  rotation = pose_rotation(all.data() + kIntrinsicsBlockSize + kDistortionBlockSize, R0);
 }
 
 void CameraBlock::unpack(BundleParameterBlocks* blocks) const {

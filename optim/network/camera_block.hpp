@@ -14,7 +14,7 @@
 namespace rangecal {
 
 struct CameraBlock {
-  std::array<double, kBundleParameterCount> all{};     ///< every parameter, canonical order
+  std::array<double, kBundleParameterCount> all{};     ///< every parameter, canonical order (below)
   std::array<int, kBundleParameterCount> index{};      ///< canonical index of packed entry j
   std::array<double, kBundleParameterCount> values{};  ///< the Ceres block: the free parameters
   int size = 0;                                        ///< number of free parameters
@@ -28,10 +28,9 @@ struct CameraBlock {
   /// Writes the block's values back into `blocks` (R0 unchanged).
   void unpack(BundleParameterBlocks* blocks) const;
 
-  /// The point Ceres evaluates at, per camera rather than per observation: every parameter with
-  /// `values` in place, and the rotation R(w)·R0 with its J_l. Set by prepare_evaluation, which the
-  /// network's Ceres problem calls before each evaluation (network_ceres_problem.hpp).
-  std::array<double, kBundleParameterCount> at{};
+  /// The point Ceres evaluates at, per camera rather than per observation: prepare_evaluation puts
+  /// `values` into `all` and forms the rotation R(w)·R0 with its J_l. The network's Ceres problem
+  /// calls it before each evaluation (network_ceres_problem.hpp).
   PoseRotation rotation;
   void prepare_evaluation();
 };

@@ -3,17 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 
 #include "config/error.hpp"
 #include "optim/bundle/bundle_diagnostics.hpp"
-#include "optim/network/camera_block.hpp"
-#include "optim/network/network_cost_functions.hpp"
+#include "optim/network/network_ceres_problem.hpp"
 #include "optim/network/network_covariance.hpp"
 #include "optim/network/network_input_checks.hpp"
 #include "optim/network/network_outliers.hpp"
 #include "optim/network/network_parameters.hpp"
-#include "optim/network/network_ceres_problem.hpp"
 
 namespace rangecal {
 namespace {
@@ -22,16 +19,6 @@ using Eigen::Vector3d;
 
 // ---------------------------------------------------------------------------------------------
 // Set-up.
-
-NetworkParameterBlocks starting_blocks(const NetworkLayout& l) {
-  NetworkParameterBlocks b;
-  for (std::size_t c = 0; c < l.starts.size(); ++c)
-    b.cameras.push_back(
-        BundleParameterBlocks::from_camera(l.starts[c], (*l.cameras)[c].options.initial_clock_offset_s));
-  for (const NetworkPoint& p : *l.points)
-    b.points.push_back({p.prior_enu.x(), p.prior_enu.y(), p.prior_enu.z()});
-  return b;
-}
 
 /// Number of cameras with a used observation of each point.
 std::vector<int> cameras_per_point(const NetworkLayout& l, const NetworkSelection& sel) {

@@ -42,7 +42,8 @@ ceres::LossFunction* new_loss(RobustLoss loss, double scale) {
 
 ceres::Problem::Options problem_options(ceres::EvaluationCallback* callback) {
   ceres::Problem::Options po;
-  po.disable_all_safety_checks = true;  // the blocks are ours, each added once
+  po.disable_all_safety_checks = true;                        // the blocks are ours, each added once
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // one loss, a member of the problem's owner
   po.evaluation_callback = callback;
   return po;
 }
@@ -54,7 +55,6 @@ NetworkCeresProblem::NetworkCeresProblem(const NetworkLayout& layout, NetworkPar
     : layout_(layout),
       blocks_(blocks),
       cameras_(blocks->cameras.size()),
-      loss_(new ceres::LossFunctionWrapper(nullptr, ceres::TAKE_OWNERSHIP)),
       problem_(std::make_unique<ceres::Problem>(problem_options(&evaluation_))),
       image_(layout.observations->size(), nullptr),
       image_single_view_(layout.observations->size(), 0),
@@ -63,18 +63,15 @@ NetworkCeresProblem::NetworkCeresProblem(const NetworkLayout& layout, NetworkPar
   pack_cameras();
   for (std::size_t i = 0; i < image_.size(); ++i)
     if (selection.observation[i]) add_image_residual(i, selection);
-  bool loss_used = false;
-  for (std::size_t i = 0; i < image_.size(); ++i) loss_used = loss_used || image_[i] != nullptr;
   for (std::size_t k = 0; k < prior_.size(); ++k) {
     if (!selection.prior[k] || selection.single_view[k]) continue;
     for (int half = 0; half < 2; ++half) {
       prior_[k][static_cast<std::size_t>(half)] =
           new PointPriorCost((*layout_.points)[k].prior_enu, layout_.prior_whiten[k], half);
-      problem_->AddResidualBlock(prior_[k][static_cast<std::size_t>(half)], loss_, blocks_->points[k].data());
-      loss_used = true;
+      problem_->AddResidualBlock(prior_[k][static_cast<std::size_t>(half)], &loss_,
+                                 blocks_->points[k].data());
     }
   }
-  if (!loss_used) delete loss_, loss_ = nullptr;  // no residual took it: the problem would not free it
   for (std::size_t c = 0; c < cameras_.size(); ++c) {
     CameraBlock& cb = cameras_[c];
     if (cb.size == 0 || !problem_->HasParameterBlock(cb.values.data())) continue;  // no observation
@@ -95,16 +92,16 @@ void NetworkCeresProblem::add_image_residual(std::size_t i, const NetworkSelecti
     image_[i] =
         new ImageResidualCost(&cb, false, p.prior_enu, o.offset_m, o.velocity, o.pixel, sel.whitening[i]);
     image_single_view_[i] = 1;
-    problem_->AddResidualBlock(image_[i], loss_, cb.values.data());
+    problem_->AddResidualBlock(image_[i], &loss_, cb.values.data());
     return;
   }
   image_[i] = new ImageResidualCost(&cb, true, p.prior_enu, o.offset_m, o.velocity, o.pixel,
                                     Eigen::Matrix2d::Identity() / layout_.pixel_sigma(i));
   image_single_view_[i] = 0;
   if (cb.size > 0)
-    problem_->AddResidualBlock(image_[i], loss_, cb.values.data(), blocks_->points[o.point].data());
+    problem_->AddResidualBlock(image_[i], &loss_, cb.values.data(), blocks_->points[o.point].data());
   else
-    problem_->AddResidualBlock(image_[i], loss_, blocks_->points[o.point].data());
+    problem_->AddResidualBlock(image_[i], &loss_, blocks_->points[o.point].data());
 }
 
 void NetworkCeresProblem::pack_cameras() {
@@ -135,15 +132,16 @@ void NetworkCeresProblem::select(const NetworkSelection& sel) {
   }
   for (std::size_t k = 0; k < point_constant_.size(); ++k) {
     if (point_constant_[k] || !problem_->HasParameterBlock(blocks_->points[k].data())) continue;
-    bool used = sel.prior[k] && !sel.single_view[k];
-    for (std::size_t i : layout_.by_point[k]) used = used || (sel.observation[i] && !sel.single_view[k]);
+    bool used = sel.prior[k] != 0;
+    for (std::size_t i : layout_.by_point[k]) used = used || sel.observation[i];
+    used = used && !sel.single_view[k];
     if (!used) problem_->SetParameterBlockConstant(blocks_->points[k].data()), point_constant_[k] = 1;
   }
 }
 
 int NetworkCeresProblem::solve(RobustLoss loss, double loss_scale, double tolerance, int max_iterations,
                                int num_threads) {
-  if (loss_) loss_->Reset(new_loss(loss, loss_scale), ceres::TAKE_OWNERSHIP);
+  loss_.Reset(new_loss(loss, loss_scale), ceres::TAKE_OWNERSHIP);
   // Points first (eliminated), then the cameras; Ceres prunes the held points from the ordering it
   // is given, so each solve gets its own.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();

@@ -59,7 +59,7 @@ class NetworkCeresProblem {
   NetworkParameterBlocks* blocks_;
   std::vector<CameraBlock> cameras_;  // sized once: the costs point into it
   CameraEvaluation evaluation_{&cameras_};
-  ceres::LossFunctionWrapper* loss_;  // owned by problem_, shared by the image and prior residuals
+  ceres::LossFunctionWrapper loss_{nullptr, ceres::TAKE_OWNERSHIP};  // the image and prior residuals' loss
   std::unique_ptr<ceres::Problem> problem_;
   std::vector<ImageResidualCost*> image_;              // per observation: its residual (null: none)
   std::vector<char> image_single_view_;                // per observation: its residual is the single-view one

@@ -35,7 +35,7 @@ bool ImageResidualCost::Evaluate(double const* const* parameters, double* residu
   }
   // The camera at the evaluation point, expanded and its rotation formed once per evaluation
   // (CameraBlock::prepare_evaluation): Ceres passes the same values in parameters[0].
-  const double* all = camera_->at.data();
+  const double* all = camera_->all.data();
   const Eigen::Vector3d X = point_free_
                                 ? Eigen::Vector3d(Eigen::Map<const Eigen::Vector3d>(parameters[point_block]))
                                 : fixed_point_;

@@ -42,6 +42,16 @@ NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,
   return l;
 }
 
+NetworkParameterBlocks starting_blocks(const NetworkLayout& l) {
+  NetworkParameterBlocks b;
+  for (std::size_t c = 0; c < l.starts.size(); ++c)
+    b.cameras.push_back(
+        BundleParameterBlocks::from_camera(l.starts[c], (*l.cameras)[c].options.initial_clock_offset_s));
+  for (const NetworkPoint& p : *l.points)
+    b.points.push_back({p.prior_enu.x(), p.prior_enu.y(), p.prior_enu.z()});
+  return b;
+}
+
 void refresh_single_view(const NetworkLayout& l, const NetworkParameterBlocks& b, NetworkSelection* sel) {
   const std::vector<NetworkObservation>& obs = *l.observations;
   sel->single_view.assign(l.by_point.size(), 0);

@@ -38,6 +38,10 @@ NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,
                                   const std::vector<NetworkPoint>& points,
                                   const std::vector<NetworkObservation>& observations);
 
+/// The solve's start: each camera at its starting camera and initial clock offset, each point at
+/// its prior.
+NetworkParameterBlocks starting_blocks(const NetworkLayout& layout);
+
 /// What enters a solve: observations (image residuals) and point priors; and which points are
 /// eliminated analytically. A lamp epoch seen by one camera under its prior has no image
 /// redundancy of its own: eliminating its point gives exactly the per-camera bundle's residual

@@ -13,14 +13,6 @@
 namespace rangecal {
 namespace {
 
-NetworkParameterBlocks starting_blocks(const NetworkLayout& l) {
-  NetworkParameterBlocks b;
-  for (const Camera& s : l.starts) b.cameras.push_back(BundleParameterBlocks::from_camera(s));
-  for (const NetworkPoint& p : *l.points)
-    b.points.push_back({p.prior_enu.x(), p.prior_enu.y(), p.prior_enu.z()});
-  return b;
-}
-
 TEST(NetworkCeresProblem, SecondSolveInPlaceEqualsAFreshProblem) {
   const test::SyntheticNetwork n = test::synthetic_network(3, 300, 5);
   const NetworkLayout l = make_network_layout(n.cameras, n.points, n.observations);
