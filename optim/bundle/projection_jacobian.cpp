@@ -29,27 +29,21 @@ Matrix3d left_jacobian(const Vector3d& w) {
 
 }  // namespace
 
-PoseRotation pose_rotation(const double* w, const Matrix3d& R0) {
+PoseRotation pose_rotation(const double* w, const Matrix3d& R0, bool with_left_jacobian) {
   PoseRotation r;
   Matrix3d Rw;
   ceres::AngleAxisToRotationMatrix(w, ceres::ColumnMajorAdapter3x3(Rw.data()));
   r.R = Rw * R0;
-  r.Jl = left_jacobian(Vector3d(w[0], w[1], w[2]));
+  if (with_left_jacobian) r.Jl = left_jacobian(Vector3d(w[0], w[1], w[2]));
   return r;
 }
 
 bool project_with_jacobian(const double* intr, const double* dist, const double* pose, double clock_s,
                            const Matrix3d& R0, double dx_mm, double dy_mm, const Vector3d& Xw,
                            const Vector3d& vel, Vector2d* uv, ProjectionJacobian* jacobian) {
-  PoseRotation rotation;
-  if (jacobian) {
-    rotation = pose_rotation(pose, R0);
-  } else {  // the pixel alone needs no J_l
-    Matrix3d Rw;
-    ceres::AngleAxisToRotationMatrix(pose, ceres::ColumnMajorAdapter3x3(Rw.data()));
-    rotation.R = Rw * R0;
-  }
-  return project_with_jacobian(intr, dist, rotation, pose + 3, clock_s, dx_mm, dy_mm, Xw, vel, uv, jacobian);
+  // The pixel alone needs no J_l.
+  return project_with_jacobian(intr, dist, pose_rotation(pose, R0, jacobian != nullptr), pose + 3, clock_s,
+                               dx_mm, dy_mm, Xw, vel, uv, jacobian);
 }
 
 bool project_with_jacobian(const double* intr, const double* dist, const PoseRotation& rotation,

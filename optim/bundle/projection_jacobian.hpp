@@ -34,8 +34,9 @@ struct PoseRotation {
   Eigen::Matrix3d Jl = Eigen::Matrix3d::Identity();  ///< left Jacobian of SO(3) at w
 };
 
-/// R(w)·R0 and J_l(w) of the rotation vector `w` (rad) about `R0`.
-PoseRotation pose_rotation(const double* w, const Eigen::Matrix3d& R0);
+/// R(w)·R0 and J_l(w) of the rotation vector `w` (rad) about `R0`; without `with_left_jacobian`,
+/// J_l is left at I (the pixel alone does not need it).
+PoseRotation pose_rotation(const double* w, const Eigen::Matrix3d& R0, bool with_left_jacobian = true);
 
 /// As below, with the rotation given (`rotation` of pose[0..2]) and the centre `center` (ENU m).
 bool project_with_jacobian(const double* intr, const double* dist, const PoseRotation& rotation,
