@@ -26,6 +26,9 @@ PlannedNetwork planned_network(const Scenario& s, const PlanOptions& options = {
 /// The same from a mission already simulated (`rangecal plan` simulates each candidate once).
 PlannedNetwork planned_network(const SimMission& m, const PlanOptions& options = {});
 
+/// `n` with every observation's σ (lamp centroid, pole pick) divided by `factor`.
+PlannedNetwork with_sharper_images(PlannedNetwork n, double factor);
+
 /// The network's Cramér–Rao bound of every camera's parameters named by `free` (the joint Fisher
 /// information with the points eliminated: the Schur complement of the noise-free network at the
 /// truth, optim/network/network_covariance.hpp): the joint covariance, cameras in order.

@@ -155,11 +155,13 @@ PlanTable volume_table(const std::vector<RoutePlanAnalysis>& cands, std::size_t 
   t.header.push_back("method");
   for (const RoutePlanAnalysis& cand : cands) t.header.push_back(cand.name);
   std::vector<std::string> points{"points"}, per{"per-camera"}, net{"network"}, ratio{"network / per-camera"},
+      datum{"network, images " + format_number("%.0f", kDatumFloorImageFactor) + "× sharper (datum floor)"},
       per_ind{"per-camera, cameras independent"}, net_ind{"network, cross blocks dropped"};
+  bool any_floor = false;
   for (const RoutePlanAnalysis& cand : cands) {
     const FreeSetPlan* fs = free_set(cand, k);
     if (!fs || fs->volume.n_points == 0) {
-      for (auto* row : {&points, &per, &net, &ratio, &per_ind, &net_ind}) row->push_back("-");
+      for (auto* row : {&points, &per, &net, &ratio, &datum, &per_ind, &net_ind}) row->push_back("-");
       if (fs && fs->cameras.size() < 2)
         t.notes.push_back(cand.name + ": one camera — nothing to intersect");
       else if (fs)
@@ -173,10 +175,18 @@ PlanTable volume_table(const std::vector<RoutePlanAnalysis>& cands, std::size_t 
     per_ind.push_back(mm_cell(v.per_camera_independent_m));
     net.push_back(applies ? mm_cell(v.network_m) : "= per-camera");
     ratio.push_back(applies ? ratio_cell(v.network_m, v.per_camera_m) : "-");
+    datum.push_back(applies ? mm_cell(v.network_datum_floor_m) : "-");
+    any_floor = any_floor || applies;
     net_ind.push_back(applies ? mm_cell(v.network_independent_m) : "-");
     if (!applies) t.notes.push_back(network_note(cand, *fs));
   }
-  t.rows = {points, per, net, ratio, per_ind, net_ind};
+  if (any_floor)
+    t.notes.push_back(
+        "datum floor: the network with every centroid and pick σ divided by " +
+        format_number("%.0f", kDatumFloorImageFactor) +
+        ", i.e. what the PPK fixes and the control survey alone allow; sharper images cannot go below it, "
+        "more fix epochs or control surveyed better than the PPK average can");
+  t.rows = {points, per, net, ratio, datum, per_ind, net_ind};
   return t;
 }
 

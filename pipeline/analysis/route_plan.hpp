@@ -134,7 +134,16 @@ struct VolumeIntersection {
   double per_camera_independent_m = std::numeric_limits<double>::quiet_NaN();
   double network_m = std::numeric_limits<double>::quiet_NaN();  ///< the network's joint covariance
   double network_independent_m = std::numeric_limits<double>::quiet_NaN();  ///< its cross blocks dropped
+  /// The network with every centroid and pick σ divided by kDatumFloorImageFactor: what the PPK
+  /// fixes and the control survey alone allow, a floor no image quality lowers
+  /// (docs/accuracy_analysis.md "Datum floor").
+  double network_datum_floor_m = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// How much sharper than the scenario's the images are taken for VolumeIntersection's datum floor:
+/// at 100 the image terms of the variance are 10⁻⁴ of the scenario's, and the floor moves < 0.5 %
+/// more at 1,000 (route_plan_test).
+inline constexpr double kDatumFloorImageFactor = 100;
 
 struct FreeSetPlan {
   std::vector<std::string> free;

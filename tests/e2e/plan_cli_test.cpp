@@ -67,8 +67,8 @@ TEST(Plan, CliComparesCandidatesSideBySide) {
       std::regex_search(r.out, std::regex("parameter +per-camera +network +ratio +per-camera +network")))
       << r.out;
   EXPECT_NE(r.out.find("Calibration-only intersection 1σ through the flight volume"), std::string::npos);
-  for (const char* row :
-       {"network / per-camera", "per-camera, cameras independent", "network, cross blocks dropped"})
+  for (const char* row : {"network / per-camera", "network, images 100× sharper (datum floor)",
+                          "per-camera, cameras independent", "network, cross blocks dropped"})
     EXPECT_NE(r.out.find(row), std::string::npos) << row;
   EXPECT_NE(html.find("<th class=\"group\" colspan=\"3\">three</th>"), std::string::npos);
   EXPECT_NE(html.find("<th>per-camera</th><th>network</th><th>ratio</th>"), std::string::npos);

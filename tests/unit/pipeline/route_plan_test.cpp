@@ -202,6 +202,69 @@ TEST(Plan, NetworkSigmaIsTheNetworkCramerRaoBoundAndNeverAbovePerCamera) {
   }
 }
 
+/// The calibration-only intersection rms through `volume` (m) if the images fixed the network's shape
+/// exactly and only its datum were left: a similarity transform (translation t, small rotation ω,
+/// scale s about the points' centroid c; X ↦ X + t + ω × (X − c) + s·(X − c)) fitted to the points'
+/// priors (PPK fixes, control poles) under their covariances P_k. Its covariance is
+/// (Σ_k A_kᵀ P_k⁻¹ A_k)⁻¹ with A(X) = [I, −[X − c]×, X − c], and a point Y triangulated by the
+/// transformed cameras moves by A(Y)·δ. Written here, independent of the network code.
+double similarity_datum_rms(const PlannedNetwork& n, const std::vector<Eigen::Vector3d>& volume) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const NetworkPoint& p : n.points) c += p.prior_enu;
+  c /= static_cast<double>(n.points.size());
+  auto A = [&c](const Eigen::Vector3d& X) {
+    const Eigen::Vector3d d = X - c;
+    Eigen::Matrix3d skew;
+    skew << 0, -d.z(), d.y(), d.z(), 0, -d.x(), -d.y(), d.x(), 0;
+    Eigen::Matrix<double, 3, 7> a;
+    a << Eigen::Matrix3d::Identity(), -skew, d;
+    return a;
+  };
+  Eigen::Matrix<double, 7, 7> H = Eigen::Matrix<double, 7, 7>::Zero();
+  for (const NetworkPoint& p : n.points)
+    H += A(p.prior_enu).transpose() * p.prior_cov.inverse() * A(p.prior_enu);
+  const Eigen::Matrix<double, 7, 7> S = H.inverse();
+  double sum = 0;
+  for (const Eigen::Vector3d& Y : volume) sum += (A(Y) * S * A(Y).transpose()).trace();
+  return std::sqrt(sum / static_cast<double>(volume.size()));
+}
+
+// The datum floor `plan` prints (the network with images 100× sharper) is the datum the PPK fixes
+// and the control survey determine: it has stopped moving with the image σ, and it sits just above
+// the similarity fit of the fixes alone (which credits every epoch with a full 3-D position; an
+// epoch one camera sees gives the network only its two image directions). That fit is a bound no
+// estimator fed these fixes passes; on both geometries it lies above 0.6 × the per-camera bundle's
+// rms (docs/optimisation.md "When the network helps").
+TEST(Plan, NetworkDatumFloorIsTheSimilarityFitOfTheFixes) {
+  const PlanOptions o;
+  for (const Scenario& s : {demo_scenario(), scenario_with_routes(five_ascents(), "five")}) {
+    const RoutePlanAnalysis a = analyse_route_plan(s, s.file, o);
+    const PlannedNetwork n = planned_network(s, o);
+    const std::vector<Eigen::Vector3d> volume = flight_volume_points(n, o.volume_points, o.volume_seed);
+    const VolumeIntersection& v = a.free_sets[0].volume;
+    ASSERT_TRUE(std::isfinite(v.network_datum_floor_m));
+    EXPECT_LT(v.network_datum_floor_m, v.network_m);
+    EXPECT_LT(v.network_m, v.per_camera_m);
+    // Stopped moving: ten times sharper again changes it by < 0.5 %.
+    const std::vector<CameraParameter> params = expand_free_parameters(o.free_sets[0]);
+    const double sharper = predicted_intersection_rms(
+        n.truth, params,
+        network_cramer_rao_bound(with_sharper_images(n, 1000), o.free_sets[0], o.pixel_sigma_px / 1000),
+        volume, true);
+    EXPECT_NEAR(sharper / v.network_datum_floor_m, 1.0, 0.005);
+    // Just above the similarity fit, which itself is above 0.6 × per-camera.
+    const double datum = similarity_datum_rms(n, volume);
+    EXPECT_GE(v.network_datum_floor_m / datum, 1.0);
+    EXPECT_LE(v.network_datum_floor_m / datum, 1.1);
+    EXPECT_GT(datum / v.per_camera_m, 0.6);
+    std::printf(
+        "  %s: per-camera %.3f mm, network %.3f mm, datum floor %.3f mm (1,000× sharper %.3f mm), "
+        "similarity fit of the fixes %.3f mm = %.2f × per-camera\n",
+        s.file.c_str(), v.per_camera_m * 1e3, v.network_m * 1e3, v.network_datum_floor_m * 1e3, sharper * 1e3,
+        datum * 1e3, datum / v.per_camera_m);
+  }
+}
+
 TEST(Plan, OneCameraNetworkEqualsPerCamera) {
   Scenario s = demo_scenario();
   s.cameras.resize(1);
