@@ -14,7 +14,7 @@
 namespace rangecal {
 
 struct CameraBlock {
-  std::array<double, kBundleParameterCount> all{};     ///< every parameter, canonical order (below)
+  std::array<double, kBundleParameterCount> all{};     ///< every parameter, canonical order; the eval point
   std::array<int, kBundleParameterCount> index{};      ///< canonical index of packed entry j
   std::array<double, kBundleParameterCount> values{};  ///< the Ceres block: the free parameters
   int size = 0;                                        ///< number of free parameters
