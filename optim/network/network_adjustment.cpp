@@ -125,6 +125,20 @@ FloatEpochContribution float_epoch_contribution(const NetworkLayout& l, const Ne
   return f;
 }
 
+/// The datum floor: the joint covariance again at the same solution and selection with every image
+/// σ divided by `factor` (single-view weights recomputed with it), scaled as the network's.
+Eigen::MatrixXd datum_floor_covariance(const NetworkLayout& l, const NetworkParameterBlocks& b,
+                                       NetworkSelection sel, double factor, double scale,
+                                       double rank_tolerance) {
+  NetworkLayout sharp = l;
+  sharp.pixel_sigma_scale = 1 / factor;
+  refresh_single_view(sharp, b, &sel);
+  const NetworkCovariance cov = network_covariance(
+      sharp, b, sel, scene_distance(l), max_speed(l, static_cast<std::size_t>(-1)), rank_tolerance);
+  if (cov.rank_deficient || cov.joint.size() == 0) return {};
+  return cov.joint * scale;
+}
+
 /// Camera c's result: its marginal of the joint covariance, residuals and flags of its observations.
 BundleResult camera_result(const NetworkLayout& l, const NetworkParameterBlocks& b, std::size_t c,
                            const std::vector<std::size_t>& mine, const ImageOutlierTest& test,
@@ -270,6 +284,12 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
   if (st.float_epochs_used > 0)
     out.float_epochs = float_epoch_contribution(l, b, sel, cov, st.float_epochs_used,
                                                 cameras.front().options.rank_tolerance);
+  if (opt.datum_floor_image_factor > 0 && out.joint_covariance.size() > 0) {
+    out.datum_floor_covariance =
+        datum_floor_covariance(l, b, sel, opt.datum_floor_image_factor, scaled ? st.variance_factor : 1.0,
+                               cameras.front().options.rank_tolerance);
+    if (out.datum_floor_covariance.size() > 0) out.datum_floor_image_factor = opt.datum_floor_image_factor;
+  }
   out.warnings = cov.warnings;
   if (!st.ppk_outliers.empty())
     out.warnings.push_back(

@@ -48,9 +48,19 @@ struct NetworkOptions {
   /// (m the test's redundancy, ≤ 3). 1e-4 → 2 false flags in 20,000 clean epochs.
   double ppk_outlier_probability = 1e-4;
   bool resolve_without_outliers = true;  ///< final plain least squares without the outliers
+  /// > 0: also the datum floor (NetworkResult::datum_floor_covariance) with every image σ divided by
+  /// this factor (kDatumFloorImageFactor); 0: not computed (it costs one more joint covariance).
+  double datum_floor_image_factor = 0;
   int max_iterations = 200;
   int num_threads = 1;  ///< Ceres threads (1: deterministic)
 };
+
+/// The network's datum floor (docs/accuracy_analysis.md, "Datum floor"): its joint covariance with
+/// every centroid and pick σ divided by this factor. The images then fix the network's shape almost
+/// exactly, and what remains is the datum — position, scale and orientation — as the PPK fixes and
+/// control poles alone determine it (a similarity transform fitted to them). 100 is far enough: ten
+/// times more moves the floor by < 0.5 % on the demo and five-ascent geometries.
+inline constexpr double kDatumFloorImageFactor = 100;
 
 /// One adjusted point (a row of gnss/lamp_track_adjusted.csv for a lamp epoch).
 struct NetworkPointResult {
@@ -103,6 +113,11 @@ struct NetworkResult {
   std::vector<NetworkPointResult> points;
   NetworkStatistics statistics;
   FloatEpochContribution float_epochs;
+  /// The datum floor (kDatumFloorImageFactor): joint_covariance's layout and scaling, at the same
+  /// solution and selection, every image σ divided by datum_floor_image_factor. Empty when not asked
+  /// for (NetworkOptions::datum_floor_image_factor = 0) or rank-deficient.
+  Eigen::MatrixXd datum_floor_covariance;
+  double datum_floor_image_factor = 0;
   std::vector<std::string> warnings;  ///< network-wide (camera warnings are in each calibration)
 };
 

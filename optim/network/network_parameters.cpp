@@ -22,7 +22,8 @@ std::vector<std::vector<std::size_t>> observations_by_point(std::size_t n_points
 
 double NetworkLayout::pixel_sigma(std::size_t i) const {
   const NetworkObservation& o = (*observations)[i];
-  return o.pixel_sigma_px > 0 ? o.pixel_sigma_px : (*cameras)[o.camera].options.pixel_sigma_px;
+  return pixel_sigma_scale *
+         (o.pixel_sigma_px > 0 ? o.pixel_sigma_px : (*cameras)[o.camera].options.pixel_sigma_px);
 }
 
 NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,

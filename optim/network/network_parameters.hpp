@@ -29,8 +29,11 @@ struct NetworkLayout {
   int n_camera_parameters = 0;
   std::vector<std::vector<std::size_t>> by_point;
   std::vector<Eigen::Matrix3d> prior_whiten;  ///< L⁻¹ per point
+  /// Multiplies every observation's σ_px: 1 for the network itself, 1/kDatumFloorImageFactor for
+  /// its datum floor (network_adjustment.hpp).
+  double pixel_sigma_scale = 1;
 
-  /// σ_px of observation i: its own, else its camera's default.
+  /// σ_px of observation i: its own, else its camera's default, times pixel_sigma_scale.
   double pixel_sigma(std::size_t i) const;
 };
 

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/network/network_adjustment.hpp"  // kDatumFloorImageFactor
 #include "pipeline/simulate/scenario.hpp"
 
 namespace rangecal {
@@ -139,11 +140,6 @@ struct VolumeIntersection {
   /// (docs/accuracy_analysis.md "Datum floor").
   double network_datum_floor_m = std::numeric_limits<double>::quiet_NaN();
 };
-
-/// How much sharper than the scenario's the images are taken for VolumeIntersection's datum floor:
-/// at 100 the image terms of the variance are 10⁻⁴ of the scenario's, and the floor moves < 0.5 %
-/// more at 1,000 (route_plan_test).
-inline constexpr double kDatumFloorImageFactor = 100;
 
 struct FreeSetPlan {
   std::vector<std::string> free;

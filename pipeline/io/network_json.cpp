@@ -21,6 +21,72 @@ nlohmann::json parse_network_file(const std::string& path) {
   }
 }
 
+/// A matrix as JSON rows.
+nlohmann::json matrix_rows(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index k = 0; k < m.cols(); ++k) row.push_back(m(i, k));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+/// Every camera-pair block (a, b) of the joint covariance `rows` (a network.json matrix over its
+/// `cameras`) for the cameras `ids`, each in `parameters`' order when given; empty when a camera is
+/// missing, the matrix does not match the cameras, or a camera's parameter set differs (the file is
+/// then not the calibration's). nlohmann::json exceptions propagate (the caller names the file).
+CrossCovariances camera_blocks(const nlohmann::json& j, const nlohmann::json& rows,
+                               const std::vector<std::string>& ids,
+                               const std::vector<std::vector<CameraParameter>>* parameters) {
+  std::vector<int> offset, size;
+  std::vector<std::string> names;
+  std::vector<std::vector<std::string>> params;
+  int n = 0;
+  for (const auto& c : j.at("cameras")) {
+    names.push_back(c.at("id").get<std::string>());
+    params.push_back(c.at("parameters").get<std::vector<std::string>>());
+    offset.push_back(n);
+    size.push_back(static_cast<int>(params.back().size()));
+    n += size.back();
+  }
+  if (static_cast<int>(rows.size()) != n) return {};
+  std::vector<int> where;
+  for (const std::string& id : ids) {
+    const auto it = std::find(names.begin(), names.end(), id);
+    if (it == names.end()) return {};
+    where.push_back(static_cast<int>(it - names.begin()));
+  }
+  // Row of each wanted parameter within its camera's network block (network order when no
+  // parameters are given).
+  std::vector<std::vector<int>> pick(ids.size());
+  for (std::size_t a = 0; a < ids.size(); ++a) {
+    const std::vector<std::string>& have = params[static_cast<std::size_t>(where[a])];
+    if (!parameters) {
+      for (int r = 0; r < size[where[a]]; ++r) pick[a].push_back(r);
+      continue;
+    }
+    if (parameters->size() != ids.size() || (*parameters)[a].size() != have.size()) return {};
+    for (CameraParameter p : (*parameters)[a]) {
+      const auto it = std::find(have.begin(), have.end(), std::string(parameter_name(p)));
+      if (it == have.end()) return {};
+      pick[a].push_back(static_cast<int>(it - have.begin()));
+    }
+  }
+  CrossCovariances x(ids.size(), std::vector<Eigen::MatrixXd>(ids.size()));
+  for (std::size_t a = 0; a < ids.size(); ++a)
+    for (std::size_t b = 0; b < ids.size(); ++b) {
+      const int ca = where[a], cb = where[b];
+      Eigen::MatrixXd m(pick[a].size(), pick[b].size());
+      for (std::size_t r = 0; r < pick[a].size(); ++r)
+        for (std::size_t c = 0; c < pick[b].size(); ++c)
+          m(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) =
+              rows.at(offset[ca] + pick[a][r]).at(offset[cb] + pick[b][c]).get<double>();
+      x[a][b] = m;
+    }
+  return x;
+}
+
 }  // namespace
 
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc) {
@@ -101,14 +167,11 @@ nlohmann::json network_json(const NetworkResult& r, const std::vector<std::strin
     cams.push_back(
         {{"id", c.calibration.camera_id}, {"parameters", parameter_names(c.calibration.parameters)}});
   j["cameras"] = cams;
-  nlohmann::json rows = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < r.joint_covariance.rows(); ++i) {
-    nlohmann::json row = nlohmann::json::array();
-    for (Eigen::Index k = 0; k < r.joint_covariance.cols(); ++k) row.push_back(r.joint_covariance(i, k));
-    rows.push_back(row);
-  }
-  j["joint_covariance"] = rows;
+  j["joint_covariance"] = matrix_rows(r.joint_covariance);
   j["statistics"] = network_statistics_json(r, epoch_utc);
+  if (r.datum_floor_covariance.size() > 0)
+    j["datum_floor"] = {{"image_factor", r.datum_floor_image_factor},
+                        {"joint_covariance", matrix_rows(r.datum_floor_covariance)}};
   const FloatEpochContribution& f = r.float_epochs;
   if (f.epochs > 0) {
     auto list = [](const Eigen::VectorXd& v) {
@@ -184,57 +247,39 @@ CrossCovariances read_network_cross_covariances(const std::string& path, const s
   if (!std::filesystem::exists(path)) return {};
   const nlohmann::json j = parse_network_file(path);
   try {
-    std::vector<int> offset, size;
-    std::vector<std::string> names;
-    std::vector<std::vector<std::string>> params;
-    int n = 0;
-    for (const auto& c : j.at("cameras")) {
-      names.push_back(c.at("id").get<std::string>());
-      params.push_back(c.at("parameters").get<std::vector<std::string>>());
-      offset.push_back(n);
-      size.push_back(static_cast<int>(params.back().size()));
-      n += size.back();
-    }
-    const auto& rows = j.at("joint_covariance");
-    if (static_cast<int>(rows.size()) != n) return {};
-    std::vector<int> where;
-    for (const std::string& id : ids) {
-      const auto it = std::find(names.begin(), names.end(), id);
-      if (it == names.end()) return {};
-      where.push_back(static_cast<int>(it - names.begin()));
-    }
-    // Row of each wanted parameter within its camera's network block (network order when no
-    // parameters are given).
-    std::vector<std::vector<int>> pick(ids.size());
-    for (std::size_t a = 0; a < ids.size(); ++a) {
-      const std::vector<std::string>& have = params[static_cast<std::size_t>(where[a])];
-      if (!parameters) {
-        for (int r = 0; r < size[where[a]]; ++r) pick[a].push_back(r);
-        continue;
-      }
-      if (parameters->size() != ids.size() || (*parameters)[a].size() != have.size()) return {};
-      for (CameraParameter p : (*parameters)[a]) {
-        const auto it = std::find(have.begin(), have.end(), std::string(parameter_name(p)));
-        if (it == have.end()) return {};
-        pick[a].push_back(static_cast<int>(it - have.begin()));
-      }
-    }
-    CrossCovariances x(ids.size(), std::vector<Eigen::MatrixXd>(ids.size()));
-    for (std::size_t a = 0; a < ids.size(); ++a)
-      for (std::size_t b = 0; b < ids.size(); ++b) {
-        if (a == b) continue;
-        const int ca = where[a], cb = where[b];
-        Eigen::MatrixXd m(pick[a].size(), pick[b].size());
-        for (std::size_t r = 0; r < pick[a].size(); ++r)
-          for (std::size_t c = 0; c < pick[b].size(); ++c)
-            m(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) =
-                rows.at(offset[ca] + pick[a][r]).at(offset[cb] + pick[b][c]).get<double>();
-        x[a][b] = m;
-      }
+    CrossCovariances x = camera_blocks(j, j.at("joint_covariance"), ids, parameters);
+    for (std::size_t a = 0; a < x.size(); ++a) x[a][a] = Eigen::MatrixXd();  // each calibration.json's own
     return x;
   } catch (const nlohmann::json::exception& e) {
     throw_input_error(path, 0, "", std::string("malformed network.json: ") + e.what());
   }
+}
+
+std::optional<NetworkDatumFloor> read_network_datum_floor(
+    const std::string& path, const std::vector<std::string>& ids,
+    const std::vector<std::vector<CameraParameter>>* parameters) {
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  const nlohmann::json j = parse_network_file(path);
+  if (!j.is_object() || !j.contains("datum_floor")) return std::nullopt;
+  const nlohmann::json& f = j["datum_floor"];
+  if (!f.is_object()) throw_input_error(path, 0, "datum_floor", "expected an object");
+  if (!f.contains("image_factor") || !f["image_factor"].is_number() || !(f["image_factor"].get<double>() > 1))
+    throw_input_error(path, 0, "datum_floor.image_factor", "expected a number above 1");
+  if (!f.contains("joint_covariance") || !f["joint_covariance"].is_array())
+    throw_input_error(path, 0, "datum_floor.joint_covariance", "expected an array of rows");
+  NetworkDatumFloor d;
+  d.image_factor = f["image_factor"].get<double>();
+  try {
+    d.blocks = camera_blocks(j, f["joint_covariance"], ids, parameters);
+  } catch (const nlohmann::json::exception& e) {
+    throw_input_error(path, 0, "datum_floor.joint_covariance", std::string("malformed: ") + e.what());
+  }
+  if (d.blocks.empty()) return std::nullopt;
+  for (std::size_t a = 0; a < d.blocks.size(); ++a)
+    if (!d.blocks[a][a].allFinite() || (d.blocks[a][a].diagonal().array() < 0).any())
+      throw_input_error(path, 0, "datum_floor.joint_covariance",
+                        "camera '" + ids[a] + "': expected finite variances ≥ 0 on the diagonal");
+  return d;
 }
 
 }  // namespace rangecal

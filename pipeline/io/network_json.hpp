@@ -4,7 +4,8 @@
 // calibration.json covariance, the cross blocks what the intersection needs to know that the
 // cameras are correlated. Keys: method, cameras [{id, parameters}], joint_covariance (rows, cameras
 // in order), statistics {variance_factor, chi2, dof, epochs_seen_by_1/2/3_or_more, ppk_outliers
-// (utc), image_outliers, float_epochs_used, cameras_alone}, and when float epochs were used
+// (utc), image_outliers, float_epochs_used, cameras_alone}, datum_floor {image_factor, joint_covariance}
+// (the same matrix with every image σ divided by image_factor), and when float epochs were used
 // float_epochs {epochs, cameras [{id, parameters, sigma_with, sigma_without (null when the cameras
 // are undetermined without them)}]} — what they add (docs/optimisation.md, "Float epochs").
 #include <nlohmann/json.hpp>
@@ -68,6 +69,21 @@ void write_network_json(const std::string& path, const nlohmann::json& j);
 /// covariance), each block is returned in those orders, and the table is empty when a camera's
 /// network parameters are not the same set (network.json is then not the calibration's). Throws
 /// rangecal::Error (input) for a malformed file.
+/// network.json's `datum_floor` (optim/network/network_adjustment.hpp kDatumFloorImageFactor): the
+/// joint covariance with every image σ divided by `image_factor`, as camera-pair blocks.
+struct NetworkDatumFloor {
+  double image_factor = 0;
+  CrossCovariances blocks;  ///< [a][b] for the cameras asked for, diagonal blocks included
+};
+
+/// `datum_floor` of network.json at `path` for the cameras `ids`, blocks as
+/// read_network_cross_covariances gives them but with the diagonal (each camera's own floor);
+/// nullopt when the file is missing, has none, or does not match the cameras. Throws rangecal::Error
+/// (input) naming `datum_floor.<key>` for a malformed object.
+std::optional<NetworkDatumFloor> read_network_datum_floor(
+    const std::string& path, const std::vector<std::string>& ids,
+    const std::vector<std::vector<CameraParameter>>* parameters = nullptr);
+
 CrossCovariances read_network_cross_covariances(
     const std::string& path, const std::vector<std::string>& ids,
     const std::vector<std::vector<CameraParameter>>* parameters = nullptr);

@@ -66,6 +66,17 @@ void read_run_json(const std::string& path, ReportData* data,
 
 }  // namespace
 
+std::vector<const CalibrationResult*> calibrated_cameras(const ReportData& d) {
+  std::vector<const CalibrationResult*> cams;
+  for (const CameraReportData& c : d.cameras)
+    if (c.calibration) cams.push_back(&*c.calibration);
+  return cams;
+}
+
+const CrossCovariances* network_cross_or_null(const ReportData& d) {
+  return d.network_cross.empty() ? nullptr : &d.network_cross;
+}
+
 ReportData read_report_data(const std::string& output_dir, const std::string& mission,
                             const std::vector<std::string>& camera_ids) {
   ReportData data;
@@ -119,9 +130,12 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
     parameters.push_back(c.calibration->parameters);
     all_network = all_network && c.calibration->method == "network";
   }
-  if (all_network && ids.size() >= 2)
+  if (all_network && ids.size() >= 2) {
     data.network_cross =
         read_network_cross_covariances(mission_output(output_dir, kNetworkJson), ids, &parameters);
+    data.network_datum_floor =
+        read_network_datum_floor(mission_output(output_dir, kNetworkJson), ids, &parameters);
+  }
   if (data.network_track)
     data.network_float_epochs = read_network_float_epochs(mission_output(output_dir, kNetworkJson));
 

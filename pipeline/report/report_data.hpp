@@ -82,12 +82,21 @@ struct ReportData {
   /// network.json `float_epochs`: the σ with and without the float epochs; absent when none were
   /// used (or the network did not run).
   std::optional<FloatEpochsRecord> network_float_epochs;
+  /// network.json `datum_floor` for the calibrated cameras (same order as network_cross); absent
+  /// unless every calibration comes from the network and the file has it.
+  std::optional<NetworkDatumFloor> network_datum_floor;
   /// run.json `stages.calibrate.counts.network` (the network's statistics); absent without it.
   std::optional<NetworkStatisticsRecord> network_statistics;
   /// run.json `stages.calibrate.counts.method_choice` (docs/config.md "Default method"): the
   /// method the default rule chose and why; empty when the config named the method.
   std::string method_choice, method_choice_why;
 };
+
+/// The calibrations of `d`'s cameras that have one, in config order.
+std::vector<const CalibrationResult*> calibrated_cameras(const ReportData& d);
+
+/// network.json's cross blocks for calibrated_cameras(d), or null (the cameras independent).
+const CrossCovariances* network_cross_or_null(const ReportData& d);
 
 /// Reads `output_dir` for the given cameras. Missing files are recorded as absent; malformed files
 /// throw rangecal::Error (kind input) naming file, line and field.

@@ -6,6 +6,7 @@
 
 #include "config/number_format.hpp"
 #include "pipeline/report/data_funnel.hpp"
+#include "pipeline/report/flight_volume_sigma.hpp"
 #include "pipeline/report/html_escape.hpp"
 #include "pipeline/report/intersection_prediction.hpp"
 #include "pipeline/report/lamp_residuals.hpp"
@@ -439,67 +440,6 @@ std::string intersection_section(const ReportData& d, const std::string& plots) 
   return s + plots + "</section>\n";
 }
 
-std::vector<const CalibrationResult*> calibrations(const ReportData& d) {
-  std::vector<const CalibrationResult*> cams;
-  for (const CameraReportData& c : d.cameras)
-    if (c.calibration) cams.push_back(&*c.calibration);
-  return cams;
-}
-
-/// The joint covariance's cross blocks for calibrations(d), or null (cameras independent).
-const CrossCovariances* cross_of(const ReportData& d) {
-  return d.network_cross.empty() ? nullptr : &d.network_cross;
-}
-
-// The slice of the flight volume the intersection σ is predicted over: the lamp track's and the
-// poles' horizontal extent (10 % margin) at the mean height of the intersected check poles (else the
-// median lamp height).
-std::optional<IntersectionSigmaSlice> flight_slice(const ReportData& d) {
-  const std::vector<const CalibrationResult*> cams = calibrations(d);
-  if (cams.size() < 2) return std::nullopt;
-  std::vector<Eigen::Vector3d> pts;
-  if (d.lamp_track)
-    for (const LampEpoch& e : d.lamp_track->epochs) pts.push_back(e.enu);
-  for (const SurveyedPole& p : d.survey) pts.push_back(p.enu);
-  if (d.intersection)
-    for (const IntersectionRow& r : *d.intersection) pts.push_back(r.survey_enu);
-  if (pts.empty()) return std::nullopt;
-  Eigen::Vector3d lo = pts[0], hi = pts[0];
-  for (const Eigen::Vector3d& p : pts) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Eigen::Vector3d pad = ((hi - lo) * 0.1).cwiseMax(1.0);
-  double up = 0;
-  if (d.intersection && !d.intersection->empty()) {
-    for (const IntersectionRow& r : *d.intersection) up += r.survey_enu.z();
-    up /= static_cast<double>(d.intersection->size());
-  } else {
-    std::vector<double> u;
-    for (const Eigen::Vector3d& p : pts) u.push_back(p.z());
-    std::nth_element(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(u.size() / 2), u.end());
-    up = u[u.size() / 2];
-  }
-  return intersection_sigma_slice(cams, Eigen::Vector2d(lo.x() - pad.x(), hi.x() + pad.x()),
-                                  Eigen::Vector2d(lo.y() - pad.y(), hi.y() + pad.y()), up, 36, 28,
-                                  cross_of(d));
-}
-
-struct SliceStats {
-  int n = 0;
-  double min = std::nan(""), median = std::nan(""), max = std::nan("");
-};
-SliceStats slice_stats(const IntersectionSigmaSlice& sl) {
-  std::vector<double> v;
-  for (Eigen::Index k = 0; k < sl.sigma_m.size(); ++k)
-    if (std::isfinite(sl.sigma_m(k))) v.push_back(sl.sigma_m(k));
-  SliceStats st;
-  st.n = static_cast<int>(v.size());
-  if (v.empty()) return st;
-  std::sort(v.begin(), v.end());
-  st.min = v.front();
-  st.median = v[v.size() / 2];
-  st.max = v.back();
-  return st;
-}
-
 // Which calibration method ran (the verdict): the network when its adjusted track exists, else
 // what the default rule or the config chose.
 std::string method_sentence(const ReportData& d) {
@@ -523,8 +463,28 @@ std::string method_sentence(const ReportData& d) {
          "</p>\n";
 }
 
+// Where the flight volume's intersection σ stands against the network's datum floor
+// (docs/accuracy_analysis.md "Datum floor"): within 1.25× of it the PPK fixes and control limit the
+// calibration, not the images.
+std::string datum_floor_sentence(const SliceStats& st, const SliceStats& floor, double image_factor) {
+  const double ratio = st.median / floor.median;
+  std::string s =
+      "<p class=\"datum-floor\">The network's datum floor, the same prediction with every centroid and pick "
+      "&#963; divided by " +
+      fmt("%.0f", image_factor) + " (what the PPK fixes and control poles alone allow): median " +
+      fmt("%.2f", floor.median * 100) + " cm; the calibration is " + fmt("%.2f", ratio) +
+      "&#215; its floor. ";
+  if (ratio <= 1.25)
+    s += "The datum limits it, not the images: more fix epochs, or control poles surveyed better than the "
+         "PPK average, would lower it; sharper centroids or more cameras would not.";
+  else
+    s += "The images still limit it: more epochs seen by two or more cameras, or sharper centroids, would "
+         "bring it towards the floor.";
+  return s + "</p>\n";
+}
+
 std::string verdict_section(const ReportData& d, const std::vector<CameraFigures>& figs,
-                            const std::optional<IntersectionSigmaSlice>& slice) {
+                            const FlightVolumeSigma& volume) {
   std::string s = "<section id=\"verdict\">\n<h2>Verdict</h2>\n<table class=\"verdict\">\n<tr>" +
                   th("Camera") + th("Method") + th("RMS /px") + th("RMS expected /px") + th("ratio") +
                   th("projection &#963; at centre /px") + th("reading") + "</tr>\n";
@@ -553,7 +513,7 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
          td(fmt("%.3f", f.centre_sigma_px)) + td(reading, "txt") + "</tr>\n";
   }
   s += "</table>\n" + method_sentence(d);
-  const SliceStats st = slice ? slice_stats(*slice) : SliceStats{};
+  const SliceStats& st = volume.stats;
   if (d.intersection && !d.intersection->empty()) {
     const IntersectionMeans m = intersection_means(*d.intersection);
     const bool pass = m.mean_dR <= d.bar_mean_dR_m;
@@ -571,8 +531,10 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
   }
   if (st.n > 0)
     s += "<p>Predicted intersection &#963; from the calibrations alone over the flight volume at U = " +
-         fmt("%.1f", slice->up_m) + " m: " + fmt("%.2f", st.min * 100) + "&#8211;" +
+         fmt("%.1f", volume.slice->up_m) + " m: " + fmt("%.2f", st.min * 100) + "&#8211;" +
          fmt("%.2f", st.max * 100) + " cm (median " + fmt("%.2f", st.median * 100) + " cm).</p>\n";
+  if (st.n > 0 && volume.datum_floor_stats.n > 0)
+    s += datum_floor_sentence(st, volume.datum_floor_stats, volume.datum_floor_image_factor);
   // Each camera's calibration warnings, then once what they mean for the intersection: a poorly
   // determined or strongly correlated parameter matters only through where it moves the flown points.
   std::string w;
@@ -700,14 +662,15 @@ std::string funnel_section(const ReportData& d) {
 
 std::string intersection_plots(const ReportData& d, const std::optional<IntersectionSigmaSlice>& slice) {
   std::string s;
-  const std::vector<const CalibrationResult*> cams = calibrations(d);
+  const std::vector<const CalibrationResult*> cams = calibrated_cameras(d);
   if (d.intersection && !d.intersection->empty()) {
     std::vector<std::string> ids;
     std::vector<Eigen::Vector3d> dcm, scm;
     for (const IntersectionRow& r : *d.intersection) {
       ids.push_back(r.id);
       dcm.push_back(r.d_enu * 100.0);
-      const PredictedIntersection p = predict_intersection(cams, r.survey_enu, d.pick_sigma_px, cross_of(d));
+      const PredictedIntersection p =
+          predict_intersection(cams, r.survey_enu, d.pick_sigma_px, network_cross_or_null(d));
       scm.push_back(
           p.n_cameras >= 2
               ? Eigen::Vector3d((p.cov_calibration_m2 + p.cov_pick_m2).diagonal().cwiseSqrt() * 100.0)
@@ -917,17 +880,17 @@ std::string network_section(const ReportData& d) {
 std::string render_report_html(const ReportData& d) {
   std::vector<CameraFigures> figs;
   for (const CameraReportData& c : d.cameras) figs.push_back(camera_figures(c, d.pixel_sigma_px));
-  const std::optional<IntersectionSigmaSlice> slice = flight_slice(d);
+  const FlightVolumeSigma volume = flight_volume_sigma(d);
   std::string s =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rangecal report: " +
       html_escape(d.mission) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n";
   s += "<h1>rangecal calibration report</h1>\n";
-  s += verdict_section(d, figs, slice);
+  s += verdict_section(d, figs, volume);
   s += mission_section(d);
   s += overview_section(d);
   s += site_section(d, figs);
   for (std::size_t i = 0; i < d.cameras.size(); ++i) s += camera_section(d.cameras[i], figs[i]);
-  s += intersection_section(d, intersection_plots(d, slice));
+  s += intersection_section(d, intersection_plots(d, volume.slice));
   s += funnel_section(d);
   s += network_section(d);
   s += "</body>\n</html>\n";

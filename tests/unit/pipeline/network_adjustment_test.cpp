@@ -12,6 +12,7 @@
 // (its relative sd is 1/√(2·99)) and the 25 % and 15 % limits below are > 3 of those sd.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <cmath>
@@ -397,6 +398,44 @@ TEST(NetworkAdjustment, FlagsFiveEpochsWithA20cmPpkErrorAndKeepsTheCameras) {
       EXPECT_LT(std::abs(d[i]), std::sqrt(ra.covariance(i, i)))
           << parameter_name(ra.parameters[static_cast<std::size_t>(i)]);
   }
+}
+
+// The datum floor of a run (NetworkOptions::datum_floor_image_factor): at a noisy mission's solution,
+// with its outlier tests, it equals the Cramér–Rao bound of the planned network with every
+// observation's σ divided by 100 (pipeline/analysis/network_plan.hpp: σ divided in the data and
+// evaluated at the truth, where the run divides it in the layout at its estimate) within 2 % per σ
+// and 0.9 in correlation; it lies below the network's own covariance (information only adds), and
+// is left out by default.
+TEST(NetworkAdjustment, DatumFloorIsTheNetworkWithImagesAHundredTimesSharper) {
+  const PlannedNetwork n = noisy(demo(), 33);
+  NetworkOptions o;
+  o.datum_floor_image_factor = kDatumFloorImageFactor;
+  const NetworkResult r = network_adjust(network_cameras(n), n.points, n.observations, o);
+  ASSERT_GT(r.joint_covariance.rows(), 0);
+  ASSERT_EQ(r.datum_floor_covariance.rows(), r.joint_covariance.rows());
+  EXPECT_EQ(r.datum_floor_image_factor, kDatumFloorImageFactor);
+  const MatrixXd crb = network_cramer_rao_bound(with_sharper_images(demo(), kDatumFloorImageFactor), kFree,
+                                                BundleOptions{}.pixel_sigma_px / kDatumFloorImageFactor);
+  ASSERT_EQ(crb.rows(), r.datum_floor_covariance.rows());
+  const VectorXd floor = r.datum_floor_covariance.diagonal().cwiseSqrt();
+  const VectorXd bound = crb.diagonal().cwiseSqrt();
+  const VectorXd network = r.joint_covariance.diagonal().cwiseSqrt();
+  for (Eigen::Index i = 0; i < floor.size(); ++i) {
+    EXPECT_NEAR(floor[i] / bound[i], 1.0, 0.02) << "parameter " << i;
+    EXPECT_LT(floor[i], network[i] * (1 + 1e-9)) << "parameter " << i;
+    for (Eigen::Index k = 0; k < i; ++k) {
+      const double rho_floor = r.datum_floor_covariance(i, k) / (floor[i] * floor[k]);
+      const double rho_bound = crb(i, k) / (bound[i] * bound[k]);
+      EXPECT_NEAR(rho_floor, rho_bound, 0.02) << "parameters " << i << ", " << k;
+    }
+  }
+  // network − floor is positive semi-definite (in units of the network's σ).
+  const MatrixXd D = network.cwiseInverse().asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> es(D * (r.joint_covariance - r.datum_floor_covariance) * D);
+  EXPECT_GT(es.eigenvalues().minCoeff(), -1e-9);
+  std::printf("datum floor: cam1 σ f %.4f mm (network %.4f, bound %.4f)\n", floor[0], network[0], bound[0]);
+
+  EXPECT_EQ(network_adjust(network_cameras(n), n.points, n.observations).datum_floor_covariance.size(), 0);
 }
 
 TEST(NetworkAdjustment, CamerasSharingNoEpochAreCalibratedFromTheirOwnEpochs) {

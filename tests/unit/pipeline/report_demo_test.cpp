@@ -172,6 +172,26 @@ void check_network_numbers(const std::string& page) {
     EXPECT_EQ(count_of(svg, "<circle class=\"point\""), rows - flagged) << id;
     EXPECT_EQ(count_of(svg, "<path class=\"flagged\""), flagged) << id;
   }
+  // network.json's datum floor (images 100× sharper): below the network's own σ for every
+  // parameter, and the verdict sets the flight volume's σ beside it. `rangecal plan` puts the
+  // network at 1.09× its floor on this scenario (2.21 / 2.02 mm through the flight volume); the
+  // run's slice must lie above its floor and well below 1.5× it.
+  const nlohmann::json network = nlohmann::json::parse(test::read_text(out_dir() / "network.json"));
+  ASSERT_TRUE(network.contains("datum_floor")) << "network.json has no datum floor";
+  EXPECT_EQ(network["datum_floor"]["image_factor"].get<double>(), 100);
+  const nlohmann::json& joint = network["joint_covariance"];
+  const nlohmann::json& floor = network["datum_floor"]["joint_covariance"];
+  ASSERT_EQ(floor.size(), joint.size());
+  for (std::size_t i = 0; i < joint.size(); ++i)
+    EXPECT_LT(floor[i][i].get<double>(), joint[i][i].get<double>()) << "parameter " << i;
+  std::smatch m;
+  const std::regex re(R"re(median ([0-9.]+) cm; the calibration is ([0-9.]+)&#215; its floor)re");
+  const std::string verdict = page.substr(0, page.find("</section>"));
+  ASSERT_TRUE(std::regex_search(verdict, m, re)) << "the verdict has no datum floor";
+  EXPECT_GT(std::stod(m[2]), 1.0);
+  EXPECT_LT(std::stod(m[2]), 1.5);
+  std::printf("demo run: datum floor median %s cm, calibration %s× its floor\n", m[1].str().c_str(),
+              m[2].str().c_str());
 }
 
 // One test: the demo run (most of the time) is made once per test process.

@@ -89,6 +89,10 @@ TEST(Report, SummaryNumbersEqualTheInputs) {
   EXPECT_NEAR(s["intersection"]["mean_dR_m"].get<double>(), sum / 3, 1e-12);
   EXPECT_NEAR(s["intersection"]["max_dR_m"].get<double>(), mx, 1e-12);
   EXPECT_GT(mx, 0.02);  // A2's ΔR ≈ 2.16 cm is the largest
+  // One calibrated camera: no intersection to predict.
+  for (const char* k :
+       {"slice_up_m", "median_sigma_m", "max_sigma_m", "datum_floor_median_sigma_m", "over_datum_floor"})
+    EXPECT_TRUE(s["prediction"][k].is_null()) << k;
 }
 
 TEST(Report, WithoutIntersectionCsvTheSummarySaysNull) {
@@ -448,6 +452,96 @@ TEST(Report, NetworkSectionShowsWhatTheFloatEpochsAdd) {
     EXPECT_EQ(e.exit_code(), 3);
     EXPECT_EQ(e.file(), network.string());
     EXPECT_EQ(e.field(), "float_epochs.cameras[0].sigma_without");
+  }
+}
+
+// The datum floor (network.json datum_floor) beside the flight volume's predicted intersection σ:
+// Σ_cal is linear in the calibrations' covariance, so a floor of a quarter of the joint covariance
+// halves every σ of the slice (2.00× its floor: the images limit it) and one of 1/1.21 of it gives
+// 1.10× (the datum limits it); a malformed floor names its field.
+TEST(Report, VerdictSetsTheIntersectionSigmaBesideTheDatumFloor) {
+  const fs::path dir = test::scratch_dir("report_datum_floor");
+  Fixture fx = build_output(dir, true, /*with_network=*/true);
+  // Two network calibrations: cam1 of the fixture and cam2 8 m east of it, aimed at the same point.
+  CalibrationResult c1 = fx.cal;
+  c1.method = "network";
+  CalibrationResult c2 = c1;
+  c2.camera_id = "cam2";
+  c2.camera = test::range_camera_at("cam2", {8.0, 0.0, 1.5}, {0.5, 64.0, 7.5});
+  c2.covariance = Eigen::Matrix2d(Eigen::Vector2d(0.02 * 0.02, 3e-6 * 3e-6).asDiagonal());
+  write_calibration_json((dir / "out/cam1/calibration.json").string(), c1);
+  write_calibration_json((dir / "out/cam2/calibration.json").string(), c2);
+  NetworkResult r;
+  r.cameras.resize(2);
+  r.cameras[0].calibration = c1;
+  r.cameras[1].calibration = c2;
+  Eigen::MatrixXd joint = Eigen::MatrixXd::Zero(4, 4);
+  joint.topLeftCorner(2, 2) = c1.covariance;
+  joint.bottomRightCorner(2, 2) = c2.covariance;
+  joint(0, 2) = joint(2, 0) = 0.5 * 0.0123 * 0.02;  // f of the two cameras correlated
+  r.joint_covariance = joint;
+  r.joint_offset = {0, 2};
+  r.datum_floor_image_factor = kDatumFloorImageFactor;
+  const fs::path network = dir / "out/network.json";
+  auto verdict_with_floor = [&](double share) {
+    r.datum_floor_covariance = joint * share;
+    write_network_json(network.string(), network_json(r, {}));
+    run_report_stage(fx.cfg);
+    const std::string html = test::read_text(dir / "out/report.html");
+    return html.substr(0, html.find("</section>"));
+  };
+  const std::regex median_re(R"re(over the flight volume at U = [^:]+: [^(]+\(median ([0-9.]+) cm\))re");
+  const std::regex floor_re(
+      R"re(divided by 100 \(what the PPK fixes and control poles alone allow\): median ([0-9.]+) cm; the calibration is ([0-9.]+)&#215; its floor)re");
+  std::smatch m, f;
+
+  const std::string images = verdict_with_floor(0.25);
+  ASSERT_TRUE(std::regex_search(images, m, median_re)) << images;
+  ASSERT_TRUE(std::regex_search(images, f, floor_re)) << images;
+  EXPECT_NEAR(std::stod(f[1]), std::stod(m[1]) / 2, 0.006);
+  EXPECT_EQ(f[2], "2.00");
+  EXPECT_NE(images.find("The images still limit it"), std::string::npos);
+  // summary.json carries the same numbers unrounded.
+  const nlohmann::json pred = read_json(dir / "out/summary.json")["prediction"];
+  EXPECT_NEAR(pred["median_sigma_m"].get<double>() * 100, std::stod(m[1]), 0.005);
+  EXPECT_NEAR(pred["datum_floor_median_sigma_m"].get<double>(), pred["median_sigma_m"].get<double>() / 2,
+              1e-12);
+  EXPECT_NEAR(pred["over_datum_floor"].get<double>(), 2.0, 1e-9);
+  EXPECT_NEAR(pred["slice_up_m"].get<double>(), 4.0, 1e-12);  // the check poles' height
+  EXPECT_GE(pred["max_sigma_m"].get<double>(), pred["median_sigma_m"].get<double>());
+
+  const std::string datum = verdict_with_floor(1 / 1.21);
+  ASSERT_TRUE(std::regex_search(datum, f, floor_re)) << datum;
+  EXPECT_EQ(f[2], "1.10");
+  EXPECT_NE(datum.find("The datum limits it, not the images"), std::string::npos);
+
+  // Without a floor in network.json (a run before it, or a bundle run) the sentence is not there.
+  r.datum_floor_covariance.resize(0, 0);
+  write_network_json(network.string(), network_json(r, {}));
+  run_report_stage(fx.cfg);
+  EXPECT_EQ(test::read_text(dir / "out/report.html").find("datum floor"), std::string::npos);
+  EXPECT_TRUE(read_json(dir / "out/summary.json")["prediction"]["over_datum_floor"].is_null());
+  EXPECT_FALSE(read_json(dir / "out/summary.json")["prediction"]["median_sigma_m"].is_null());
+
+  nlohmann::json j = network_json(r, {});
+  j["datum_floor"] = {{"image_factor", "100"}, {"joint_covariance", nlohmann::json::array()}};
+  test::write_text(network, j.dump());
+  try {
+    run_report_stage(fx.cfg);
+    FAIL() << "a datum floor with a text image_factor was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exit_code(), 3);
+    EXPECT_EQ(e.file(), network.string());
+    EXPECT_EQ(e.field(), "datum_floor.image_factor");
+  }
+  j["datum_floor"] = {{"image_factor", 100}, {"joint_covariance", {{1, 2}, {3, 4}, {5, 6}, {7, 8}}}};
+  test::write_text(network, j.dump());
+  try {
+    run_report_stage(fx.cfg);
+    FAIL() << "a datum floor with two columns for four parameters was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exit_code(), 3);
+    EXPECT_EQ(e.field(), "datum_floor.joint_covariance");
   }
 }
 
