@@ -23,7 +23,8 @@ void add_run_command(CLI::App& app, const CliContext& ctx);
 /// `rangecal simulate SCENARIO.json --out DIR` (docs/simulator.md; pipeline/cli/simulate_command.cpp).
 void add_simulate_command(CLI::App& app, const CliContext& ctx);
 
-/// `rangecal project --calibration CAL.json --points PTS.csv` (docs/cli.md; pipeline/cli/project_command.cpp).
+/// `rangecal project --calibration CAL.json --points PTS.csv` (docs/cli.md;
+/// pipeline/cli/project_command.cpp).
 void add_project_command(CLI::App& app, const CliContext& ctx);
 
 /// `rangecal compare-calibrations A.json B.json`: projection difference against the combined σ

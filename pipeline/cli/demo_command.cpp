@@ -11,6 +11,7 @@
 
 #include "config/error.hpp"
 #include "pipeline/cli/commands.hpp"
+#include "pipeline/cli/stage_summary.hpp"
 #include "pipeline/demo/demo.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
 #include "pipeline/io/progress_bar.hpp"
@@ -66,6 +67,10 @@ void add_demo_command(CLI::App& app, const CliContext& ctx) {
                     "  %-7s check-pole mean dR against truth %.2f cm over %d poles (bar 1.0 cm)  %s\n",
                     d.method.c_str(), 100 * d.mean_dR_truth_m, d.n_check, pass ? "ok" : "FAIL");
       std::cout << b;
+    }
+    for (const StageLog& log : run.logs) {
+      const std::string line = log.stage == "report" ? flight_volume_line(log.counts) : "";
+      if (!line.empty()) std::cout << "\nPredicted from the calibrations (report.html, Verdict):\n" << line;
     }
     std::cout << "\noutputs: " << run.config.output_dir << " (report.html, summary.json, run.json, ...)\n";
     if (!ctx.quiet)

@@ -1,5 +1,5 @@
-// `rangecal report CONFIG` (docs/outputs.md, docs/cli.md): writes report.html and summary.json from the files the
-// earlier stages left in the output folder, merges its log into run.json.
+// `rangecal report CONFIG` (docs/outputs.md, docs/cli.md): writes report.html and summary.json from the files
+// the earlier stages left in the output folder, merges its log into run.json.
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/cli/stage_command.hpp"
 

@@ -1,5 +1,5 @@
-// `rangecal simulate SCENARIO.json --out DIR` (docs/cli.md, docs/simulator.md): renders a complete synthetic mission
-// (RTKLIB .pos, attitude CSV, PNG frames with timestamps, pole survey and picks, mission config,
+// `rangecal simulate SCENARIO.json --out DIR` (docs/cli.md, docs/simulator.md): renders a complete synthetic
+// mission (RTKLIB .pos, attitude CSV, PNG frames with timestamps, pole survey and picks, mission config,
 // truth.json) from a scenario; docs/simulator.md describes the scenario and the files.
 #include <unistd.h>
 

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "config/number_format.hpp"
+#include "pipeline/report/flight_volume_sigma.hpp"
 
 namespace rangecal {
 namespace {
@@ -107,6 +108,25 @@ std::string intersect_lines(const json& c) {
   return s;
 }
 
+}  // namespace
+
+std::string flight_volume_line(const json& c) {
+  if (!c.contains("prediction") || !c["prediction"].is_object()) return "";
+  const json& p = c["prediction"];
+  if (!p.value("median_sigma_m", json()).is_number()) return "";
+  std::string s = "  flight volume: intersection sigma " + millimetres(p["median_sigma_m"]) +
+                  " median (max " + millimetres(p.value("max_sigma_m", json())) + ")";
+  const json ratio = p.value("over_datum_floor", json());
+  if (ratio.is_number())
+    s += "; datum floor " + millimetres(p.value("datum_floor_median_sigma_m", json())) + " (" +
+         fixed(ratio, "%.2f") + "x): " +
+         (ratio.get<double>() <= kDatumLimitedRatio ? "the PPK fixes and control limit it, not the images"
+                                                    : "the images still limit it");
+  return s + "\n";
+}
+
+namespace {
+
 std::string per_camera(const json& counts, std::string (*line)(const std::string&, const json&)) {
   std::string s;
   for (const auto& [key, value] : counts.items())
@@ -133,8 +153,11 @@ std::string stage_summary(const StageLog& log, bool verbose) {
     if (c.contains("method_choice") && c["method_choice"].is_object())
       s += "  method: " + c["method_choice"].value("method", std::string("?")) + " (" +
            c["method_choice"].value("why", std::string()) + ")\n";
-  } else if (log.stage == "intersect")
+  } else if (log.stage == "intersect") {
     s += intersect_lines(c);
+  } else if (log.stage == "report") {
+    s += flight_volume_line(c);
+  }
   if (verbose)
     for (const auto& [key, value] : c.items()) s += "  " + key + ": " + value.dump() + "\n";
   for (const std::string& w : log.warnings) s += "  warning: " + w + "\n";

@@ -35,4 +35,9 @@ struct FlightVolumeSigma {
 
 FlightVolumeSigma flight_volume_sigma(const ReportData& d);
 
+/// Within this ratio of its datum floor the calibration is read as limited by the datum (the PPK
+/// fixes and control), not by the images: the images' own share, √(1.25² − 1) = 0.75 of the floor,
+/// is then smaller than the datum's (docs/accuracy_analysis.md "Datum floor").
+inline constexpr double kDatumLimitedRatio = 1.25;
+
 }  // namespace rangecal

@@ -464,8 +464,8 @@ std::string method_sentence(const ReportData& d) {
 }
 
 // Where the flight volume's intersection σ stands against the network's datum floor
-// (docs/accuracy_analysis.md "Datum floor"): within 1.25× of it the PPK fixes and control limit the
-// calibration, not the images.
+// (docs/accuracy_analysis.md "Datum floor"): within kDatumLimitedRatio of it the PPK fixes and control limit
+// the calibration, not the images.
 std::string datum_floor_sentence(const SliceStats& st, const SliceStats& floor, double image_factor) {
   const double ratio = st.median / floor.median;
   std::string s =
@@ -474,7 +474,7 @@ std::string datum_floor_sentence(const SliceStats& st, const SliceStats& floor, 
       fmt("%.0f", image_factor) + " (what the PPK fixes and control poles alone allow): median " +
       fmt("%.2f", floor.median * 100) + " cm; the calibration is " + fmt("%.2f", ratio) +
       "&#215; its floor. ";
-  if (ratio <= 1.25)
+  if (ratio <= kDatumLimitedRatio)
     s += "The datum limits it, not the images: more fix epochs, or control poles surveyed better than the "
          "PPK average, would lower it; sharper centroids or more cameras would not.";
   else

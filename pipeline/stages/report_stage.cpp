@@ -6,7 +6,6 @@
 #include "config/atomic_file.hpp"
 #include "config/json_format.hpp"
 #include "pipeline/io/output_paths.hpp"
-#include "pipeline/report/flight_volume_sigma.hpp"
 #include "pipeline/report/report_html.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/steps/intersection.hpp"
@@ -19,6 +18,19 @@ nlohmann::ordered_json num_or_null(double x) {
 }
 
 }  // namespace
+
+nlohmann::ordered_json prediction_json(const FlightVolumeSigma& volume) {
+  using ojson = nlohmann::ordered_json;
+  ojson pred;
+  pred["slice_up_m"] = volume.slice ? num_or_null(volume.slice->up_m) : ojson(nullptr);
+  pred["median_sigma_m"] = volume.stats.n > 0 ? num_or_null(volume.stats.median) : ojson(nullptr);
+  pred["max_sigma_m"] = volume.stats.n > 0 ? num_or_null(volume.stats.max) : ojson(nullptr);
+  const bool floor = volume.stats.n > 0 && volume.datum_floor_stats.n > 0;
+  pred["datum_floor_median_sigma_m"] = floor ? num_or_null(volume.datum_floor_stats.median) : ojson(nullptr);
+  pred["over_datum_floor"] =
+      floor ? num_or_null(volume.stats.median / volume.datum_floor_stats.median) : ojson(nullptr);
+  return pred;
+}
 
 std::string format_summary_json(const ReportData& data) {
   using ojson = nlohmann::ordered_json;
@@ -52,19 +64,7 @@ std::string format_summary_json(const ReportData& data) {
   inter["mean_dR_m"] = m.n > 0 ? num_or_null(m.mean_dR) : ojson(nullptr);
   inter["max_dR_m"] = m.n > 0 ? num_or_null(m.max_dR) : ojson(nullptr);
   j["intersection"] = inter;
-  // The flight volume's calibration-only intersection σ and the network's datum floor, as the
-  // verdict states them (pipeline/report/flight_volume_sigma.hpp): a batch script can sort missions
-  // by what limits them.
-  const FlightVolumeSigma volume = flight_volume_sigma(data);
-  ojson pred;
-  pred["slice_up_m"] = volume.slice ? num_or_null(volume.slice->up_m) : ojson(nullptr);
-  pred["median_sigma_m"] = volume.stats.n > 0 ? num_or_null(volume.stats.median) : ojson(nullptr);
-  pred["max_sigma_m"] = volume.stats.n > 0 ? num_or_null(volume.stats.max) : ojson(nullptr);
-  const bool floor = volume.stats.n > 0 && volume.datum_floor_stats.n > 0;
-  pred["datum_floor_median_sigma_m"] = floor ? num_or_null(volume.datum_floor_stats.median) : ojson(nullptr);
-  pred["over_datum_floor"] =
-      floor ? num_or_null(volume.stats.median / volume.datum_floor_stats.median) : ojson(nullptr);
-  j["prediction"] = pred;
+  j["prediction"] = prediction_json(flight_volume_sigma(data));
   return dump_json_compact_arrays(j);
 }
 
@@ -98,6 +98,7 @@ StageLog run_report_stage(const MissionConfig& cfg) {
   log.counts["cameras"] = data.cameras.size();
   log.counts["calibrated"] = calibrated;
   log.counts["intersection_poles"] = data.intersection ? data.intersection->size() : 0;
+  log.counts["prediction"] = nlohmann::json(prediction_json(flight_volume_sigma(data)));
   return log;
 }
 

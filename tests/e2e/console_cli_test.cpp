@@ -3,6 +3,7 @@
 // says why and which key to change, and `run` prints readable per-stage lines, not JSON.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -127,6 +128,34 @@ TEST(ConsoleCli, RunPrintsOneReadableBlockPerStage) {
               std::string::npos)
         << run.out;
   }
+  // The report's flight-volume prediction (run.json stages.report.counts.prediction), rounded for
+  // reading; this mission's config names the bundle, so there is no network datum floor.
+  const auto& pred = st["report"]["counts"]["prediction"];
+  ASSERT_TRUE(pred["median_sigma_m"].is_number()) << pred.dump();
+  EXPECT_TRUE(pred["over_datum_floor"].is_null()) << pred.dump();
+  char line[160];
+  std::snprintf(line, sizeof line, "flight volume: intersection sigma %.1f mm median (max %.1f mm)\n",
+                pred["median_sigma_m"].get<double>() * 1e3, pred["max_sigma_m"].get<double>() * 1e3);
+  EXPECT_NE(run.out.find(line), std::string::npos) << line << run.out;
+
+  // Calibrated by the network instead, the report stage's line sets the σ beside the datum floor.
+  auto cfg = nlohmann::json::parse(test::read_text(dir / "m/mission.json"));
+  cfg["calibrate"]["method"] = "network";
+  test::write_text(dir / "m/mission.json", cfg.dump());
+  const std::string mission = "'" + (dir / "m/mission.json").string() + "'";
+  ASSERT_EQ(test::run_cli("-q calibrate " + mission).exit_code, 0);
+  const test::CliResult report = test::run_cli("report " + mission);
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const auto net = nlohmann::json::parse(
+      test::read_text(dir / "m/out/run.json"))["stages"]["report"]["counts"]["prediction"];
+  ASSERT_TRUE(net["over_datum_floor"].is_number()) << net.dump();
+  const double ratio = net["over_datum_floor"].get<double>();
+  EXPECT_GE(ratio, 1.0);
+  std::snprintf(
+      line, sizeof line, "; datum floor %.1f mm (%.2fx): %s\n",
+      net["datum_floor_median_sigma_m"].get<double>() * 1e3, ratio,
+      ratio <= 1.25 ? "the PPK fixes and control limit it, not the images" : "the images still limit it");
+  EXPECT_NE(report.out.find(line), std::string::npos) << line << report.out;
   EXPECT_EQ(run.out.find("{\""), std::string::npos) << run.out;
 }
 
