@@ -57,5 +57,28 @@ BENCHMARK(BM_Network)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
 
+// The same with the datum floor the calibrate stage asks for (NetworkOptions::datum_floor_image_factor,
+// one more joint covariance): its cost as a ratio to BM_Network at the same size, measured in the
+// same run (docs/performance.md).
+void BM_NetworkWithDatumFloor(benchmark::State& state) {
+  const test::SyntheticNetwork n =
+      test::synthetic_network(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 11);
+  NetworkOptions o;
+  o.datum_floor_image_factor = kDatumFloorImageFactor;
+  NetworkResult r;
+  for (auto _ : state) {
+    r = network_adjust(n.cameras, n.points, n.observations, o);
+    benchmark::DoNotOptimize(r.datum_floor_covariance.data());
+  }
+  state.counters["floor_rows"] = static_cast<double>(r.datum_floor_covariance.rows());
+}
+BENCHMARK(BM_NetworkWithDatumFloor)
+    ->ArgNames({"cameras", "epochs"})
+    ->Args({2, 1000})
+    ->Args({8, 5000})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+
 }  // namespace
 }  // namespace rangecal
