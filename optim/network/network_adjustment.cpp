@@ -291,6 +291,11 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
     if (out.datum_floor_covariance.size() > 0) out.datum_floor_image_factor = opt.datum_floor_image_factor;
   }
   out.warnings = cov.warnings;
+  if (opt.datum_floor_image_factor > 0 && out.joint_covariance.size() > 0 &&
+      out.datum_floor_covariance.size() == 0)
+    out.warnings.push_back("the datum floor (images " +
+                           std::to_string(static_cast<int>(opt.datum_floor_image_factor)) +
+                           "x sharper) is rank-deficient at the rank tolerance: not computed");
   if (!st.ppk_outliers.empty())
     out.warnings.push_back(
         std::to_string(st.ppk_outliers.size()) +
