@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "optim/bundle/bundle_diagnostics.hpp"
 #include "optim/network/network_ceres_problem.hpp"
 #include "optim/network/network_covariance.hpp"
@@ -293,8 +294,7 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
   out.warnings = cov.warnings;
   if (opt.datum_floor_image_factor > 0 && out.joint_covariance.size() > 0 &&
       out.datum_floor_covariance.size() == 0)
-    out.warnings.push_back("the datum floor (images " +
-                           std::to_string(static_cast<int>(opt.datum_floor_image_factor)) +
+    out.warnings.push_back("the datum floor (images " + format_number("%g", opt.datum_floor_image_factor) +
                            "x sharper) is rank-deficient at the rank tolerance: not computed");
   if (!st.ppk_outliers.empty())
     out.warnings.push_back(

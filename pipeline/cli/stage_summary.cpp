@@ -108,6 +108,13 @@ std::string intersect_lines(const json& c) {
   return s;
 }
 
+std::string per_camera(const json& counts, std::string (*line)(const std::string&, const json&)) {
+  std::string s;
+  for (const auto& [key, value] : counts.items())
+    if (value.is_object()) s += line(key, value);
+  return s;
+}
+
 }  // namespace
 
 std::string flight_volume_line(const json& c) {
@@ -124,17 +131,6 @@ std::string flight_volume_line(const json& c) {
                                                     : "the images still limit it");
   return s + "\n";
 }
-
-namespace {
-
-std::string per_camera(const json& counts, std::string (*line)(const std::string&, const json&)) {
-  std::string s;
-  for (const auto& [key, value] : counts.items())
-    if (value.is_object()) s += line(key, value);
-  return s;
-}
-
-}  // namespace
 
 std::string stage_summary(const StageLog& log, bool verbose) {
   std::string s = log.stage + " (" + seconds(log.wall_time_s) + ")\n";

@@ -63,12 +63,6 @@ std::optional<FloatEpochsRecord> read_network_float_epochs(const std::string& pa
 nlohmann::json network_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 void write_network_json(const std::string& path, const nlohmann::json& j);
 
-/// The cross blocks for the cameras `ids` (in the views' order) read from network.json; empty
-/// when the file is missing, a camera is not in it, or it has no joint covariance. When
-/// `parameters` is given (one list per id: the parameters of that camera's calibration.json
-/// covariance), each block is returned in those orders, and the table is empty when a camera's
-/// network parameters are not the same set (network.json is then not the calibration's). Throws
-/// rangecal::Error (input) for a malformed file.
 /// network.json's `datum_floor` (optim/network/network_adjustment.hpp kDatumFloorImageFactor): the
 /// joint covariance with every image σ divided by `image_factor`, as camera-pair blocks.
 struct NetworkDatumFloor {
@@ -84,6 +78,12 @@ std::optional<NetworkDatumFloor> read_network_datum_floor(
     const std::string& path, const std::vector<std::string>& ids,
     const std::vector<std::vector<CameraParameter>>* parameters = nullptr);
 
+/// The cross blocks for the cameras `ids` (in the views' order) read from network.json; empty
+/// when the file is missing, a camera is not in it, or it has no joint covariance. When
+/// `parameters` is given (one list per id: the parameters of that camera's calibration.json
+/// covariance), each block is returned in those orders, and the table is empty when a camera's
+/// network parameters are not the same set (network.json is then not the calibration's). Throws
+/// rangecal::Error (input) for a malformed file.
 CrossCovariances read_network_cross_covariances(
     const std::string& path, const std::vector<std::string>& ids,
     const std::vector<std::vector<CameraParameter>>* parameters = nullptr);

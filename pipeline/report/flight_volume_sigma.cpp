@@ -1,6 +1,7 @@
 #include "pipeline/report/flight_volume_sigma.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace rangecal {
@@ -77,8 +78,16 @@ FlightVolumeSigma flight_volume_sigma(const ReportData& d) {
   std::vector<const CalibrationResult*> floor_cams;
   for (const CalibrationResult& c : floor) floor_cams.push_back(&c);
   out.datum_floor = slice_on(*g, floor_cams, &blocks);
-  out.datum_floor_stats = slice_stats(*out.datum_floor);
   out.datum_floor_image_factor = d.network_datum_floor->image_factor;
+  // Both medians over the cells where both have a σ, so that the ratio compares like with like.
+  IntersectionSigmaSlice both = *out.slice, floor_both = *out.datum_floor;
+  for (Eigen::Index k = 0; k < both.sigma_m.size(); ++k)
+    if (!std::isfinite(both.sigma_m(k)) || !std::isfinite(floor_both.sigma_m(k)))
+      both.sigma_m(k) = floor_both.sigma_m(k) = std::numeric_limits<double>::quiet_NaN();
+  out.datum_floor_stats = slice_stats(floor_both);
+  const SliceStats st = slice_stats(both);
+  if (st.n > 0 && out.datum_floor_stats.median > 0)
+    out.over_datum_floor = st.median / out.datum_floor_stats.median;
   return out;
 }
 

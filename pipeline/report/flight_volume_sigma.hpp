@@ -6,6 +6,7 @@
 //
 // The slice covers the lamp track's and the poles' horizontal extent (10 % margin, at least 1 m) at
 // the mean height of the intersected check poles, else the median lamp height; 36 × 28 cells.
+#include <limits>
 #include <optional>
 
 #include "pipeline/report/intersection_prediction.hpp"
@@ -29,8 +30,10 @@ struct FlightVolumeSigma {
   SliceStats stats;
   /// The same cells at the datum floor; absent without a floor in network.json.
   std::optional<IntersectionSigmaSlice> datum_floor;
-  SliceStats datum_floor_stats;
+  SliceStats datum_floor_stats;         ///< over the cells where both slices have a σ
   double datum_floor_image_factor = 0;  ///< network.json datum_floor.image_factor
+  /// Median σ over median floor σ on the same cells; NaN without a floor (or a floor of 0).
+  double over_datum_floor = std::numeric_limits<double>::quiet_NaN();
 };
 
 FlightVolumeSigma flight_volume_sigma(const ReportData& d);

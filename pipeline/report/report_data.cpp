@@ -133,8 +133,11 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
   if (all_network && ids.size() >= 2) {
     data.network_cross =
         read_network_cross_covariances(mission_output(output_dir, kNetworkJson), ids, &parameters);
-    data.network_datum_floor =
-        read_network_datum_floor(mission_output(output_dir, kNetworkJson), ids, &parameters);
+    // Without the cross blocks the prediction treats the cameras as independent; a floor with its
+    // own cross blocks would then not compare like with like.
+    if (!data.network_cross.empty())
+      data.network_datum_floor =
+          read_network_datum_floor(mission_output(output_dir, kNetworkJson), ids, &parameters);
   }
   if (data.network_track)
     data.network_float_epochs = read_network_float_epochs(mission_output(output_dir, kNetworkJson));

@@ -466,15 +466,15 @@ std::string method_sentence(const ReportData& d) {
 // Where the flight volume's intersection σ stands against the network's datum floor
 // (docs/accuracy_analysis.md "Datum floor"): within kDatumLimitedRatio of it the PPK fixes and control limit
 // the calibration, not the images.
-std::string datum_floor_sentence(const SliceStats& st, const SliceStats& floor, double image_factor) {
-  const double ratio = st.median / floor.median;
+std::string datum_floor_sentence(const FlightVolumeSigma& v) {
   std::string s =
       "<p class=\"datum-floor\">The network's datum floor, the same prediction with every centroid and pick "
       "&#963; divided by " +
-      fmt("%.0f", image_factor) + " (what the PPK fixes and control poles alone allow): median " +
-      fmt("%.2f", floor.median * 100) + " cm; the calibration is " + fmt("%.2f", ratio) +
-      "&#215; its floor. ";
-  if (ratio <= kDatumLimitedRatio)
+      fmt("%.0f", v.datum_floor_image_factor) +
+      " (what the PPK fixes and control poles alone allow): median " +
+      fmt("%.2f", v.datum_floor_stats.median * 100) + " cm; the calibration is " +
+      fmt("%.2f", v.over_datum_floor) + "&#215; its floor. ";
+  if (v.over_datum_floor <= kDatumLimitedRatio)
     s += "The datum limits it, not the images: more fix epochs, or control poles surveyed better than the "
          "PPK average, would lower it; sharper centroids or more cameras would not.";
   else
@@ -533,8 +533,7 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
     s += "<p>Predicted intersection &#963; from the calibrations alone over the flight volume at U = " +
          fmt("%.1f", volume.slice->up_m) + " m: " + fmt("%.2f", st.min * 100) + "&#8211;" +
          fmt("%.2f", st.max * 100) + " cm (median " + fmt("%.2f", st.median * 100) + " cm).</p>\n";
-  if (st.n > 0 && volume.datum_floor_stats.n > 0)
-    s += datum_floor_sentence(st, volume.datum_floor_stats, volume.datum_floor_image_factor);
+  if (st.n > 0 && std::isfinite(volume.over_datum_floor)) s += datum_floor_sentence(volume);
   // Each camera's calibration warnings, then once what they mean for the intersection: a poorly
   // determined or strongly correlated parameter matters only through where it moves the flown points.
   std::string w;
@@ -877,10 +876,9 @@ std::string network_section(const ReportData& d) {
 
 }  // namespace
 
-std::string render_report_html(const ReportData& d) {
+std::string render_report_html(const ReportData& d, const FlightVolumeSigma& volume) {
   std::vector<CameraFigures> figs;
   for (const CameraReportData& c : d.cameras) figs.push_back(camera_figures(c, d.pixel_sigma_px));
-  const FlightVolumeSigma volume = flight_volume_sigma(d);
   std::string s =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rangecal report: " +
       html_escape(d.mission) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n";

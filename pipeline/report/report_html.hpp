@@ -6,10 +6,12 @@
 // intersection table (Table 4). Deterministic: the same data gives the same bytes (no times).
 #include <string>
 
+#include "pipeline/report/flight_volume_sigma.hpp"
 #include "pipeline/report/report_data.hpp"
 
 namespace rangecal {
 
-std::string render_report_html(const ReportData& data);
+/// `volume` is flight_volume_sigma(data): the verdict's prediction and the intersection slice map.
+std::string render_report_html(const ReportData& data, const FlightVolumeSigma& volume);
 
 }  // namespace rangecal

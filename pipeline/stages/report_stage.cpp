@@ -25,14 +25,13 @@ nlohmann::ordered_json prediction_json(const FlightVolumeSigma& volume) {
   pred["slice_up_m"] = volume.slice ? num_or_null(volume.slice->up_m) : ojson(nullptr);
   pred["median_sigma_m"] = volume.stats.n > 0 ? num_or_null(volume.stats.median) : ojson(nullptr);
   pred["max_sigma_m"] = volume.stats.n > 0 ? num_or_null(volume.stats.max) : ojson(nullptr);
-  const bool floor = volume.stats.n > 0 && volume.datum_floor_stats.n > 0;
+  const bool floor = volume.stats.n > 0 && std::isfinite(volume.over_datum_floor);
   pred["datum_floor_median_sigma_m"] = floor ? num_or_null(volume.datum_floor_stats.median) : ojson(nullptr);
-  pred["over_datum_floor"] =
-      floor ? num_or_null(volume.stats.median / volume.datum_floor_stats.median) : ojson(nullptr);
+  pred["over_datum_floor"] = floor ? num_or_null(volume.over_datum_floor) : ojson(nullptr);
   return pred;
 }
 
-std::string format_summary_json(const ReportData& data) {
+std::string format_summary_json(const ReportData& data, const FlightVolumeSigma& volume) {
   using ojson = nlohmann::ordered_json;
   ojson j;
   j["format"] = "rangecal.summary/1";
@@ -64,7 +63,7 @@ std::string format_summary_json(const ReportData& data) {
   inter["mean_dR_m"] = m.n > 0 ? num_or_null(m.mean_dR) : ojson(nullptr);
   inter["max_dR_m"] = m.n > 0 ? num_or_null(m.max_dR) : ojson(nullptr);
   j["intersection"] = inter;
-  j["prediction"] = prediction_json(flight_volume_sigma(data));
+  j["prediction"] = prediction_json(volume);
   return dump_json_compact_arrays(j);
 }
 
@@ -93,12 +92,13 @@ StageLog run_report_stage(const MissionConfig& cfg) {
       log.warnings.push_back(c.id + ": no calibration.json; the report shows the camera as not calibrated");
   }
   if (!data.intersection) log.warnings.push_back("no intersection.csv; the report has no intersection table");
-  write_file_atomic(mission_output(cfg, kReportHtml), render_report_html(data));
-  write_file_atomic(mission_output(cfg, kSummaryJson), format_summary_json(data));
+  const FlightVolumeSigma volume = flight_volume_sigma(data);
+  write_file_atomic(mission_output(cfg, kReportHtml), render_report_html(data, volume));
+  write_file_atomic(mission_output(cfg, kSummaryJson), format_summary_json(data, volume));
   log.counts["cameras"] = data.cameras.size();
   log.counts["calibrated"] = calibrated;
   log.counts["intersection_poles"] = data.intersection ? data.intersection->size() : 0;
-  log.counts["prediction"] = nlohmann::json(prediction_json(flight_volume_sigma(data)));
+  log.counts["prediction"] = nlohmann::json(prediction_json(volume));
   return log;
 }
 

@@ -20,8 +20,8 @@ nlohmann::ordered_json prediction_json(const FlightVolumeSigma& volume);
 
 /// summary.json text (docs/outputs.md): per camera method, rms_px, n_used (null when not calibrated);
 /// intersection mean and max dR in metres (null when intersection.csv is missing or has no dR); the
-/// prediction. Deterministic (fixed key order, numbers as read).
-std::string format_summary_json(const ReportData& data);
+/// prediction (`volume` = flight_volume_sigma(data)). Deterministic (fixed key order, numbers as read).
+std::string format_summary_json(const ReportData& data, const FlightVolumeSigma& volume);
 
 StageLog run_report_stage(const MissionConfig& cfg);
 

@@ -404,8 +404,8 @@ TEST(NetworkAdjustment, FlagsFiveEpochsWithA20cmPpkErrorAndKeepsTheCameras) {
 // with its outlier tests, it equals the Cramér–Rao bound of the planned network with every
 // observation's σ divided by 100 (pipeline/analysis/network_plan.hpp: σ divided in the data and
 // evaluated at the truth, where the run divides it in the layout at its estimate) within 2 % per σ
-// and 0.9 in correlation; it lies below the network's own covariance (information only adds), and
-// is left out by default.
+// and 0.02 in each correlation coefficient; it lies below the network's own covariance (information only
+// adds), and is left out by default.
 TEST(NetworkAdjustment, DatumFloorIsTheNetworkWithImagesAHundredTimesSharper) {
   const PlannedNetwork n = noisy(demo(), 33);
   NetworkOptions o;
@@ -436,6 +436,16 @@ TEST(NetworkAdjustment, DatumFloorIsTheNetworkWithImagesAHundredTimesSharper) {
   std::printf("datum floor: cam1 σ f %.4f mm (network %.4f, bound %.4f)\n", floor[0], network[0], bound[0]);
 
   EXPECT_EQ(network_adjust(network_cameras(n), n.points, n.observations).datum_floor_covariance.size(), 0);
+  // Scaled by the variance factor exactly as the network's own covariance is.
+  std::vector<NetworkCamera> scaled = network_cameras(n);
+  for (NetworkCamera& c : scaled) c.options.scale_covariance = true;
+  const NetworkResult rs = network_adjust(scaled, n.points, n.observations, o);
+  ASSERT_EQ(rs.datum_floor_covariance.rows(), r.datum_floor_covariance.rows());
+  EXPECT_NE(rs.statistics.variance_factor, 1.0);
+  for (Eigen::Index i = 0; i < floor.size(); ++i)
+    EXPECT_NEAR(rs.datum_floor_covariance(i, i) / r.datum_floor_covariance(i, i),
+                rs.statistics.variance_factor, 1e-9 * rs.statistics.variance_factor)
+        << "parameter " << i;
 }
 
 TEST(NetworkAdjustment, CamerasSharingNoEpochAreCalibratedFromTheirOwnEpochs) {

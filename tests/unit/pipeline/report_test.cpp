@@ -515,6 +515,10 @@ TEST(Report, VerdictSetsTheIntersectionSigmaBesideTheDatumFloor) {
   EXPECT_EQ(f[2], "1.10");
   EXPECT_NE(datum.find("The datum limits it, not the images"), std::string::npos);
 
+  // A floor of zero (images alone would fix everything) gives no ratio, not an infinite one.
+  EXPECT_EQ(verdict_with_floor(0.0).find("datum floor"), std::string::npos);
+  EXPECT_TRUE(read_json(dir / "out/summary.json")["prediction"]["over_datum_floor"].is_null());
+
   // Without a floor in network.json (a run before it, or a bundle run) the sentence is not there.
   r.datum_floor_covariance.resize(0, 0);
   write_network_json(network.string(), network_json(r, {}));
