@@ -285,17 +285,17 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
   if (st.float_epochs_used > 0)
     out.float_epochs = float_epoch_contribution(l, b, sel, cov, st.float_epochs_used,
                                                 cameras.front().options.rank_tolerance);
+  out.warnings = cov.warnings;
   if (opt.datum_floor_image_factor > 0 && out.joint_covariance.size() > 0) {
     out.datum_floor_covariance =
         datum_floor_covariance(l, b, sel, opt.datum_floor_image_factor, scaled ? st.variance_factor : 1.0,
                                cameras.front().options.rank_tolerance);
-    if (out.datum_floor_covariance.size() > 0) out.datum_floor_image_factor = opt.datum_floor_image_factor;
+    if (out.datum_floor_covariance.size() > 0)
+      out.datum_floor_image_factor = opt.datum_floor_image_factor;
+    else
+      out.warnings.push_back("the datum floor (images " + format_number("%g", opt.datum_floor_image_factor) +
+                             "x sharper) is rank-deficient at the rank tolerance: not computed");
   }
-  out.warnings = cov.warnings;
-  if (opt.datum_floor_image_factor > 0 && out.joint_covariance.size() > 0 &&
-      out.datum_floor_covariance.size() == 0)
-    out.warnings.push_back("the datum floor (images " + format_number("%g", opt.datum_floor_image_factor) +
-                           "x sharper) is rank-deficient at the rank tolerance: not computed");
   if (!st.ppk_outliers.empty())
     out.warnings.push_back(
         std::to_string(st.ppk_outliers.size()) +
