@@ -81,7 +81,7 @@ PlannedNetwork with_sharper_images(PlannedNetwork n, double factor) {
 }
 
 Eigen::MatrixXd network_cramer_rao_bound(const PlannedNetwork& n, const std::vector<std::string>& free,
-                                         double pixel_sigma_px) {
+                                         double pixel_sigma_px, double image_factor) {
   std::vector<NetworkCamera> cams;
   for (const Camera& t : n.truth) {
     NetworkCamera c;
@@ -90,7 +90,8 @@ Eigen::MatrixXd network_cramer_rao_bound(const PlannedNetwork& n, const std::vec
     c.options.pixel_sigma_px = pixel_sigma_px;
     cams.push_back(c);
   }
-  const NetworkLayout l = make_network_layout(cams, n.points, n.observations);
+  NetworkLayout l = make_network_layout(cams, n.points, n.observations);
+  l.pixel_sigma_scale = 1 / image_factor;  // as the run's datum floor (network_adjustment.cpp)
   NetworkParameterBlocks b;
   for (const Camera& t : n.truth) b.cameras.push_back(BundleParameterBlocks::from_camera(t));
   for (const NetworkPoint& p : n.points)

@@ -218,7 +218,6 @@ RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name,
   // that see it), for the network's bound and the per-camera cross-covariances.
   const PlannedNetwork net = planned_network(m, o);
   const std::vector<Eigen::Vector3d> volume = flight_volume_points(net, o.volume_points, o.volume_seed);
-  const PlannedNetwork sharp = with_sharper_images(net, kDatumFloorImageFactor);
   RoutePlanAnalysis a;
   a.name = name;
   for (const std::vector<std::string>& free : o.free_sets) {
@@ -240,7 +239,7 @@ RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name,
     v.network_independent_m = predicted_intersection_rms(net.truth, params, fp.network.joint, volume, false);
     if (fp.network.applies())
       v.network_datum_floor_m = predicted_intersection_rms(
-          net.truth, params, network_cramer_rao_bound(sharp, free, o.pixel_sigma_px / kDatumFloorImageFactor),
+          net.truth, params, network_cramer_rao_bound(net, free, o.pixel_sigma_px, kDatumFloorImageFactor),
           volume, true);
     for (const ScenarioPole& pole : s.poles) {
       PoleBound pb;
