@@ -24,8 +24,8 @@ mkdir -p "$LOG_DIR"
 RUNTIME_PKGS=(cmake g++ make ninja-build libgeographiclib-dev libeigen3-dev libopencv-dev libceres-dev
               nlohmann-json3-dev libcli11-dev libtbb-dev)
 # What the tests add: GoogleTest, Google Benchmark, GeographicLib's CartConvert (an independent
-# oracle), Chromium (renders report.html headless).
-TEST_PKGS=(libgtest-dev libgmock-dev libbenchmark-dev geographiclib-tools chromium)
+# oracle), Chromium (renders report.html headless), clang-format (the code_format test).
+TEST_PKGS=(libgtest-dev libgmock-dev libbenchmark-dev geographiclib-tools chromium clang-format)
 # The sanitizer and fuzz builds: clang, its sanitizer and libFuzzer runtimes, llvm-symbolizer.
 SAN_PKGS=(clang libclang-rt-14-dev llvm-14)
 

@@ -1,10 +1,10 @@
 #pragma once
-// UAV attitude (docs/conventions.md, docs/formats.md): roll, pitch, yaw in degrees as flight controllers log them —
-// body frame FRD (x forward, y right, z down), navigation frame NED, yaw clockwise from north —
-// on the UTC axis, interpolated to GNSS epochs, and turned into R_nb = Rz(yaw)·Ry(pitch)·Rx(roll)
-// (seed 002 eq. 3–4 with the angle names put right: φ is the yaw, θ the pitch, ψ the roll;
-// seeds/NOTES.md). The readers are in gnss/formats/ (attitude_file.hpp chooses by content: the
-// CSV `utc,roll_deg,pitch_deg,yaw_deg`, a PX4 ULog or an ArduPilot DataFlash log).
+// UAV attitude (docs/conventions.md, docs/formats.md): roll, pitch, yaw in degrees as flight controllers log
+// them — body frame FRD (x forward, y right, z down), navigation frame NED, yaw clockwise from north — on the
+// UTC axis, interpolated to GNSS epochs, and turned into R_nb = Rz(yaw)·Ry(pitch)·Rx(roll) (seed 002 eq. 3–4
+// with the angle names put right: φ is the yaw, θ the pitch, ψ the roll; seeds/NOTES.md). The readers are in
+// gnss/formats/ (attitude_file.hpp chooses by content: the CSV `utc,roll_deg,pitch_deg,yaw_deg`, a PX4 ULog
+// or an ArduPilot DataFlash log).
 #include <Eigen/Core>
 #include <optional>
 #include <string>

@@ -1,5 +1,6 @@
 #pragma once
-// Lever arm (docs/conventions.md, docs/formats.md; seed 002 §2.2–2.3): from the antenna phase centre to the lamp centre.
+// Lever arm (docs/conventions.md, docs/formats.md; seed 002 §2.2–2.3): from the antenna phase centre to the
+// lamp centre.
 //  - full form: the lever is a body FRD vector (m); lamp_NED = antenna_NED + R_nb·lever
 //    (seed 002 eq. 4), then NED → ENU;
 //  - vertical form (seed 002 eq. 5): the lamp is `vertical_m` straight below the antenna; exact

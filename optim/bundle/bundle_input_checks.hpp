@@ -1,8 +1,8 @@
 #pragma once
-// What the bundle refuses before solving (docs/accuracy_analysis.md, Quality bars "bad input": degenerate geometry is a clear
-// error naming the cause, exit 4): non-finite observations, fewer equations than unknowns, points
-// all on one line (a single vertical ascent leaves the rotation about it free), points behind the
-// starting camera, a free clock offset with no lamp velocity, priors without a finite value or σ.
+// What the bundle refuses before solving (docs/accuracy_analysis.md, Quality bars "bad input": degenerate
+// geometry is a clear error naming the cause, exit 4): non-finite observations, fewer equations than
+// unknowns, points all on one line (a single vertical ascent leaves the rotation about it free), points
+// behind the starting camera, a free clock offset with no lamp velocity, priors without a finite value or σ.
 #include <vector>
 
 #include "optim/bundle/bundle_adjustment.hpp"

@@ -281,8 +281,8 @@ ScenarioPole parse_pole(const JsonView& v) {
   return p;
 }
 
-// The lamp offset from the antenna in ENU for a level UAV with heading yaw (docs/conventions.md: R_nb·lever in
-// NED, then NED → ENU).
+// The lamp offset from the antenna in ENU for a level UAV with heading yaw (docs/conventions.md: R_nb·lever
+// in NED, then NED → ENU).
 Eigen::Vector3d level_lamp_offset_enu(const Eigen::Vector3d& lever_frd, double yaw_deg) {
   Attitude a;
   a.yaw_deg = yaw_deg;

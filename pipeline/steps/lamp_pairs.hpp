@@ -1,7 +1,7 @@
 #pragma once
-// The (lamp ENU, lamp pixel) pairs of one camera (docs/frames_and_detection.md → §4.4): each aligned frame in which
-// the lamp was found, with the lamp's interpolated position, its 1σ and its velocity at the frame's
-// UTC (pipeline/steps/align_frames.hpp) and the detected centroid.
+// The (lamp ENU, lamp pixel) pairs of one camera (docs/frames_and_detection.md → §4.4): each aligned frame in
+// which the lamp was found, with the lamp's interpolated position, its 1σ and its velocity at the frame's UTC
+// (pipeline/steps/align_frames.hpp) and the detected centroid.
 #include <vector>
 
 #include "pipeline/io/correspondences_csv.hpp"

@@ -1,5 +1,5 @@
-// Frame decoding throughput (docs/accuracy_analysis.md, Quality bars): 16-bit PNG and TIFF (1280×800) through the frame
-// source's decoder, and 16-bit and packed 12-bit .cine images through CineReader.
+// Frame decoding throughput (docs/accuracy_analysis.md, Quality bars): 16-bit PNG and TIFF (1280×800) through
+// the frame source's decoder, and 16-bit and packed 12-bit .cine images through CineReader.
 #include <benchmark/benchmark.h>
 
 #include <opencv2/core/utility.hpp>

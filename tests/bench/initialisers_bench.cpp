@@ -1,6 +1,6 @@
-// Speed of the calibration initialisers on 1,000 points (docs/accuracy_analysis.md, Quality bars style: benchmarks, not timed tests).
-// Scene: the paper-like range camera (1280×800, 135 mm, ≈ 64 m) with k1, points on its ascents,
-// 0.1 px pixel noise; for RANSAC, 10 % gross outliers.
+// Speed of the calibration initialisers on 1,000 points (docs/accuracy_analysis.md, Quality bars style:
+// benchmarks, not timed tests). Scene: the paper-like range camera (1280×800, 135 mm, ≈ 64 m) with k1, points
+// on its ascents, 0.1 px pixel noise; for RANSAC, 10 % gross outliers.
 #include <benchmark/benchmark.h>
 
 #include "config/deterministic_random.hpp"

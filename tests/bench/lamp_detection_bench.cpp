@@ -1,7 +1,7 @@
-// Lamp search speed and accuracy (docs/accuracy_analysis.md, Quality bars): full-frame search on 1280×800 8-bit frames in memory
-// on one thread vs OpenCV's SimpleBlobDetector on the same frames, both centroid errors reported
-// as counters; and the whole detection (candidates + sequence pass) over 1,000 frames on 1 and 2
-// threads.
+// Lamp search speed and accuracy (docs/accuracy_analysis.md, Quality bars): full-frame search on 1280×800
+// 8-bit frames in memory on one thread vs OpenCV's SimpleBlobDetector on the same frames, both centroid
+// errors reported as counters; and the whole detection (candidates + sequence pass) over 1,000 frames on 1
+// and 2 threads.
 #include <benchmark/benchmark.h>
 
 #include <cmath>

@@ -1,6 +1,6 @@
-// Benchmarks of optim/ (docs/accuracy_analysis.md, Quality bars): bundle adjustment on 1,000 points (target < 50 ms),
-// SA-SSA with the paper-sized population, SSA on the SSA.md d = 30 benchmarks, LM-QN vs plain LM
-// on a reduced analogue of seed 000's setup. Counters report iterations/evaluations/accuracy.
+// Benchmarks of optim/ (docs/accuracy_analysis.md, Quality bars): bundle adjustment on 1,000 points (target <
+// 50 ms), SA-SSA with the paper-sized population, SSA on the SSA.md d = 30 benchmarks, LM-QN vs plain LM on a
+// reduced analogue of seed 000's setup. Counters report iterations/evaluations/accuracy.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>

@@ -1,6 +1,6 @@
-// The demo scenario end to end (docs/accuracy_analysis.md, Quality bars quality bars): simulate seed 002's experiment, run
-// every stage on the written files, and hold the results against the simulated truth. Then prove
-// the bar can fail: the same mission with its lever arm ignored, or its GPST read as UTC, misses it.
+// The demo scenario end to end (docs/accuracy_analysis.md, Quality bars quality bars): simulate seed 002's
+// experiment, run every stage on the written files, and hold the results against the simulated truth. Then
+// prove the bar can fail: the same mission with its lever arm ignored, or its GPST read as UTC, misses it.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,7 +1,8 @@
 #pragma once
 // Checks shared by the calibration initialisers (DLT, Tsai, planar): every degenerate input is a
 // rangecal::Error of kind calibration (exit 4) whose field names the method and whose reason
-// names the cause (docs/cli.md, docs/accuracy_analysis.md, Quality bars "degenerate geometry gives a clear error").
+// names the cause (docs/cli.md, docs/accuracy_analysis.md, Quality bars "degenerate geometry gives a clear
+// error").
 #include <string>
 #include <vector>
 

@@ -1,8 +1,7 @@
 #pragma once
-// The result every calibration method returns (docs/optimisation.md, docs/outputs.md): the calibrated camera, the
-// covariance of the estimated parameters, reprojection statistics, warnings and method-specific
-// details. One value type for every method, written to `<cam>/calibration.json` by
-// pipeline/io/calibration_json.hpp.
+// The result every calibration method returns (docs/optimisation.md, docs/outputs.md): the calibrated camera,
+// the covariance of the estimated parameters, reprojection statistics, warnings and method-specific details.
+// One value type for every method, written to `<cam>/calibration.json` by pipeline/io/calibration_json.hpp.
 //
 // The estimated parameters are named by vision/camera/camera_parameters.hpp (a method lists only
 // those it estimated; `covariance` rows and columns follow `parameters`). The camera centre's

@@ -204,7 +204,8 @@ inline Eigen::Vector3d world_to_camera(const CameraPose& pose, const Eigen::Vect
 /// inverse fails; `uv` is then unspecified.
 bool project(const Camera& cam, const Eigen::Vector3d& Xw, Eigen::Vector2d* uv);
 
-/// Whether pixel (u, v) lies on the image: 0 ≤ u ≤ W − 1 and 0 ≤ v ≤ H − 1 (pixel centres, docs/conventions.md).
+/// Whether pixel (u, v) lies on the image: 0 ≤ u ≤ W − 1 and 0 ≤ v ≤ H − 1 (pixel centres,
+/// docs/conventions.md).
 inline bool inside_image(const CameraIntrinsics& in, const Eigen::Vector2d& uv) {
   return uv.x() >= 0 && uv.y() >= 0 && uv.x() <= in.width_px - 1 && uv.y() <= in.height_px - 1;
 }

@@ -1,7 +1,7 @@
 #pragma once
 // Import of an OpenCV camera (cv::calibrateCamera's K, distortion, rvec, tvec) into rangecal's
-// model (docs/conventions.md), the inverse of vision/camera/opencv_camera_export.hpp — e.g. to intersect with a
-// camera calibrated elsewhere, or to compare a lab calibration with the range's.
+// model (docs/conventions.md), the inverse of vision/camera/opencv_camera_export.hpp — e.g. to intersect with
+// a camera calibrated elsewhere, or to compare a lab calibration with the range's.
 //
 // Intrinsics map exactly, given the sensor's pixel pitch (OpenCV has none):
 //   v = cy + fy·y''  ↔  v = v0 + yd/dy            ⇒ f = fy·dy, v0 = cy

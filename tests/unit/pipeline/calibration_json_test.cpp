@@ -1,5 +1,5 @@
-// calibration.json (docs/outputs.md): exact write → read round trip, deterministic bytes, the documented keys,
-// σ from the covariance, centre covariance propagation, and bad files naming file and key.
+// calibration.json (docs/outputs.md): exact write → read round trip, deterministic bytes, the documented
+// keys, σ from the covariance, centre covariance propagation, and bad files naming file and key.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>

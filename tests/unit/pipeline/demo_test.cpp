@@ -1,6 +1,6 @@
-// The demo scenario end to end (docs/accuracy_analysis.md, Quality bars quality bars): simulate seed 002's experiment, run
-// every stage on the written files, and hold the results against the simulated truth. Then prove
-// the bar can fail: the same mission with its lever arm ignored, or its GPST read as UTC, misses it.
+// The demo scenario end to end (docs/accuracy_analysis.md, Quality bars quality bars): simulate seed 002's
+// experiment, run every stage on the written files, and hold the results against the simulated truth. Then
+// prove the bar can fail: the same mission with its lever arm ignored, or its GPST read as UTC, misses it.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -59,7 +59,8 @@ TEST(Demo, CheckPolesWithinOneCentimetreOfTruthAndParametersWithinThreeSigma) {
   const DemoIntersection* b = find_method(run.results, "bundle");
   ASSERT_NE(b, nullptr);
   EXPECT_EQ(b->n_check, 11);
-  EXPECT_LE(b->mean_dR_truth_m, 0.010) << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
+  EXPECT_LE(b->mean_dR_truth_m, 0.010)
+      << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
   // The predicted 1σ of ΔR is honest: the RMS error against truth is within a factor 2 of it.
   double rms = 0;
   int n = 0;
@@ -111,7 +112,8 @@ TEST(Demo, NetworkIsTheDefaultAndHoldsTheSameBars) {
   ASSERT_NE(net, nullptr);
   ASSERT_NE(b, nullptr);
   EXPECT_EQ(net->n_check, 11);
-  EXPECT_LE(net->mean_dR_truth_m, 0.010) << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
+  EXPECT_LE(net->mean_dR_truth_m, 0.010)
+      << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
   for (const DemoCamera& c : run.results.cameras) {
     ASSERT_TRUE(c.by_method.count("network")) << c.id;
     ASSERT_TRUE(c.by_method.count("bundle")) << c.id;

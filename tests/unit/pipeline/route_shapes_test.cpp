@@ -1,7 +1,7 @@
-// Trajectories beyond vertical ascents (docs/simulator.md: "vertical ascents and any other legs"): with the attitude
-// logged and the lever arm in the body frame, a mission of horizontal legs at several heights and depths and
-// a diagonal climb (config/examples/plan_mixed_routes.json) calibrates through every stage to the demo's
-// bars; ignoring the attitude on those legs, where the UAV leans into its accelerations, shows in the
+// Trajectories beyond vertical ascents (docs/simulator.md: "vertical ascents and any other legs"): with the
+// attitude logged and the lever arm in the body frame, a mission of horizontal legs at several heights and
+// depths and a diagonal climb (config/examples/plan_mixed_routes.json) calibrates through every stage to the
+// demo's bars; ignoring the attitude on those legs, where the UAV leans into its accelerations, shows in the
 // results; and `plan` shows what the legs add over the three vertical ascents.
 #include <gtest/gtest.h>
 
@@ -63,7 +63,8 @@ TEST(RouteShapes, HorizontalLegsAndADiagonalClimbCalibrateWithAttitude) {
   std::printf("  check poles: mean dR against truth %.2f cm (max %.2f cm)\n", b.mean_dR_truth_m * 100,
               b.max_dR_truth_m * 100);
   EXPECT_EQ(b.n_check, 11);
-  EXPECT_LE(b.mean_dR_truth_m, 0.010) << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
+  EXPECT_LE(b.mean_dR_truth_m, 0.010)
+      << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
 }
 
 TEST(RouteShapes, IgnoringTheAttitudeOnTiltedLegsShowsInTheResiduals) {

@@ -1,5 +1,5 @@
-// Lamp detector acceptance (docs/accuracy_analysis.md, Quality bars): centroid accuracy on rendered 1280×800 frames,
-// saturated cores, no false lamp over 1,000 lamp-free frames with hot pixels and a static light,
+// Lamp detector acceptance (docs/accuracy_analysis.md, Quality bars): centroid accuracy on rendered 1280×800
+// frames, saturated cores, no false lamp over 1,000 lamp-free frames with hot pixels and a static light,
 // motion disambiguation, statuses, and thread-count independence.
 #include <gtest/gtest.h>
 
