@@ -1,6 +1,7 @@
-// Network bundle adjustment (optim/network): on two simulated geometries — the demo scenario's two
-// cameras and three ascents, and the same cameras over five ascents at mixed depth (built here from
-// the demo) — noise-free truth from pipeline/analysis/network_plan.hpp, noise drawn here:
+// Network bundle adjustment (optim/network): on three simulated geometries — the demo scenario's two
+// cameras and three ascents, the same cameras over five ascents at mixed depth, and a ring of four
+// cameras round the demo's ascents (both built here from the demo) — noise-free truth from
+// pipeline/analysis/network_plan.hpp, noise drawn here:
 //   - one camera alone equals the per-camera bundle;
 //   - calibration-only intersection error (noise-free pixels of 1,000 points through the flight
 //     volume, and of the check poles, triangulated with the estimated cameras) against the
@@ -82,6 +83,25 @@ PlannedNetwork planned(const Scenario& s, const char* name) {
   return p;
 }
 
+/// The demo's two cameras and each one's twin on the far side of the range (turned 180° about the
+/// vertical through the demo's aim point): a ring of four cameras round the three ascents, south-west,
+/// south-east, north-east and north-west.
+Scenario four_camera_scenario() {
+  Scenario s = demo_scenario();
+  const Vector3d aim(0.0, 1.75, 5.0);  // the demo cameras' look_at_enu_m
+  const Matrix3d turn = Eigen::AngleAxisd(M_PI, Vector3d::UnitZ()).toRotationMatrix();
+  const std::size_t n = s.cameras.size();
+  for (std::size_t c = 0; c < n; ++c) {
+    ScenarioCamera far = s.cameras[c];
+    far.id += "_far";
+    const Vector3d center = aim + turn * (far.camera.pose.center() - aim);
+    far.camera.pose.R = far.camera.pose.R * turn.transpose();  // R'·(turn·(X − aim) + aim − C') = R·(X − C)
+    far.camera.pose.T = -far.camera.pose.R * center;
+    s.cameras.push_back(far);
+  }
+  return s;
+}
+
 const PlannedNetwork& demo() {
   static const PlannedNetwork n = planned(demo_scenario(), "demo");
   return n;
@@ -89,6 +109,11 @@ const PlannedNetwork& demo() {
 
 const PlannedNetwork& five_ascents() {
   static const PlannedNetwork n = planned(five_ascents_scenario(), "five-ascent");
+  return n;
+}
+
+const PlannedNetwork& four_cameras() {
+  static const PlannedNetwork n = planned(four_camera_scenario(), "four-camera");
   return n;
 }
 
@@ -168,7 +193,9 @@ TEST(NetworkAdjustment, OneCameraAloneEqualsThePerCameraBundle) {
 // ------------------------------------------------------------------------------------------
 // Calibration-only intersection error.
 
-/// ≥ 1,000 points uniform in the box of the lamp epochs, seen by both truth cameras (fixed seed).
+/// ≥ 1,000 points uniform in the box of the lamp epochs, seen by every truth camera (fixed seed): a
+/// point two cameras alone see may have rays ~180° apart in a ring, an ill-conditioned intersection
+/// whose error says more about that angle than about the calibration.
 std::vector<Vector3d> flight_volume_points(const PlannedNetwork& n, int count) {
   Vector3d lo = Vector3d::Constant(1e300), hi = -lo;
   for (const NetworkPoint& p : n.points)
@@ -211,7 +238,9 @@ double predicted_mean_square(const std::vector<Camera>& truth, const std::vector
                              const std::vector<Vector3d>& pts, const CrossCovariances* cross) {
   double s = 0;
   for (const Vector3d& X : pts) {
-    std::vector<TriangulationView> v = views_of(truth, {cal[0].camera, cal[1].camera}, X);
+    std::vector<Camera> est;
+    for (const CalibrationResult& c : cal) est.push_back(c.camera);
+    std::vector<TriangulationView> v = views_of(truth, est, X);
     for (std::size_t c = 0; c < v.size(); ++c) v[c].calibration = {cal[c].parameters, cal[c].covariance};
     s += triangulate_point(v, "point", cross).cov_calibration_m2.trace();
   }
@@ -306,29 +335,34 @@ void check_network_against_per_camera(const PlannedNetwork& truth, const std::ve
                                       double max_ratio) {
   const std::vector<Vector3d> pts = flight_volume_points(truth, 1000);
   const MatrixXd crb = independent_network_crb(truth);
+  const std::size_t nc = truth.truth.size();
   double ms_net = 0, ms_bundle = 0, ms_pred = 0, ms_pred_independent = 0, dR_net = 0, dR_bundle = 0;
   int n_pred = 0;
   const int p = 8;
-  VectorXd sum = VectorXd::Zero(2 * p), sum2 = VectorXd::Zero(2 * p), sigma = VectorXd::Zero(2 * p);
+  const int np = p * static_cast<int>(nc);
+  VectorXd sum = VectorXd::Zero(np), sum2 = VectorXd::Zero(np), sigma = VectorXd::Zero(np);
   for (int seed = 0; seed < kSeeds; ++seed) {
     const PlannedNetwork n = noisy(truth, 1000 + static_cast<std::uint64_t>(seed));
     const NetworkResult net = network_adjust(network_cameras(n), n.points, n.observations);
     ASSERT_FALSE(net.statistics.rank_deficient);
-    const std::vector<Camera> est = {net.cameras[0].calibration.camera, net.cameras[1].calibration.camera};
-    const std::vector<Camera> per = {per_camera_bundle(n, 0).calibration.camera,
-                                     per_camera_bundle(n, 1).calibration.camera};
+    std::vector<Camera> est, per;
+    std::vector<CalibrationResult> cal;
+    for (std::size_t c = 0; c < nc; ++c) {
+      est.push_back(net.cameras[c].calibration.camera);
+      per.push_back(per_camera_bundle(n, c).calibration.camera);
+      cal.push_back(net.cameras[c].calibration);
+    }
     ms_net += mean_square_error(truth.truth, est, pts) / kSeeds;
     ms_bundle += mean_square_error(truth.truth, per, pts) / kSeeds;
     dR_net += mean_check_pole_error(truth.truth, est, checks) / kSeeds;
     dR_bundle += mean_check_pole_error(truth.truth, per, checks) / kSeeds;
     if (seed % 10 == 0) {  // the prediction varies little between draws: every tenth one
-      const std::vector<CalibrationResult> cal = {net.cameras[0].calibration, net.cameras[1].calibration};
       const CrossCovariances x = cross_of(net);
       ms_pred += predicted_mean_square(truth.truth, cal, pts, &x);
       ms_pred_independent += predicted_mean_square(truth.truth, cal, pts, nullptr);
       ++n_pred;
     }
-    for (int c = 0; c < 2; ++c) {
+    for (int c = 0; c < static_cast<int>(nc); ++c) {
       const CalibrationResult& r = net.cameras[static_cast<std::size_t>(c)].calibration;
       const VectorXd e = values(r.camera, r.parameters, truth.truth[static_cast<std::size_t>(c)]) -
                          values(truth.truth[static_cast<std::size_t>(c)], r.parameters,
@@ -352,7 +386,7 @@ void check_network_against_per_camera(const PlannedNetwork& truth, const std::ve
   EXPECT_LE(rms_net, max_ratio * rms_bundle);
   EXPECT_NEAR(rms_net / rms_pred, 1.0, 0.15);
   EXPECT_LE(dR_net, dR_bundle);
-  for (int i = 0; i < 2 * p; ++i) {
+  for (int i = 0; i < np; ++i) {
     const double mean = sum[i] / kSeeds;
     const double sd = std::sqrt((sum2[i] - kSeeds * mean * mean) / (kSeeds - 1));
     std::printf("  param %2d: MC sd / sigma %.3f, sigma / CRB %.4f\n", i, sd / sigma[i],
@@ -371,6 +405,12 @@ TEST(NetworkAdjustment, DemoIntersectionErrorBelowPerCameraWithCalibratedSigmas)
 
 TEST(NetworkAdjustment, FiveAscentIntersectionErrorBelowPerCameraWithCalibratedSigmas) {
   check_network_against_per_camera(five_ascents(), check_poles(five_ascents_scenario()), 0.85);
+}
+
+// Measured (100 seeds): 0.78 with a ring of four cameras: more cameras sharing the epochs leave the
+// datum, which the PPK fixes and the control survey alone determine, where it was.
+TEST(NetworkAdjustment, FourCameraIntersectionErrorBelowPerCameraWithCalibratedSigmas) {
+  check_network_against_per_camera(four_cameras(), check_poles(four_camera_scenario()), 0.85);
 }
 
 TEST(NetworkAdjustment, FlagsFiveEpochsWithA20cmPpkErrorAndKeepsTheCameras) {
