@@ -265,6 +265,37 @@ TEST(Plan, NetworkDatumFloorIsTheSimilarityFitOfTheFixes) {
   }
 }
 
+// Control surveyed better than the PPK average lowers the datum floor (the similarity fit with it),
+// but the per-camera bundle calibrates with the same control, so both methods gain and the ratio
+// between them hardly moves; once the floor is low, the images limit both (docs/optimisation.md,
+// "When the network helps"). Demo, control-pole survey σ 3 (the scenario's), 1 and 0.5 mm.
+TEST(Plan, BetterSurveyedControlLowersTheFloorAndBothMethodsAlike) {
+  const PlanOptions o;
+  std::vector<VolumeIntersection> v;
+  std::vector<double> fit;
+  for (double sigma : {0.003, 0.001, 0.0005}) {
+    Scenario s = demo_scenario();
+    ASSERT_EQ(s.survey_noise_m, 0.003);
+    s.survey_noise_m = sigma;
+    v.push_back(analyse_route_plan(s, s.file, o).free_sets[0].volume);
+    const PlannedNetwork n = planned_network(s, o);
+    fit.push_back(similarity_datum_rms(n, flight_volume_points(n, o.volume_points, o.volume_seed)));
+    std::printf(
+        "  control σ %.1f mm: per-camera %.3f mm, network %.3f mm (%.3f), datum floor %.3f mm, "
+        "similarity fit %.3f mm\n",
+        sigma * 1e3, v.back().per_camera_m * 1e3, v.back().network_m * 1e3,
+        v.back().network_m / v.back().per_camera_m, v.back().network_datum_floor_m * 1e3, fit.back() * 1e3);
+  }
+  for (std::size_t k = 1; k < v.size(); ++k) {
+    EXPECT_LT(v[k].network_datum_floor_m, 0.6 * v[k - 1].network_datum_floor_m);
+    EXPECT_LT(fit[k], fit[k - 1]);
+    EXPECT_LT(v[k].network_m, v[k - 1].network_m);
+    EXPECT_LT(v[k].per_camera_m, v[k - 1].per_camera_m);
+    EXPECT_NEAR(v[k].network_m / v[k].per_camera_m, v[0].network_m / v[0].per_camera_m, 0.05);
+  }
+  EXPECT_LT(v.back().network_datum_floor_m, 0.4 * v.back().network_m);  // the images limit it now
+}
+
 TEST(Plan, OneCameraNetworkEqualsPerCamera) {
   Scenario s = demo_scenario();
   s.cameras.resize(1);
