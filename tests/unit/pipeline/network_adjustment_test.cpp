@@ -237,10 +237,10 @@ double mean_square_error(const std::vector<Camera>& truth, const std::vector<Cam
 /// Predicted mean square error from a calibration covariance (joint when `cross` is given).
 double predicted_mean_square(const std::vector<Camera>& truth, const std::vector<CalibrationResult>& cal,
                              const std::vector<Vector3d>& pts, const CrossCovariances* cross) {
+  std::vector<Camera> est;
+  for (const CalibrationResult& c : cal) est.push_back(c.camera);
   double s = 0;
   for (const Vector3d& X : pts) {
-    std::vector<Camera> est;
-    for (const CalibrationResult& c : cal) est.push_back(c.camera);
     std::vector<TriangulationView> v = views_of(truth, est, X);
     for (std::size_t c = 0; c < v.size(); ++c) v[c].calibration = {cal[c].parameters, cal[c].covariance};
     s += triangulate_point(v, "point", cross).cov_calibration_m2.trace();
