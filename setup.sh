@@ -9,7 +9,8 @@
 #   bash setup.sh sanitize  the unit tests built with AddressSanitizer + UndefinedBehaviorSanitizer
 #                           (clang, folder build-asan) and run (docs/reliability.md "Sanitizers")
 #   bash setup.sh fuzz      the libFuzzer targets built in build-asan and each run briefly over its
-#                           seed corpus (FUZZ_SECONDS, default 10) (docs/reliability.md "Fuzzing")
+#                           seed corpus (FUZZ_SECONDS, default 10; FUZZ_SEED, default 1, 0 = random)
+#                           (docs/reliability.md "Fuzzing")
 # The console gets one line per step; the package manager's and the compiler's output go to
 # setup-logs/<step>.log, whose tail is printed when a step fails.
 set -euo pipefail
@@ -93,7 +94,7 @@ san_configure() {
   cmake -S . -B "$SAN_BUILD_DIR" $(generator_args "$SAN_BUILD_DIR") -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_COMPILER=clang++ \
     -DRANGECAL_SANITIZE=ON -DRANGECAL_FUZZ=ON -DRANGECAL_BUILD_BENCHMARKS=OFF \
-    -DRANGECAL_FUZZ_SECONDS="${FUZZ_SECONDS:-10}"
+    -DRANGECAL_FUZZ_SECONDS="${FUZZ_SECONDS:-10}" -DRANGECAL_FUZZ_SEED="${FUZZ_SEED:-1}"
 }
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressions=0"

@@ -1,6 +1,6 @@
-// libFuzzer target: an OpenCV camera file (read_opencv_camera_yml, OpenCV FileStorage YAML/XML/
-// JSON) and its import into rangecal's model (camera_from_opencv). The reader opens a path, so
-// the input is written to a per-process scratch file.
+// libFuzzer target: an OpenCV camera file (read_opencv_camera_yml: rangecal's reader of OpenCV's
+// YAML, config/opencv_yaml.hpp) and its import into rangecal's model (camera_from_opencv). The
+// reader opens a path, so the input is written to a per-process scratch file.
 #include "fuzz_common.hpp"
 #include "vision/camera/opencv_camera_export.hpp"
 #include "vision/camera/opencv_camera_import.hpp"

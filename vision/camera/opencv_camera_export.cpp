@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
+#include <initializer_list>
+#include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
 #include "config/atomic_file.hpp"
+#include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/opencv_yaml.hpp"
+#include "config/xml_tree.hpp"
 
 namespace rangecal {
 
@@ -123,98 +127,92 @@ void write_opencv_camera_yml(const std::string& path, const OpenCvCamera& oc) {
 
 namespace {
 
-cv::Mat read_matrix(const cv::FileStorage& fs, const std::string& path, const char* key, int rows, int cols,
-                    const std::string& form) {
-  const cv::FileNode n = fs[key];
-  if (n.empty()) throw_input_error(path, 0, key, "missing; expected " + form);
-  // OpenCV allocates rows × cols × element size as the file states before it reads the data, so a
-  // one-byte edit of `rows` could ask for gigabytes: the shape is checked against the data first
-  // (the matrices here have at most 14 elements).
-  const cv::FileNode nr = n.isMap() ? n["rows"] : cv::FileNode(), nc = n.isMap() ? n["cols"] : cv::FileNode(),
-                     nd = n.isMap() ? n["data"] : cv::FileNode();
-  if (!nr.isInt() || !nc.isInt() || !nd.isSeq() || static_cast<int>(nr) < 1 || static_cast<int>(nc) < 1 ||
-      static_cast<int>(nr) > 64 || static_cast<int>(nc) > 64 ||
-      nd.size() != static_cast<std::size_t>(static_cast<int>(nr) * static_cast<int>(nc)))
+// The values of the !!opencv-matrix `key`, which must hold one of `counts` single-channel elements.
+std::vector<double> matrix_values(const OpenCvYamlDocument& doc, const char* key,
+                                  std::initializer_list<std::size_t> counts, const std::string& form) {
+  const OpenCvYamlEntry* e = doc.find(key);
+  if (!e) throw_input_error(doc.file, 0, key, "missing; expected " + form);
+  if (e->kind != OpenCvYamlEntry::Kind::matrix)
+    throw_input_error(doc.file, e->line, key, "not an !!opencv-matrix; expected " + form);
+  if (e->channels != 1)
+    throw_input_error(doc.file, e->line, key,
+                      "has " + std::to_string(e->channels) + " channels per element; expected " + form);
+  if (std::find(counts.begin(), counts.end(), e->data.size()) == counts.end())
     throw_input_error(
-        path, 0, key,
-        "not a matrix (rows and cols of 1 to 64 and rows × cols data values); expected " + form);
-  cv::Mat m;
-  try {
-    n >> m;
-  } catch (const cv::Exception&) {
-    throw_input_error(path, 0, key, "not a matrix; expected " + form);
-  }
-  if (m.empty()) throw_input_error(path, 0, key, "not a matrix; expected " + form);
-  m.convertTo(m, CV_64F);
-  if (rows > 0 && (m.rows * m.cols != rows * cols))
-    throw_input_error(
-        path, 0, key,
-        "has " + std::to_string(m.rows) + "x" + std::to_string(m.cols) + " elements; expected " + form);
-  for (int i = 0; i < m.rows * m.cols; ++i)
-    if (!std::isfinite(m.at<double>(i))) throw_input_error(path, 0, key, "contains a non-finite value");
-  return m;
+        doc.file, e->line, key,
+        "has " + std::to_string(e->rows) + "x" + std::to_string(e->cols) + " elements; expected " + form);
+  for (const double v : e->data)
+    if (!std::isfinite(v)) throw_input_error(doc.file, e->data_line, key, "contains a non-finite value");
+  return e->data;
 }
 
-int read_int(const cv::FileStorage& fs, const std::string& path, const char* key) {
-  const cv::FileNode n = fs[key];
-  if (n.empty() || !n.isInt()) throw_input_error(path, 0, key, "missing or not an integer; expected pixels");
-  const int v = static_cast<int>(n);
-  if (v < 1)
-    throw_input_error(path, 0, key, "expected a positive number of pixels, got " + std::to_string(v));
-  return v;
+// A scalar entry `key` as text; nullptr when the key is absent.
+const std::string* scalar_text(const OpenCvYamlDocument& doc, const char* key, const std::string& form) {
+  const OpenCvYamlEntry* e = doc.find(key);
+  if (!e) return nullptr;
+  if (e->kind != OpenCvYamlEntry::Kind::scalar)
+    throw_input_error(doc.file, e->line, key, "not a single value; expected " + form);
+  return &e->scalar;
+}
+
+int read_pixels(const OpenCvYamlDocument& doc, const char* key) {
+  const std::string* text = scalar_text(doc, key, "pixels");
+  if (!text) throw_input_error(doc.file, 0, key, "missing; expected a positive number of pixels");
+  const auto v = parse_int64(*text);
+  if (!v || *v < 1 || *v > std::numeric_limits<int>::max())
+    throw_input_error(doc.file, doc.find(key)->line, key,
+                      "expected a positive number of pixels, got '" + printable_excerpt(*text) + "'");
+  return static_cast<int>(*v);
+}
+
+// An optional real (the fit report): absent leaves *out as it is; present must be a number.
+void read_optional_real(const OpenCvYamlDocument& doc, const char* key, double* out) {
+  const std::string* text = scalar_text(doc, key, "a number");
+  if (text && !parse_opencv_yaml_real(*text, out))
+    throw_input_error(doc.file, doc.find(key)->line, key,
+                      "'" + printable_excerpt(*text) + "' is not a number");
+}
+
+void read_optional_int(const OpenCvYamlDocument& doc, const char* key, int* out) {
+  const std::string* text = scalar_text(doc, key, "an integer");
+  if (!text) return;
+  const auto v = parse_int64(*text);
+  if (!v || *v < 0 || *v > std::numeric_limits<int>::max())
+    throw_input_error(doc.file, doc.find(key)->line, key,
+                      "'" + printable_excerpt(*text) + "' is not a non-negative integer");
+  *out = static_cast<int>(*v);
 }
 
 }  // namespace
 
 OpenCvCamera read_opencv_camera_yml(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw_input_error(path, 0, "", "file not found");
-  cv::FileStorage fs;
-  try {
-    fs.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception& e) {
-    throw_input_error(path, 0, "", std::string("not a readable OpenCV FileStorage file: ") + e.err);
-  } catch (const std::exception& e) {
-    // OpenCV 4.6's YAML parser can also fail with a standard exception (std::length_error on a
-    // damaged line, found by fuzzing).
-    throw_input_error(path, 0, "", std::string("not a readable OpenCV FileStorage file: ") + e.what());
-  }
-  if (!fs.isOpened()) throw_input_error(path, 0, "", "not a readable OpenCV FileStorage file");
-  // Looking a key up in a document whose top level is a list or a value is an OpenCV assertion
-  // (cv::Exception), so the top level is checked first.
-  if (!fs.root().isMap())
-    throw_input_error(path, 0, "", "the top level is not a map of keys (image_width, camera_matrix, ...)");
+  // Read by rangecal's own reader of OpenCV's YAML, not by cv::FileStorage: OpenCV 4.6's parser
+  // can hang or overflow its stack on a damaged file (config/opencv_yaml.hpp).
+  const OpenCvYamlDocument doc = read_opencv_yaml_file(path);
   OpenCvCamera oc;
-  oc.image_width = read_int(fs, path, "image_width");
-  oc.image_height = read_int(fs, path, "image_height");
-  const cv::Mat K = read_matrix(fs, path, "camera_matrix", 3, 3, "a 3x3 camera matrix");
+  oc.image_width = read_pixels(doc, "image_width");
+  oc.image_height = read_pixels(doc, "image_height");
+  const std::vector<double> K = matrix_values(doc, "camera_matrix", {9}, "a 3x3 camera matrix");
   for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) oc.camera_matrix(i, k) = K.at<double>(i * 3 + k);
-  const cv::Mat d = read_matrix(fs, path, "distortion_coefficients", 0, 0, "4, 5, 8, 12 or 14 coefficients");
-  const int nd = d.rows * d.cols;
-  if (nd != 4 && nd != 5 && nd != 8 && nd != 12 && nd != 14)
-    throw_input_error(
-        path, 0, "distortion_coefficients",
-        "has " + std::to_string(nd) + " elements; expected 4, 5, 8, 12 or 14 (OpenCV's layouts)");
-  if (nd > 12)
-    throw_input_error(path, 0, "distortion_coefficients",
+    for (int k = 0; k < 3; ++k) oc.camera_matrix(i, k) = K[static_cast<std::size_t>(i * 3 + k)];
+  const OpenCvYamlEntry* de = doc.find("distortion_coefficients");
+  if (de && de->kind == OpenCvYamlEntry::Kind::matrix && de->channels == 1 && de->data.size() == 14)
+    throw_input_error(path, de->line, "distortion_coefficients",
                       "tilted-sensor terms (14 coefficients) are not supported; expected 4, 5, 8 or 12");
-  for (int i = 0; i < nd; ++i) oc.distortion_coefficients.push_back(d.at<double>(i));
-  const cv::Mat r = read_matrix(fs, path, "rvec", 3, 1, "a 3-element Rodrigues vector");
-  const cv::Mat t = read_matrix(fs, path, "tvec", 3, 1, "a 3-element translation (m)");
+  oc.distortion_coefficients = matrix_values(doc, "distortion_coefficients", {4, 5, 8, 12},
+                                             "4, 5, 8 or 12 coefficients (OpenCV's layouts)");
+  const std::vector<double> r = matrix_values(doc, "rvec", {3}, "a 3-element Rodrigues vector");
+  const std::vector<double> t = matrix_values(doc, "tvec", {3}, "a 3-element translation (m)");
   for (int i = 0; i < 3; ++i) {
-    oc.rvec[i] = r.at<double>(i);
-    oc.tvec[i] = t.at<double>(i);
+    oc.rvec[i] = r[static_cast<std::size_t>(i)];
+    oc.tvec[i] = t[static_cast<std::size_t>(i)];
   }
-  if (const cv::FileNode n = fs["fit_max_error_px"]; n.isReal()) oc.fit_max_px = static_cast<double>(n);
-  if (const cv::FileNode n = fs["fit_rms_error_px"]; n.isReal()) oc.fit_rms_px = static_cast<double>(n);
-  if (const cv::FileNode n = fs["fit_points"]; n.isInt()) oc.fit_points = static_cast<int>(n);
-  if (const cv::FileNode n = fs["undistort_points_max_error_px"]; n.isReal())
-    oc.undistort_max_px = static_cast<double>(n);
-  if (const cv::FileNode n = fs["undistort_points_rms_error_px"]; n.isReal())
-    oc.undistort_rms_px = static_cast<double>(n);
-  if (const cv::FileNode n = fs["undistort_points_iterations"]; n.isInt())
-    oc.undistort_iterations = static_cast<int>(n);
+  read_optional_real(doc, "fit_max_error_px", &oc.fit_max_px);
+  read_optional_real(doc, "fit_rms_error_px", &oc.fit_rms_px);
+  read_optional_int(doc, "fit_points", &oc.fit_points);
+  read_optional_real(doc, "undistort_points_max_error_px", &oc.undistort_max_px);
+  read_optional_real(doc, "undistort_points_rms_error_px", &oc.undistort_rms_px);
+  read_optional_int(doc, "undistort_points_iterations", &oc.undistort_iterations);
   return oc;
 }
 

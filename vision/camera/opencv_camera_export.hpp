@@ -65,8 +65,10 @@ std::string opencv_camera_yml_text(const OpenCvCamera& oc);
 /// Writes camera_opencv.yml atomically.
 void write_opencv_camera_yml(const std::string& path, const OpenCvCamera& oc);
 
-/// Reads a camera_opencv.yml (as written above). Throws rangecal::Error (input) naming the file
-/// and key when it is missing or malformed.
+/// Reads a camera_opencv.yml (as written above, or any OpenCV YAML file with these keys) with
+/// rangecal's own reader of OpenCV's YAML (config/opencv_yaml.hpp), never cv::FileStorage, whose
+/// parser can hang on a damaged file. Throws rangecal::Error (input) naming the file, line and key
+/// when a key is missing or malformed.
 OpenCvCamera read_opencv_camera_yml(const std::string& path);
 
 }  // namespace rangecal

@@ -127,6 +127,13 @@ void check_camera(const Camera& cam) {
   EXPECT_EQ(mine.fit_points, oc.fit_points);
   EXPECT_EQ(mine.undistort_max_px, oc.undistort_max_px);
   EXPECT_EQ(mine.undistort_iterations, 5);
+  EXPECT_EQ(mine.image_width, cam.intr.width_px);
+  EXPECT_EQ(mine.image_height, cam.intr.height_px);
+  EXPECT_TRUE(mine.rvec == back.rvec);
+  EXPECT_TRUE(mine.tvec == back.tvec);
+  EXPECT_EQ(mine.fit_max_px, oc.fit_max_px);
+  EXPECT_EQ(mine.fit_rms_px, oc.fit_rms_px);
+  EXPECT_EQ(mine.undistort_rms_px, oc.undistort_rms_px);
   // project_opencv evaluates the same model as cv::projectPoints.
   for (const auto& p : points_over_image(cam)) {
     Eigen::Vector2d uv;
@@ -262,8 +269,8 @@ TEST(OpenCvCameraExport, InvalidCameraIsACalibrationError) {
   }
 }
 
-// Bad files: each error names the file and the key.
-void expect_read_error(const std::string& name, const std::string& text, const std::string& key) {
+// Bad files: each error names the file, the line and the key.
+void expect_read_error(const std::string& name, const std::string& text, const std::string& key, long line) {
   const auto path = (test::scratch_dir("opencv_bad_" + name) / "camera_opencv.yml").string();
   test::write_text(path, text);
   try {
@@ -273,6 +280,7 @@ void expect_read_error(const std::string& name, const std::string& text, const s
     EXPECT_EQ(e.kind(), ErrorKind::input);
     EXPECT_EQ(e.file(), path);
     EXPECT_EQ(e.field(), key) << e.what();
+    EXPECT_EQ(e.line(), line) << e.what();
   }
 }
 
@@ -286,35 +294,46 @@ TEST(OpenCvCameraExport, BadFilesNameFileAndKey) {
     if (s.substr(i, end - i).find("!!opencv-matrix") != std::string::npos) end = s.find("]", i) + 1;
     return s.erase(i, s.find("\n", end) + 1 - i);
   };
-  expect_read_error("no_camera_matrix", without("camera_matrix"), "camera_matrix");
-  expect_read_error("no_tvec", without("tvec"), "tvec");
-  expect_read_error("no_width", without("image_width"), "image_width");
+  expect_read_error("no_camera_matrix", without("camera_matrix"), "camera_matrix", 0);
+  expect_read_error("no_tvec", without("tvec"), "tvec", 0);
+  expect_read_error("no_width", without("image_width"), "image_width", 0);
   std::string small = good;
   small.replace(small.find("image_height: 1080"), 18, "image_height: -3");
-  expect_read_error("neg_height", small, "image_height");
+  expect_read_error("neg_height", small, "image_height", 4);
   std::string bad_d = good;
   const auto di = bad_d.find("distortion_coefficients");
   bad_d.replace(bad_d.find("cols: 5", di), 7, "cols: 3");
   const auto data = bad_d.find("data: [", di);
   bad_d.replace(data, bad_d.find("]", data) - data + 1, "data: [ 0., 0., 0. ]");
-  expect_read_error("three_coefficients", bad_d, "distortion_coefficients");
+  expect_read_error("three_coefficients", bad_d, "distortion_coefficients", 11);
   // Found by fuzzing (docs/reliability.md "Fuzzing"): OpenCV allocated rows × cols as written
   // before reading the data (gigabytes from a one-character edit); the shape is checked first.
   std::string huge = good;
   const auto ki = huge.find("camera_matrix");
   huge.replace(huge.find("rows: 3", ki), 7, "rows: 999999999");
-  expect_read_error("huge_rows", huge, "camera_matrix");
+  expect_read_error("huge_rows", huge, "camera_matrix", 9);
   std::string broken = good;
   broken.replace(broken.find("rows: 3", ki), 7, "rows:$3");
-  expect_read_error("broken_rows", broken, "camera_matrix");
+  expect_read_error("broken_rows", broken, "camera_matrix", 6);
   // Found by fuzzing: a top level that is a list made OpenCV's key lookup throw cv::Exception.
-  expect_read_error("top_level_list", "%YAML:1.0\n- 1\n- 2\n", "");
-  expect_read_error("top_level_list_fuzz", "%YAML:1.0\n-%YAML-", "");
-  // Found by fuzzing: a damaged line made OpenCV's YAML parser throw std::length_error.
-  expect_read_error(
-      "length_error",
-      test::read_text(test::source_dir() / "tests/fuzz/seeds/opencv_camera_yml/regress_length_error.yml"),
-      "");
+  expect_read_error("top_level_list", "%YAML:1.0\n- 1\n- 2\n", "", 2);
+  expect_read_error("top_level_list_fuzz", "%YAML:1.0\n-%YAML-", "", 2);
+  // Found by fuzzing: a damaged file (a line ":dt", bytes that are not UTF-8) made OpenCV's YAML
+  // parser throw std::length_error, and a damaged document start ("---YAML:1.0", then "\xE2---")
+  // made it loop forever. The files are read by rangecal's own reader (config/opencv_yaml.hpp),
+  // which checks the text first and names the line.
+  const auto seed = [](const char* name) {
+    return test::read_text(test::source_dir() / "tests/fuzz/seeds/opencv_camera_yml" / name);
+  };
+  expect_read_error("length_error", seed("regress_length_error.yml"), "", 9);
+  std::string length_error_text = seed("regress_length_error.yml");
+  for (char& c : length_error_text)
+    if (static_cast<unsigned char>(c) >= 0x80) c = '7';
+  expect_read_error("length_error_text", length_error_text, "camera_matrix", 8);
+  expect_read_error("hang_document_start", seed("regress_hang_document_start.yml"), "", 4);
+  expect_read_error("hang_document_start_text", "%YAML:1.0\n---YAML:1.0\nx---\n", "", 2);
+  // XML and JSON FileStorage files are named as such (the reader takes YAML only).
+  expect_read_error("xml", "<?xml version=\"1.0\"?>\n<opencv_storage>\n</opencv_storage>\n", "", 1);
   const auto missing = (test::scratch_dir("opencv_missing") / "nope.yml").string();
   try {
     read_opencv_camera_yml(missing);
