@@ -39,6 +39,7 @@ bool parse_opencv_yaml_real(std::string_view s, double* value) {
 namespace {
 
 constexpr std::string_view kMatrixTag = "!!opencv-matrix";
+constexpr std::size_t kMaxKeyLength = 256;  // keeps keys quotable in messages
 
 bool is_blank(char c) {
   return c == ' ' || c == '\t';
@@ -100,9 +101,12 @@ class Parser {
     std::unordered_map<std::string, long> seen;
     Line l;
     while (next_content(&l)) {
-      if (l.indent > 0) fail(l.number, "", "an indented line where a top-level 'key: value' was expected");
-      if (starts_with(l.body, "---") || starts_with(l.body, "..."))
-        fail(l.number, "", "a second document marker ('---' or '...'); one document per file is read");
+      if (l.indent > 0)
+        fail(l.number, doc.entries.empty() ? "" : doc.entries.back().key,
+             "an indented line where a top-level 'key: value' was expected");
+      // The first document is the one read, as cv::FileStorage's operator[] reads it; a file written
+      // with FileStorage::APPEND continues with "...", "---" and another document.
+      if (without_comment(l.body) == "..." || without_comment(l.body) == "---") break;
       if (l.body.front() == '-')
         fail(l.number, "", "the top level is a list, not a map of keys (image_width, camera_matrix, ...)");
       if (doc.entries.size() == kOpenCvYamlMaxEntries)
@@ -135,24 +139,24 @@ class Parser {
 
   // Control bytes (other than tab, and CR before LF) and bytes outside UTF-8 are refused up front,
   // so that every later message can quote the text.
+  // Whichever comes first is reported.
   void check_text() const {
+    const std::size_t not_utf8 = first_invalid_utf8(t_).value_or(t_.size());
     long line = 1;
+    std::size_t line_start = 0;
     for (std::size_t i = 0; i < t_.size(); ++i) {
       const auto c = static_cast<unsigned char>(t_[i]);
+      if (i == not_utf8)  // the whole line, so that the column is right
+        require_utf8(t_.substr(line_start, t_.find('\n', i) - line_start), file_, line, "");
       if (c == '\n') {
         ++line;
+        line_start = i + 1;
       } else if ((c < 0x20 && c != '\t' && !(c == '\r' && i + 1 < t_.size() && t_[i + 1] == '\n')) ||
                  c == 0x7F) {
         char b[8];
         std::snprintf(b, sizeof b, "0x%02X", c);
         fail(line, "", std::string("control byte ") + b + " (not a text file)");
       }
-    }
-    if (const auto bad = first_invalid_utf8(t_)) {  // the whole line, so that the column is right
-      const std::size_t start = t_.rfind('\n', *bad) == std::string_view::npos ? 0 : t_.rfind('\n', *bad) + 1;
-      const long at =
-          1 + static_cast<long>(std::count(t_.begin(), t_.begin() + static_cast<long>(start), '\n'));
-      require_utf8(t_.substr(start, t_.find('\n', *bad) - start), file_, at, "");
     }
   }
 
@@ -231,8 +235,14 @@ class Parser {
     if (!is_key_start(b.front()))
       fail(l.number, field,
            "expected 'key: value', got '" + printable_excerpt(b) + "' (a key starts with a letter or '_')");
+    // cv::FileStorage's writer allows letters, digits, '_', '-' and ' ' in a key.
     std::size_t k = 1;
-    while (k < b.size() && is_key_char(b[k])) ++k;
+    while (k < b.size() && (is_key_char(b[k]) || b[k] == ' ')) ++k;
+    while (b[k - 1] == ' ') --k;
+    if (k > kMaxKeyLength)
+      fail(l.number, field,
+           "a key of more than " + std::to_string(kMaxKeyLength) + " characters: '" + printable_excerpt(b) +
+               "'");
     const std::string key(b.substr(0, k));
     const std::string& f = field.empty() ? key : field;
     std::size_t c = k;
@@ -259,6 +269,10 @@ class Parser {
       const std::size_t blank = value.find_first_of(" \t");
       value = blank == std::string_view::npos ? std::string_view() : trim(value.substr(blank));
     }
+    if (value.empty() && untagged_matrix_follows()) {  // cv::FileNode >> Mat does not need the tag
+      matrix(&e);
+      return e;
+    }
     if (value.empty() || value.front() == '|' || value.front() == '>') {  // a nested block, a block scalar
       skip_block();
       return e;
@@ -274,6 +288,36 @@ class Parser {
       fail(next.number, e.key,
            "an indented line after the value of '" + e.key + "' (line " + std::to_string(e.line) + ")");
     return e;
+  }
+
+  // Whether the nested block that follows is a matrix without its tag: its keys (the lines at the
+  // block's own indentation) are only rows, cols, dt and data, with dt and data among them. The
+  // lines are looked at, not consumed.
+  bool untagged_matrix_follows() const {
+    bool dt = false, data = false;
+    std::size_t indent = 0;
+    for (std::size_t at = pos_; at < t_.size();) {
+      std::size_t end = t_.find('\n', at);
+      if (end == std::string_view::npos) end = t_.size();
+      std::string_view s = t_.substr(at, end - at);
+      at = end + 1;
+      std::size_t i = 0;
+      while (i < s.size() && is_blank(s[i])) ++i;
+      s.remove_prefix(i);
+      if (trim(s).empty() || s.front() == '#') continue;
+      if (i == 0) break;
+      if (indent == 0) indent = i;
+      if (i != indent) continue;  // a continuation line of the data list
+      bool known = false;
+      for (const std::string_view k : {"rows", "cols", "dt", "data"})
+        if (starts_with(s, k) && s.size() > k.size() && (s[k.size()] == ':' || is_blank(s[k.size()]))) {
+          known = true;
+          dt = dt || k == "dt";
+          data = data || k == "data";
+        }
+      if (!known) return false;
+    }
+    return dt && data;
   }
 
   // The lines of a nested map or list: indented, or list items at column 0 (YAML's compact form).
@@ -346,8 +390,9 @@ class Parser {
           ++i;
         else if (c == quote)
           quote = 0;
-      } else if (c == '"' || c == '\'') {
-        quote = c;
+      } else if ((c == '"' || c == '\'') && (is_space(t_[i - 1]) || t_[i - 1] == '[' || t_[i - 1] == '{' ||
+                                             t_[i - 1] == ',' || t_[i - 1] == ':')) {
+        quote = c;  // a quote opens only where a value starts (an apostrophe inside a word does not)
       } else if (c == '#' && is_space(t_[i - 1])) {
         while (i + 1 < t_.size() && t_[i + 1] != '\n') ++i;
       } else if (c == '[' || c == '{') {
@@ -425,7 +470,7 @@ class Parser {
         fail(ln, e->key, "data: a nested list; a matrix's data is a flat list of numbers");
       } else if (item != 0 && item_end != i) {
         fail(ln, e->key,
-             "data: expected ',' between values, got '" + printable_excerpt(t_.substr(item, 20)) + "'");
+             "data: expected ',' between values, got '" + printable_excerpt(t_.substr(i, 20)) + "'");
       } else {
         if (item == 0) item = i, item_line = ln;
         item_end = i + 1;
@@ -453,13 +498,17 @@ class Parser {
       have[which] = true;
       if (which <= 1) {
         const auto n = parse_int64(v);
-        if (!n || *n < 1 || *n > std::numeric_limits<int>::max())
+        if (!n || *n < 0 || *n > std::numeric_limits<int>::max())  // 0 × 0: an empty cv::Mat
           fail(l.number, e->key,
-               std::string(k) + ": '" + printable_excerpt(v) + "' is not a positive integer");
+               std::string(k) + ": '" + printable_excerpt(v) + "' is not a non-negative integer");
         (which == 0 ? e->rows : e->cols) = static_cast<int>(*n);
       } else if (which == 2) {
         element_type(v, l.number, e);
       } else {
+        if (starts_with(v, "!!binary"))
+          fail(
+              l.number, e->key,
+              "data in base64 (written with FileStorage::BASE64) is not read; write the file without BASE64");
         if (v.empty() || v.front() != '[')
           fail(l.number, e->key,
                "data: expected a list '[ ... ]' of numbers, got '" + printable_excerpt(v) + "'");

@@ -2,26 +2,30 @@
 // OpenCV's FileStorage YAML ("%YAML:1.0"), the form cv::FileStorage writes, read without OpenCV's
 // own parser. OpenCV 4.6's parser (Debian 12) is not safe on damaged files: it loops forever on a
 // damaged document start ("---YAML:1.0" followed by a line like "x---"), recurses once per nesting
-// level without limit (a stack overflow, which no exception handler catches), throws
-// std::length_error on some damaged lines, and names no line in its messages (docs/reliability.md
-// "Fuzzing"). This reader is one pass over the text, without recursion: every input ends, in
-// linear time, in a document or in a rangecal::Error (input) naming the file, the 1-based line and
-// the top-level key.
+// level without limit (a stack overflow, which no exception handler catches) and throws
+// std::length_error on some damaged lines (docs/reliability.md "Fuzzing"); its messages carry the
+// line only inside their text. This reader is one pass over the text, without recursion: every
+// input ends, in linear time, in a document or in a rangecal::Error (input) naming the file, the
+// 1-based line and the top-level key.
 //
 // Read, as cv::FileStorage writes them:
 //   - an optional directive "%YAML:1.x" (or "%YAML 1.x") and an optional document start "---",
 //     each alone on its line;
 //   - a block map at column 0 of `key: value` entries (a key is a letter or '_' followed by
-//     letters, digits, '_' or '-'; each key once);
-//   - values: a scalar on the key's line (plain, or quoted with "..." or '...'); an
-//     `!!opencv-matrix` whose indented block holds rows, cols, dt and `data: [ ... ]` (the list may
-//     run over several lines; .Inf, -.Inf and .Nan are read as OpenCV writes them); anything else
-//     (a nested map or list, a flow collection, another tag) is kept as kind `other`, its lines
+//     letters, digits, '_', '-' or blanks, at most 256 characters; each key once);
+//   - values: a scalar on the key's line (plain, or quoted with "..." or '...'); a matrix: an
+//     `!!opencv-matrix` (or an untagged map, which cv::FileNode >> Mat reads too) whose indented
+//     block holds rows, cols, dt and `data: [ ... ]` (the list may run over several lines; .Inf,
+//     -.Inf and .Nan are read as OpenCV writes them; 0 × 0 with [] is an empty matrix); anything
+//     else (a nested map or list, a flow collection, another tag) is kept as kind `other`, its lines
 //     skipped by indentation or by bracket balance;
-//   - blank lines, comment lines ('#'), CRLF line ends, a UTF-8 byte-order mark.
+//   - blank lines, comment lines ('#'), CRLF line ends, a UTF-8 byte-order mark;
+//   - the first document only, as cv::FileStorage's operator[] reads it: a "..." or "---" line
+//     ends it (FileStorage::APPEND adds further documents after them).
 // Refused: XML and JSON FileStorage files (the first character says which), control bytes, text
-// that is not UTF-8, a second document, a top level that is a list, an unclosed '[' or '{', more
-// than kOpenCvYamlMaxEntries keys, and files larger than kOpenCvYamlMaxBytes.
+// that is not UTF-8, a top level that is a list, an unclosed '[' or '{', a matrix whose data is in
+// base64 (FileStorage::BASE64), more than kOpenCvYamlMaxEntries keys, and files larger than
+// kOpenCvYamlMaxBytes (gzip-compressed files, which cv::FileStorage also reads, are not text).
 #include <cstddef>
 #include <string>
 #include <string_view>

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdio>
+#include <limits>
 
 namespace rangecal {
 namespace {
@@ -106,6 +107,11 @@ std::optional<std::int64_t> parse_decimal_seconds_ns(std::string_view t) {
     }
   }
   if (i != t.size() || (nwhole == 0 && nfrac == 0)) return std::nullopt;
+  // Up to 12 digits fit the accumulator, but whole · 10⁹ + frac must fit an int64 too (~292 years
+  // of seconds); anything larger is no time of day or of week.
+  constexpr std::int64_t kMaxWholeSeconds =
+      (std::numeric_limits<std::int64_t>::max() - 999999999) / kNsPerSecond;
+  if (whole > kMaxWholeSeconds) return std::nullopt;
   for (int k = nfrac; k < 9; ++k) frac *= 10;
   const std::int64_t ns = whole * kNsPerSecond + frac;
   return neg ? -ns : ns;

@@ -66,7 +66,7 @@ std::optional<UtcTime> parse_iso8601_utc(std::string_view text, std::string* why
 std::string format_iso8601_utc(UtcTime t, int digits = 9);
 
 /// Parses a decimal number of seconds exactly into ns ("217331.000" → 217331000000000), up to 9
-/// fraction digits; nullopt when not a plain decimal.
+/// fraction digits; nullopt when not a plain decimal or beyond an int64 of ns (~292 years).
 std::optional<std::int64_t> parse_decimal_seconds_ns(std::string_view text);
 
 /// GPS−UTC in whole seconds at a UTC instant (0 before 1981-07-01, 18 since 2017-01-01).

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <opencv2/core.hpp>
@@ -21,8 +22,8 @@ namespace {
 
 using Kind = OpenCvYamlEntry::Kind;
 
-// Bitwise equality, so that -0 differs from 0; any NaN equals any NaN (OpenCV reads .Nan with the
-// sign bit set).
+// Bitwise equality (denormals included); any NaN equals any NaN (OpenCV reads .Nan with the sign
+// bit set).
 bool same_bits(double a, double b) {
   return (std::isnan(a) && std::isnan(b)) || std::memcmp(&a, &b, sizeof a) == 0;
 }
@@ -84,6 +85,8 @@ std::string rich_file(std::vector<std::pair<std::string, cv::Mat>>* matrices) {
   fs << "aspect_ratio" << 1.0;
   fs << "avg_reprojection_error" << 0.123456789012345678;
   fs << "flags" << -7;
+  fs << "key with blanks" << 3;
+  fs << "empty_matrix" << cv::Mat();
   for (const auto& [key, m] : *matrices) fs << key << m;
   fs << "view_counts" << std::vector<int>{54, 54, 48, 54, 50, 54, 54, 54, 54, 54, 54, 54, 54, 54, 54, 54};
   fs << "grid"
@@ -115,7 +118,7 @@ TEST(OpenCvYaml, ReadsWhatFileStorageWritesToTheValuesFileStorageReads) {
   for (const cv::FileNode& n : fs.root()) theirs.push_back(n.name());
   EXPECT_EQ(keys, theirs);
 
-  for (const char* key : {"nframes", "image_width", "image_height", "flags"}) {
+  for (const char* key : {"nframes", "image_width", "image_height", "flags", "key with blanks"}) {
     const OpenCvYamlEntry* e = doc.find(key);
     ASSERT_NE(e, nullptr) << key;
     ASSERT_EQ(e->kind, Kind::scalar) << key;
@@ -156,13 +159,17 @@ TEST(OpenCvYaml, ReadsWhatFileStorageWritesToTheValuesFileStorageReads) {
     }
     EXPECT_GT(e->data_line, e->line) << key;
   }
-  // The long list wraps over many lines; lines are counted through it.
-  const OpenCvYamlEntry* ext = doc.find("extrinsic_parameters");
-  const OpenCvYamlEntry* after = doc.find("image_points");
-  long newlines = 0;
-  for (std::size_t i = text.find("extrinsic_parameters"); i < text.find("image_points"); ++i)
-    newlines += text[i] == '\n';
-  EXPECT_EQ(after->line - ext->line, newlines);
+  const OpenCvYamlEntry* empty = doc.find("empty_matrix");
+  EXPECT_EQ(empty->kind, Kind::matrix);
+  EXPECT_EQ(empty->rows * empty->cols, 0);
+  EXPECT_TRUE(empty->data.empty());
+  // Every key's line, counted independently: lines are counted through the wrapped data lists,
+  // the flow list, the nested map and the list of maps.
+  for (const OpenCvYamlEntry& e : doc.entries) {
+    const std::size_t at = text.find("\n" + e.key + ":");
+    ASSERT_NE(at, std::string::npos) << e.key;
+    EXPECT_EQ(e.line, 2 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) << e.key;
+  }
 }
 
 TEST(OpenCvYaml, CrlfByteOrderMarkCommentsAndBlankLinesReadTheSame) {
@@ -229,6 +236,60 @@ TEST(OpenCvYaml, DeepNestingAndLongListsAreReadWithoutRecursion) {
   EXPECT_NE(std::string(e.what()).find("top-level keys"), std::string::npos) << e.what();
 }
 
+// Forms that people write by hand, or that other FileStorage modes produce.
+TEST(OpenCvYaml, HandWrittenFormsReadAsCvFileStorageReadsThem) {
+  const std::string text =
+      "%YAML:1.0\n---\n"
+      "K:\n   rows: 1\n   cols: 2\n   dt: d\n   data: [ 1.5, -2. ]\n"  // an untagged matrix
+      "words: [ don't, \"x, y\" ]\n"                                   // an apostrophe in a word
+      "escaped: \"tab\\there, \\\"quoted\\\"\"\n"
+      "after: 7 # a comment\n";
+  const OpenCvYamlDocument doc = parse_opencv_yaml(text, "hand.yml");
+  cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  ASSERT_TRUE(fs.isOpened());
+  const OpenCvYamlEntry* k = doc.find("K");
+  ASSERT_EQ(k->kind, Kind::matrix);
+  cv::Mat theirs;
+  fs["K"] >> theirs;
+  ASSERT_EQ(theirs.total(), 2u);
+  EXPECT_EQ(k->data, (std::vector<double>{theirs.at<double>(0), theirs.at<double>(1)}));
+  EXPECT_EQ(doc.find("words")->kind, Kind::other);
+  EXPECT_EQ(doc.find("escaped")->scalar, "tab\there, \"quoted\"");
+  EXPECT_EQ(doc.find("escaped")->scalar, static_cast<std::string>(fs["escaped"]));
+  EXPECT_EQ(doc.find("after")->scalar, "7");
+  EXPECT_EQ(doc.find("after")->line, 10);
+  EXPECT_EQ(static_cast<int>(fs["after"]), 7);
+  // YAML's compact list at column 0 and block scalars, which cv::FileStorage refuses ("Incorrect
+  // indentation", "Multi-line text literals are not supported"), are skipped.
+  const OpenCvYamlDocument yaml = parse_opencv_yaml(
+      "list:\n- 1\n- 2\ntext: |\n   line one\n   line two\nafter: 3\nhex: \"\\x41\"\n", "yaml.yml");
+  EXPECT_EQ(yaml.find("list")->kind, Kind::other);
+  EXPECT_EQ(yaml.find("text")->kind, Kind::other);
+  EXPECT_EQ(yaml.find("after")->line, 7);
+  EXPECT_EQ(yaml.find("hex")->scalar, "A");
+}
+
+// FileStorage::APPEND adds a second document; the first is read, as cv::FileStorage's
+// operator[] reads it.
+TEST(OpenCvYaml, AppendedDocumentsAfterTheFirstAreNotRead) {
+  const auto path = (test::scratch_dir("opencv_yaml_append") / "appended.yml").string();
+  {
+    cv::FileStorage w(path, cv::FileStorage::WRITE);
+    w << "first" << 1;
+  }
+  {
+    cv::FileStorage a(path, cv::FileStorage::APPEND);
+    a << "second" << 2;
+  }
+  const OpenCvYamlDocument doc = read_opencv_yaml_file(path);
+  cv::FileStorage fs(path, cv::FileStorage::READ);
+  std::vector<std::string> theirs, mine;
+  for (const cv::FileNode& n : fs.getFirstTopLevelNode()) theirs.push_back(n.name());
+  for (const auto& e : doc.entries) mine.push_back(e.key);
+  EXPECT_EQ(mine, theirs);
+  EXPECT_EQ(mine, std::vector<std::string>{"first"}) << test::read_text(path);
+}
+
 struct Damaged {
   const char* name;
   std::string text;
@@ -242,8 +303,8 @@ const std::string kMatrixHead = "%YAML:1.0\n---\nK: !!opencv-matrix\n   rows: 1\
 TEST(OpenCvYaml, DamagedFilesEndInAnErrorNamingLineAndKey) {
   const std::vector<Damaged> cases = {
       // OpenCV 4.6's FileStorage loops forever on these two (found by fuzz_opencv_camera_yml).
-      {"hang_fuzz_reproducer", "%YAML:1.0\n---YAML:1.0\n\xE2---\nimage_wid7777\x04", 4, "",
-       "control byte 0x04"},
+      {"hang_fuzz_reproducer", "%YAML:1.0\n---YAML:1.0\n\xE2---\nimage_wid7777\x04", 3, "",
+       "byte 0xE2 at column 1 is not UTF-8"},
       {"hang_document_start", "%YAML:1.0\n---YAML:1.0\nx---\n", 2, "", "after the document start"},
       {"empty", "", 0, "", "empty"},
       {"only_comments", "%YAML:1.0\n---\n# nothing\n\n", 0, "", "empty"},
@@ -251,10 +312,9 @@ TEST(OpenCvYaml, DamagedFilesEndInAnErrorNamingLineAndKey) {
       {"json", "{\n  \"image_width\": 1280\n}\n", 1, "", "JSON"},
       {"yaml_2", "%YAML:2.0\n---\na: 1\n", 1, "", "unsupported directive"},
       {"top_level_list", "%YAML:1.0\n- 1\n- 2\n", 2, "", "list"},
-      {"second_document", "%YAML:1.0\n---\na: 1\n---\nb: 2\n", 4, "", "second document"},
       {"indented_first", "%YAML:1.0\n---\n   a: 1\n", 3, "", "indented"},
       {"not_a_key", "%YAML:1.0\n---\n1a: 2\n", 3, "", "a key starts with"},
-      {"no_colon", "%YAML:1.0\n---\nimage_width 1280\n", 3, "image_width", "expected ':'"},
+      {"no_colon", "%YAML:1.0\n---\nimage_width 1280\n", 3, "image_width 1280", "expected ':'"},
       {"no_blank", "%YAML:1.0\n---\nimage_width:1280\n", 3, "image_width", "blank after"},
       {"twice", "%YAML:1.0\n---\na: 1\nb: 2\na: 3\n", 5, "a", "lines 3 and 5"},
       {"indented_after_scalar", "%YAML:1.0\n---\na: 1\n   b: 2\n", 4, "a", "indented line after"},
@@ -274,9 +334,15 @@ TEST(OpenCvYaml, DamagedFilesEndInAnErrorNamingLineAndKey) {
        7, "K", "999999999 × 3 × 1"},
       {"matrix_rows_typo", "%YAML:1.0\n---\nK: !!opencv-matrix\n   rows:$3\n", 4, "K", "blank after 'rows:'"},
       {"matrix_rows_text", "%YAML:1.0\n---\nK: !!opencv-matrix\n   rows: three\n", 4, "K",
-       "not a positive integer"},
-      {"matrix_rows_zero", "%YAML:1.0\n---\nK: !!opencv-matrix\n   rows: 0\n", 4, "K",
-       "not a positive integer"},
+       "not a non-negative integer"},
+      {"matrix_rows_negative", "%YAML:1.0\n---\nK: !!opencv-matrix\n   rows: -1\n", 4, "K",
+       "not a non-negative integer"},
+      {"matrix_base64", kMatrixHead + "   data: !!binary |\n      AAAA\n", 7, "K", "base64"},
+      {"indented_after_matrix", kMatrixHead + "   data: [ 1., 2., 3. ]\nb: 1\n   c: 2\n", 9, "b",
+       "indented line after"},
+      {"indented_after_flow", "%YAML:1.0\n---\na: [ 1 ]\n   c: 2\n", 4, "a", "indented line"},
+      {"key_too_long", "%YAML:1.0\n---\n" + std::string(300, 'k') + ": 1\n", 3, "", "more than 256"},
+      {"first_bad_byte_first", "%YAML:1.0\n---\na: \xFF\nb: \x01\n", 3, "", "not UTF-8"},
       {"matrix_dt", "%YAML:1.0\n---\nK: !!opencv-matrix\n   dt: q\n", 4, "K", "not an OpenCV element type"},
       {"matrix_dt_channels", "%YAML:1.0\n---\nK: !!opencv-matrix\n   dt: 999d\n", 4, "K",
        "not an OpenCV element type"},

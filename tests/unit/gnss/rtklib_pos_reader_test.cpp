@@ -363,6 +363,15 @@ TEST(RtklibPosReaderBadInput, YearOrWeekOutsideTheRepresentableRangeIsAnError) {
     EXPECT_EQ(e.line(), 12);
     EXPECT_EQ(e.field(), "GPST (date or week)");
   }
+  // A time of week whose ns overflow an int64 (UBSan, found by fuzz_rtklib_pos with CI's seed).
+  for (const char* tow : {"21733217331.0", "9223372036.000"}) {
+    std::string l1 = text.substr(pos, text.find('\n', pos) + 1 - pos);
+    const std::size_t start = l1.find_first_not_of(' ', l1.find(' '));
+    l1.replace(start, l1.find(' ', start) - start, tow);
+    const Error e = expect_error(text.substr(0, pos) + l1, std::string("tow") + tow);
+    EXPECT_EQ(e.line(), 12);
+    EXPECT_NE(e.reason().find("time of week"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -81,6 +81,11 @@ TEST(UtcTime, DecimalSecondsAreExact) {
   EXPECT_FALSE(parse_decimal_seconds_ns("1e3"));
   EXPECT_FALSE(parse_decimal_seconds_ns(""));
   EXPECT_FALSE(parse_decimal_seconds_ns("0.0000000001"));
+  // Found by fuzz_rtklib_pos (UBSan: signed overflow): whole seconds whose ns overflow an int64.
+  EXPECT_EQ(*parse_decimal_seconds_ns("9223372035.999999999"), 9223372035999999999);
+  EXPECT_FALSE(parse_decimal_seconds_ns("9223372036"));
+  EXPECT_FALSE(parse_decimal_seconds_ns("21733217331.0"));
+  EXPECT_FALSE(parse_decimal_seconds_ns("-999999999999"));
 }
 
 }  // namespace
