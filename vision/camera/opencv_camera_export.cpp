@@ -127,13 +127,13 @@ void write_opencv_camera_yml(const std::string& path, const OpenCvCamera& oc) {
 
 namespace {
 
-// The values of the !!opencv-matrix `key`, which must hold one of `counts` single-channel elements.
+// The values of the matrix `key`, which must hold one of `counts` single-channel elements.
 std::vector<double> matrix_values(const OpenCvYamlDocument& doc, const char* key,
                                   std::initializer_list<std::size_t> counts, const std::string& form) {
   const OpenCvYamlEntry* e = doc.find(key);
   if (!e) throw_input_error(doc.file, 0, key, "missing; expected " + form);
   if (e->kind != OpenCvYamlEntry::Kind::matrix)
-    throw_input_error(doc.file, e->line, key, "not an !!opencv-matrix; expected " + form);
+    throw_input_error(doc.file, e->line, key, "not a matrix (rows, cols, dt, data); expected " + form);
   if (e->channels != 1)
     throw_input_error(doc.file, e->line, key,
                       "has " + std::to_string(e->channels) + " channels per element; expected " + form);
