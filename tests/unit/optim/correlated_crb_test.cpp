@@ -3,12 +3,13 @@
 //   - the drawn errors (exact AR(1) recursion) have the modelled covariance Σ_PPK;
 //   - with white PPK errors the bound equals the network bundle's own a-priori covariance
 //     (optim/network: Schur complement, analytic Jacobians) on every camera parameter to 1e-3 —
-//     two computations that share only vision's project();
+//     two computations that share only the camera model (vision/camera/camera_model.hpp);
 //   - the measured mission's setting (two 100 mm cameras 45–80 m from five ascents, ~590 fixed
 //     epochs over ~140 s; white 0.3/0.5 cm + GM 0.8/1.4 cm, τ = 30 s): the calibration-only
 //     flight-volume intersection σ of the bound with 0 and 2 control poles and with the stations
 //     surveyed, of a white-noise network as it believes, and as it really is (sandwich);
-//   - a Monte Carlo of the white-noise network on correlated errors matches the sandwich.
+//   - a Monte Carlo of the white-noise network on correlated errors matches the sandwich (its
+//     whitened errors in the linear regime, its intersection error at the measured size).
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
