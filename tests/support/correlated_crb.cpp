@@ -134,7 +134,7 @@ std::vector<int> camera_offsets(const CrbNetwork& n, int* total) {
 }
 
 /// The Fisher information F of every parameter (cameras, epochs, poles) with the fixes' Σ_PPK⁻¹.
-MatrixXd information(const CrbNetwork& n, const PpkCovariance& ppk, const std::vector<int>& off, int P) {
+MatrixXd information(const CrbNetwork& n, const PpkJointCovariance& ppk, const std::vector<int>& off, int P) {
   const Eigen::Index ne = static_cast<Eigen::Index>(n.epochs.size());
   const Eigen::Index np = static_cast<Eigen::Index>(n.poles.size());
   if (ppk.information.rows() != 3 * ne || n.epoch_time_s.size() != n.epochs.size())
@@ -184,24 +184,24 @@ MatrixXd inverse_camera_columns(const MatrixXd& F, int P) {
 
 }  // namespace
 
-PpkErrorModel PpkErrorModel::as_white() const {
+GaussMarkovPpk GaussMarkovPpk::as_white() const {
   const Eigen::Vector3d s = total_sigma();
-  PpkErrorModel w;
+  GaussMarkovPpk w;
   w.white_h_m = s.x(), w.white_v_m = s.z();
   return w;
 }
 
-Eigen::Vector3d PpkErrorModel::total_sigma() const {
+Eigen::Vector3d GaussMarkovPpk::total_sigma() const {
   const double h = std::hypot(white_h_m, gm_h_m), v = std::hypot(white_v_m, gm_v_m);
   return {h, h, v};
 }
 
-PpkCovariance ppk_covariance(const std::vector<double>& t, const PpkErrorModel& m) {
+PpkJointCovariance ppk_joint_covariance(const std::vector<double>& t, const GaussMarkovPpk& m) {
   if (t.size() > kMaxCrbEpochs)
     refuse(std::to_string(t.size()) + " epochs: the dense Σ_PPK is limited to " +
            std::to_string(kMaxCrbEpochs));
   const Eigen::Index N = static_cast<Eigen::Index>(t.size());
-  PpkCovariance out;
+  PpkJointCovariance out;
   out.cov = MatrixXd::Zero(3 * N, 3 * N);
   out.information = MatrixXd::Zero(3 * N, 3 * N);
   // The axes are uncorrelated, so Σ_PPK⁻¹ is each axis's N × N block inverted (Cholesky) and put back
@@ -229,8 +229,8 @@ PpkCovariance ppk_covariance(const std::vector<double>& t, const PpkErrorModel& 
   return out;
 }
 
-std::vector<Eigen::Vector3d> draw_ppk_errors(const std::vector<double>& t, const PpkErrorModel& m,
-                                             DeterministicRandom* rng) {
+std::vector<Eigen::Vector3d> draw_correlated_ppk_errors(const std::vector<double>& t, const GaussMarkovPpk& m,
+                                                        DeterministicRandom* rng) {
   std::vector<Vector3d> e(t.size());
   Vector3d g = Vector3d::Zero();
   for (std::size_t k = 0; k < t.size(); ++k)
@@ -244,13 +244,13 @@ std::vector<Eigen::Vector3d> draw_ppk_errors(const std::vector<double>& t, const
   return e;
 }
 
-Eigen::VectorXd CameraCovariance::sigma(std::size_t c) const {
+Eigen::VectorXd CameraJointCovariance::sigma(std::size_t c) const {
   const int end = c + 1 < offset.size() ? offset[c + 1] : static_cast<int>(joint.rows());
   return joint.diagonal().segment(offset[c], end - offset[c]).cwiseSqrt();
 }
 
-CameraCovariance cramer_rao_bound(const CrbNetwork& n, const PpkCovariance& ppk) {
-  CameraCovariance out;
+CameraJointCovariance cramer_rao_bound(const CrbNetwork& n, const PpkJointCovariance& ppk) {
+  CameraJointCovariance out;
   int P = 0;
   out.offset = camera_offsets(n, &P);
   out.joint = inverse_camera_columns(information(n, ppk, out.offset, P), P).topRows(P);
@@ -258,9 +258,9 @@ CameraCovariance cramer_rao_bound(const CrbNetwork& n, const PpkCovariance& ppk)
   return out;
 }
 
-CameraCovariance sandwich_covariance(const CrbNetwork& n, const PpkCovariance& assumed,
-                                     const PpkCovariance& truth) {
-  CameraCovariance out;
+CameraJointCovariance sandwich_covariance(const CrbNetwork& n, const PpkJointCovariance& assumed,
+                                          const PpkJointCovariance& truth) {
+  CameraJointCovariance out;
   int P = 0;
   out.offset = camera_offsets(n, &P);
   const MatrixXd G = inverse_camera_columns(information(n, assumed, out.offset, P), P);
@@ -290,7 +290,7 @@ std::vector<Eigen::Vector3d> flight_volume(const CrbNetwork& n, int count, std::
   return out;
 }
 
-double intersection_sigma_m(const CrbNetwork& n, const CameraCovariance& cov,
+double intersection_sigma_m(const CrbNetwork& n, const CameraJointCovariance& cov,
                             const std::vector<Eigen::Vector3d>& points) {
   const Eigen::Index P = cov.joint.rows();
   double sum = 0;
@@ -384,7 +384,7 @@ std::vector<std::string> free_names(const std::vector<CameraParameter>& free) {
 
 }  // namespace
 
-NetworkInput network_input(const CrbNetwork& n, const PpkErrorModel& weights, const NetworkNoise& noise,
+NetworkInput network_input(const CrbNetwork& n, const GaussMarkovPpk& weights, const NetworkNoise& noise,
                            const std::vector<Camera>& start) {
   NetworkInput in;
   for (std::size_t c = 0; c < n.cameras.size(); ++c) {

@@ -72,36 +72,37 @@ struct CrbNetwork {
 
 /// PPK position error per ENU axis: white σ_w plus a first-order Gauss–Markov process σ_g, τ;
 /// horizontal (E, N) and vertical (U) separately. τ = 0: the GM part is white too.
-struct PpkErrorModel {
+struct GaussMarkovPpk {
   double white_h_m = 0, white_v_m = 0;
   double gm_h_m = 0, gm_v_m = 0;
   double tau_h_s = 0, tau_v_s = 0;
 
   /// What a white-noise network assumes: no correlation, σ² = σ_w² + σ_g² per axis.
-  PpkErrorModel as_white() const;
+  GaussMarkovPpk as_white() const;
   /// Total σ per axis (E, N, U).
   Eigen::Vector3d total_sigma() const;
 };
 
 /// Σ_PPK over all epochs (3N × 3N, epoch-major: E, N, U of epoch 0, then epoch 1, …) and its inverse.
-struct PpkCovariance {
+struct PpkJointCovariance {
   Eigen::MatrixXd cov;
   Eigen::MatrixXd information;  ///< Σ_PPK⁻¹ (Cholesky)
 };
 
 /// Σ_PPK at epoch times `t` (s) under `model` (see the file comment). Throws std::invalid_argument for
 /// more than kMaxCrbEpochs epochs or a Σ_PPK that is not positive definite.
-PpkCovariance ppk_covariance(const std::vector<double>& t, const PpkErrorModel& model);
+PpkJointCovariance ppk_joint_covariance(const std::vector<double>& t, const GaussMarkovPpk& model);
 
 /// One draw of the PPK errors at epoch times `t` (ENU m per epoch): white noise plus the exact
 /// discretisation of the GM process, g_k = φ_k·g_{k−1} + σ_g·√(1 − φ_k²)·n_k, φ_k = exp(−Δt_k/τ),
 /// g_0 = σ_g·n_0 (stationary for any spacing; correlated_ppk.md §2a).
-std::vector<Eigen::Vector3d> draw_ppk_errors(const std::vector<double>& t, const PpkErrorModel& model,
-                                             DeterministicRandom* rng);
+std::vector<Eigen::Vector3d> draw_correlated_ppk_errors(const std::vector<double>& t,
+                                                        const GaussMarkovPpk& model,
+                                                        DeterministicRandom* rng);
 
 /// A covariance of every camera's free parameters, cameras in order from offset[c] (each in its
 /// `free` order; rotations are w of R = exp([w]×)·R_true, as vision/camera/camera_parameters.hpp).
-struct CameraCovariance {
+struct CameraJointCovariance {
   Eigen::MatrixXd joint;
   std::vector<int> offset;
   /// σ of camera c's free parameters.
@@ -109,14 +110,14 @@ struct CameraCovariance {
 };
 
 /// The Cramér–Rao bound of the cameras' free parameters of `n` with the PPK errors `ppk` (the epochs'
-/// Σ_PPK; ppk_covariance of n.epoch_time_s). Throws std::invalid_argument for an unsupported free
+/// Σ_PPK; ppk_joint_covariance of n.epoch_time_s). Throws std::invalid_argument for an unsupported free
 /// parameter, a view out of range, a point behind its camera or a singular F.
-CameraCovariance cramer_rao_bound(const CrbNetwork& n, const PpkCovariance& ppk);
+CameraJointCovariance cramer_rao_bound(const CrbNetwork& n, const PpkJointCovariance& ppk);
 
 /// The actual covariance of the estimator that weights the fixes by `assumed` when their errors have
 /// covariance `truth` (the sandwich above). With assumed = truth it is the bound itself.
-CameraCovariance sandwich_covariance(const CrbNetwork& n, const PpkCovariance& assumed,
-                                     const PpkCovariance& truth);
+CameraJointCovariance sandwich_covariance(const CrbNetwork& n, const PpkJointCovariance& assumed,
+                                          const PpkJointCovariance& truth);
 
 /// Up to `count` points uniform in the box of the network's lamp epochs (fixed `seed`), each inside
 /// the image of ≥ 2 cameras: the flight volume (fewer when 100·count draws do not find enough).
@@ -124,7 +125,7 @@ std::vector<Eigen::Vector3d> flight_volume(const CrbNetwork& n, int count, std::
 
 /// Calibration-only intersection σ (m) over `points`: √(mean trace Σ_X) (see above) with the
 /// cameras' covariance `cov`.
-double intersection_sigma_m(const CrbNetwork& n, const CameraCovariance& cov,
+double intersection_sigma_m(const CrbNetwork& n, const CameraJointCovariance& cov,
                             const std::vector<Eigen::Vector3d>& points);
 
 /// The geometry of the setting measured on a real mission (docs/accuracy_analysis.md "Correlated
@@ -161,11 +162,11 @@ struct NetworkNoise {
   std::vector<Eigen::Vector3d> station_error;  ///< per camera
   std::vector<Eigen::Vector2d> pixel_noise;    ///< per view
 };
-NetworkInput network_input(const CrbNetwork& n, const PpkErrorModel& weights, const NetworkNoise& noise = {},
+NetworkInput network_input(const CrbNetwork& n, const GaussMarkovPpk& weights, const NetworkNoise& noise = {},
                            const std::vector<Camera>& start = {});
 
 /// Values of camera `c`'s free parameters of `cam` (rotations: the rotation vector of
-/// cam.R·truth.Rᵀ), to compare an estimate with the truth in CameraCovariance's coordinates.
+/// cam.R·truth.Rᵀ), to compare an estimate with the truth in CameraJointCovariance's coordinates.
 Eigen::VectorXd free_values(const CrbNetwork& n, std::size_t c, const Camera& cam);
 
 }  // namespace rangecal::test

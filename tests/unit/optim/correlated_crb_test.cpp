@@ -29,8 +29,8 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 
 /// The measured mission's PPK errors: white 0.3 / 0.5 cm, GM 0.8 / 1.4 cm (horizontal / vertical), τ = 30 s.
-PpkErrorModel measured_model() {
-  PpkErrorModel m;
+GaussMarkovPpk measured_model() {
+  GaussMarkovPpk m;
   m.white_h_m = 0.003, m.white_v_m = 0.005;
   m.gm_h_m = 0.008, m.gm_v_m = 0.014;
   m.tau_h_s = 30, m.tau_v_s = 30;
@@ -42,15 +42,15 @@ TEST(CorrelatedCrb, DrawnErrorsHaveTheModelledCovariance) {
   // correlation falls from 0.96 to 0.04 over the series.
   std::vector<double> t;
   for (int k = 0; k < 40; ++k) t.push_back(0.2 * k + (k >= 20 ? 12.0 : 0.0));
-  PpkErrorModel m = measured_model();
+  GaussMarkovPpk m = measured_model();
   m.tau_h_s = 5, m.tau_v_s = 5;
-  const PpkCovariance model = ppk_covariance(t, m);
+  const PpkJointCovariance model = ppk_joint_covariance(t, m);
   constexpr int kDraws = 10000;
   DeterministicRandom rng(11);
   const Eigen::Index n = 3 * static_cast<Eigen::Index>(t.size());
   MatrixXd S = MatrixXd::Zero(n, n);
   for (int d = 0; d < kDraws; ++d) {
-    const std::vector<Vector3d> e = draw_ppk_errors(t, m, &rng);
+    const std::vector<Vector3d> e = draw_correlated_ppk_errors(t, m, &rng);
     VectorXd v(n);
     for (std::size_t k = 0; k < t.size(); ++k) v.segment<3>(3 * static_cast<Eigen::Index>(k)) = e[k];
     S.noalias() += v * v.transpose();
@@ -76,8 +76,8 @@ TEST(CorrelatedCrb, DrawnErrorsHaveTheModelledCovariance) {
 
 /// The white bound of `n` against network_adjust's a-priori joint covariance on the noise-free network.
 void expect_network_equals_bound(const CrbNetwork& n, const char* what) {
-  const PpkErrorModel white = measured_model().as_white();
-  const CameraCovariance bound = cramer_rao_bound(n, ppk_covariance(n.epoch_time_s, white));
+  const GaussMarkovPpk white = measured_model().as_white();
+  const CameraJointCovariance bound = cramer_rao_bound(n, ppk_joint_covariance(n.epoch_time_s, white));
   // Start the network off the truth (f × 1.001, centre 3 cm, 0.2 mrad): the noise-free data bring it back.
   std::vector<Camera> start;
   for (const CrbCamera& c : n.cameras) {
@@ -138,10 +138,10 @@ struct SettingFigures {
 
 TEST(CorrelatedCrb, MeasuredMissionSetting) {
   const auto t0 = std::chrono::steady_clock::now();
-  const PpkErrorModel model = measured_model();
+  const GaussMarkovPpk model = measured_model();
   const CrbNetwork lamp_only = ascent_network();
-  const PpkCovariance truth = ppk_covariance(lamp_only.epoch_time_s, model);
-  const PpkCovariance white = ppk_covariance(lamp_only.epoch_time_s, model.as_white());
+  const PpkJointCovariance truth = ppk_joint_covariance(lamp_only.epoch_time_s, model);
+  const PpkJointCovariance white = ppk_joint_covariance(lamp_only.epoch_time_s, model.as_white());
   const std::vector<Vector3d> volume = flight_volume(lamp_only, 400, 77);
   std::printf("measured-mission setting: %zu epochs over %.1f s, %zu views, %zu volume points\n",
               lamp_only.epochs.size(), lamp_only.epoch_time_s.back() - lamp_only.epoch_time_s.front(),
@@ -156,9 +156,9 @@ TEST(CorrelatedCrb, MeasuredMissionSetting) {
     o.station_sigma_m = i == 2 ? 0.005 : 0;
     const CrbNetwork n = ascent_network(o);
     ASSERT_EQ(n.epochs.size(), lamp_only.epochs.size());
-    const CameraCovariance bound = cramer_rao_bound(n, truth);
-    const CameraCovariance believed = cramer_rao_bound(n, white);
-    const CameraCovariance actual = sandwich_covariance(n, white, truth);
+    const CameraJointCovariance bound = cramer_rao_bound(n, truth);
+    const CameraJointCovariance believed = cramer_rao_bound(n, white);
+    const CameraJointCovariance actual = sandwich_covariance(n, white, truth);
     f[i] = {intersection_sigma_m(n, bound, volume), intersection_sigma_m(n, believed, volume),
             intersection_sigma_m(n, actual, volume)};
     std::printf("%-24s bound %.3f cm | white network believes %.3f cm, actual (sandwich) %.3f cm (x%.1f)\n",
@@ -201,14 +201,14 @@ struct MonteCarloFigures {
   double believed_m = 0;   ///< the white network's own
 };
 
-MonteCarloFigures white_network_monte_carlo(const PpkErrorModel& model, int draws, std::uint64_t seed) {
+MonteCarloFigures white_network_monte_carlo(const GaussMarkovPpk& model, int draws, std::uint64_t seed) {
   AscentNetworkOptions o;
   o.ascents = 3, o.rate_hz = 2, o.control_poles = 2;
   const CrbNetwork n = ascent_network(o);
-  const PpkCovariance truth = ppk_covariance(n.epoch_time_s, model);
-  const PpkCovariance white = ppk_covariance(n.epoch_time_s, model.as_white());
-  const CameraCovariance actual = sandwich_covariance(n, white, truth);
-  const CameraCovariance believed = cramer_rao_bound(n, white);
+  const PpkJointCovariance truth = ppk_joint_covariance(n.epoch_time_s, model);
+  const PpkJointCovariance white = ppk_joint_covariance(n.epoch_time_s, model.as_white());
+  const CameraJointCovariance actual = sandwich_covariance(n, white, truth);
+  const CameraJointCovariance believed = cramer_rao_bound(n, white);
   const std::vector<Vector3d> volume = flight_volume(n, 200, 78);
   NetworkOptions opt;
   opt.loss = RobustLoss::none;
@@ -222,7 +222,7 @@ MonteCarloFigures white_network_monte_carlo(const PpkErrorModel& model, int draw
   std::vector<double> e2;  // per draw: mean over the volume of the squared intersection error
   for (int d = 0; d < draws; ++d) {
     NetworkNoise noise;
-    noise.ppk_error = draw_ppk_errors(n.epoch_time_s, model, &rng);
+    noise.ppk_error = draw_correlated_ppk_errors(n.epoch_time_s, model, &rng);
     for (std::size_t j = 0; j < n.poles.size(); ++j)
       noise.pole_error.push_back(n.pole_sigma_m * Vector3d(rng.normal(), rng.normal(), rng.normal()));
     for (const CrbView& v : n.views)
@@ -237,7 +237,7 @@ MonteCarloFigures white_network_monte_carlo(const PpkErrorModel& model, int draw
     }
     f.d2_actual += err.dot(la.solve(err)) / draws;
     f.d2_believed += err.dot(lb.solve(err)) / draws;
-    CameraCovariance one = actual;  // this draw's error as a rank-one "covariance": its mean |δX|²
+    CameraJointCovariance one = actual;  // this draw's error as a rank-one "covariance": its mean |δX|²
     one.joint = err * err.transpose();
     e2.push_back(std::pow(intersection_sigma_m(n, one, volume), 2));
   }
@@ -264,7 +264,7 @@ TEST(CorrelatedCrb, MonteCarloOfTheWhiteNetworkMatchesTheSandwich) {
   // relative tilt, σ ~2 µrad — carries ~6× its linear variance from second-order terms of the
   // cm-sized datum errors, and the mean d² is 21; every other direction and the intersection σ
   // stay linear.)
-  PpkErrorModel small = measured_model();
+  GaussMarkovPpk small = measured_model();
   small.white_h_m *= 0.1, small.white_v_m *= 0.1, small.gm_h_m *= 0.1, small.gm_v_m *= 0.1;
   const MonteCarloFigures lin = white_network_monte_carlo(small, kDraws, 2024);
   // d² ~ χ²_p per draw if the sandwich is right: its mean over the draws has sd √(2p/D); 4 sd.
