@@ -178,11 +178,8 @@ NetworkProblem trial_network(const std::vector<const MonteCarloCamera*>& cams,
   return n;
 }
 
-}  // namespace
-
-MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
-                                 const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options,
-                                 const CrossCovariances* reference_cross) {
+void check_monte_carlo_inputs(const std::vector<MonteCarloCamera>& cameras,
+                              const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options) {
   if (options.trials < 1)
     throw_config_error("", "trials", "must be at least 1, got " + std::to_string(options.trials));
   for (const MonteCarloPole& pole : poles)
@@ -191,74 +188,212 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
         throw_config_error("", "poles",
                            "pole " + pole.id + " names camera index " + std::to_string(c) + " of " +
                                std::to_string(cameras.size()));
-  std::vector<CameraTruth> truth;
-  for (const MonteCarloCamera& c : cameras) truth.push_back(make_truth(c, options.shared_world_noise));
-  // Cameras calibrated by the network are re-run as one network per trial (two or more of them);
-  // a network camera alone is its own bundle (calibrate_camera "network").
-  std::vector<std::size_t> network;
-  std::vector<const MonteCarloCamera*> network_cams;
-  std::vector<const CameraTruth*> network_truth;
+}
+
+/// The cameras calibrated by the network: re-run as one network per trial when there are two or
+/// more of them; a network camera alone is its own bundle (calibrate_camera "network").
+struct NetworkMembers {
+  std::vector<std::size_t> index;
+  std::vector<const MonteCarloCamera*> cams;
+  std::vector<const CameraTruth*> truth;
+};
+
+NetworkMembers network_members(const std::vector<MonteCarloCamera>& cameras,
+                               const std::vector<CameraTruth>& truth) {
+  NetworkMembers m;
   for (std::size_t c = 0; c < cameras.size(); ++c)
     if (truth[c].method == "network")
-      network.push_back(c), network_cams.push_back(&cameras[c]), network_truth.push_back(&truth[c]);
+      m.index.push_back(c), m.cams.push_back(&cameras[c]), m.truth.push_back(&truth[c]);
+  return m;
+}
+
+/// What every trial reads.
+struct TrialInputs {
+  const std::vector<MonteCarloCamera>& cameras;
+  const std::vector<CameraTruth>& truth;
+  const NetworkMembers& network;
+  const std::vector<MonteCarloPole>& poles;
+  const MonteCarloOptions& options;
+};
+
+/// Trial t's calibrations: every camera from its own noisy problem, the network's cameras adjusted
+/// together. A calibration error is the trial's failure for that camera; any other error stops.
+void calibrate_trial(const TrialInputs& in, std::size_t t, TrialOutcome* out) {
+  const std::size_t n_cameras = in.cameras.size();
+  out->cameras.resize(n_cameras);
+  out->failure.resize(n_cameras);
+  std::vector<CalibrationProblem> joint;  // the network's cameras, adjusted together below
+  for (std::size_t c = 0; c < n_cameras; ++c) {
+    DeterministicRandom rng(mix_seed(in.options.seed, c, t));
+    CalibrationProblem p = trial_problem(in.cameras[c], in.truth[c], in.options, t, rng);
+    if (in.network.index.size() >= 2 && in.truth[c].method == "network") {
+      joint.push_back(std::move(p));
+      continue;
+    }
+    try {
+      const CalibrationResult r = calibrate_camera(in.truth[c].method, p);
+      out->cameras[c] = TrialCamera{r.camera, r.clock_offset_s};
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::calibration) throw;
+      out->failure[c] = e.what();
+    }
+  }
+  if (joint.empty()) return;
+  try {
+    const NetworkProblem n = trial_network(in.network.cams, in.network.truth, joint);
+    const NetworkResult r = network_adjust(n.cameras, n.points, n.observations);
+    for (std::size_t j = 0; j < in.network.index.size(); ++j)
+      out->cameras[in.network.index[j]] =
+          TrialCamera{r.cameras[j].calibration.camera, r.cameras[j].calibration.clock_offset_s};
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::calibration) throw;
+    for (std::size_t c : in.network.index) out->failure[c] = e.what();
+  }
+}
+
+/// Trial t's pole errors: every pole picked with noise in the cameras that see it and
+/// triangulated with the trial's cameras (none when fewer than two calibrated cameras see it).
+void triangulate_trial_poles(const TrialInputs& in, std::size_t t, TrialOutcome* out) {
+  DeterministicRandom rng(mix_seed(in.options.seed, kPoleStream, t));
+  for (const MonteCarloPole& pole : in.poles) {
+    std::vector<TriangulationView> views;
+    for (std::size_t c : pole.cameras) {
+      Eigen::Vector2d uv;
+      const bool ok = project(in.cameras[c].reference.camera, pole.enu, &uv);
+      const double zu = rng.normal(), zv = rng.normal();  // drawn always: streams stay aligned
+      if (!ok || !out->cameras[c]) continue;
+      TriangulationView v;
+      v.camera = out->cameras[c]->camera;
+      v.uv_px = uv + in.options.pick_sigma_px * Eigen::Vector2d(zu, zv);
+      v.pick_sigma_px = in.options.pick_sigma_px;
+      views.push_back(v);
+    }
+    std::optional<Eigen::Vector3d> err;
+    if (views.size() >= 2) {
+      try {
+        err = triangulate_point(views, "pole " + pole.id).point - pole.enu;
+      } catch (const Error&) {
+      }
+    }
+    out->pole_error.push_back(err);
+  }
+}
+
+/// Camera c's statistics over the trials (in trial order: the same sums for any thread count).
+CameraMonteCarlo camera_statistics(const MonteCarloCamera& camera, const CameraTruth& truth, std::size_t c,
+                                   const std::vector<TrialOutcome>& outcome) {
+  const CalibrationResult& ref = camera.reference;
+  CameraMonteCarlo cm;
+  cm.camera_id = camera.problem.camera_id;
+  cm.method = truth.method;
+  for (const TrialOutcome& o : outcome) {
+    if (o.cameras[c]) {
+      ++cm.trials_ok;
+    } else {
+      ++cm.trials_failed;
+      if (cm.first_failure.empty()) cm.first_failure = o.failure[c];
+    }
+  }
+  if (cm.trials_ok == 0)
+    throw_calibration_error("montecarlo " + cm.camera_id,
+                            "every trial failed; the first: " + cm.first_failure);
+  for (const CameraParameter name : truth.parameters) {
+    ParameterStatistics s;
+    s.parameter = name;
+    s.estimate = parameter_value(ref.camera, name, ref.camera, ref.clock_offset_s);
+    double sum = 0;
+    for (const TrialOutcome& o : outcome)
+      if (o.cameras[c]) sum += o.cameras[c]->value(ref.camera, name);
+    s.mean = sum / cm.trials_ok;
+    double ss = 0;
+    for (const TrialOutcome& o : outcome)
+      if (o.cameras[c]) {
+        const double d = o.cameras[c]->value(ref.camera, name) - s.mean;
+        ss += d * d;
+      }
+    s.bias_mc = s.mean - s.estimate;
+    s.sd_mc = cm.trials_ok > 1 ? std::sqrt(ss / (cm.trials_ok - 1)) : kNaN;
+    s.sd_predicted = ref.sigma(name);
+    cm.parameters.push_back(s);
+  }
+  return cm;
+}
+
+/// A pole's predicted 1σ: exact picks through the reference cameras with their covariances, and
+/// the cross blocks of a joint (network) covariance when given. NaN when it cannot be triangulated.
+double predicted_pole_sigma(const MonteCarloPole& pole, const std::vector<MonteCarloCamera>& cameras,
+                            const MonteCarloOptions& options, const CrossCovariances* reference_cross) {
+  std::vector<TriangulationView> views;
+  std::vector<std::size_t> used;
+  for (std::size_t c : pole.cameras) {
+    TriangulationView v;
+    v.camera = cameras[c].reference.camera;
+    if (!project(v.camera, pole.enu, &v.uv_px)) continue;
+    v.calibration.parameters = cameras[c].reference.parameters;
+    v.calibration.covariance = cameras[c].reference.covariance;
+    v.pick_sigma_px = options.pick_sigma_px;
+    views.push_back(v);
+    used.push_back(c);
+  }
+  CrossCovariances cross;
+  if (reference_cross && !reference_cross->empty()) {
+    cross.assign(used.size(), std::vector<Eigen::MatrixXd>(used.size()));
+    for (std::size_t i = 0; i < used.size(); ++i)
+      for (std::size_t j = 0; j < used.size(); ++j)
+        if (i != j) cross[i][j] = (*reference_cross)[used[i]][used[j]];
+  }
+  double sigma = kNaN;
+  if (views.size() >= 2) {
+    try {
+      sigma = triangulate_point(views, "pole " + pole.id, cross.empty() ? nullptr : &cross).sigma_m;
+    } catch (const Error&) {
+    }
+  }
+  return sigma;
+}
+
+/// Pole k's errors over the trials (in trial order).
+PoleMonteCarlo pole_statistics(const MonteCarloPole& pole, std::size_t k,
+                               const std::vector<TrialOutcome>& outcome) {
+  PoleMonteCarlo pm;
+  pm.id = pole.id;
+  double ss = 0, sn = 0;
+  for (const TrialOutcome& o : outcome) {
+    if (!o.pole_error[k]) continue;
+    const Eigen::Vector3d& e = *o.pole_error[k];
+    ++pm.n;
+    pm.mean_error_m += e;
+    ss += e.squaredNorm();
+    sn += e.norm();
+    pm.max_error_m = std::max(pm.max_error_m, e.norm());
+  }
+  if (pm.n > 0) {
+    pm.mean_error_m /= pm.n;
+    pm.rms_error_m = std::sqrt(ss / pm.n);
+    pm.mean_error_norm_m = sn / pm.n;
+  } else {
+    pm.mean_error_m.setConstant(kNaN);
+    pm.rms_error_m = pm.mean_error_norm_m = pm.max_error_m = kNaN;
+  }
+  return pm;
+}
+
+}  // namespace
+
+MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
+                                 const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options,
+                                 const CrossCovariances* reference_cross) {
+  check_monte_carlo_inputs(cameras, poles, options);
+  std::vector<CameraTruth> truth;
+  for (const MonteCarloCamera& c : cameras) truth.push_back(make_truth(c, options.shared_world_noise));
+  const NetworkMembers network = network_members(cameras, truth);
+  const TrialInputs in{cameras, truth, network, poles, options};
 
   const std::size_t nt = static_cast<std::size_t>(options.trials);
   std::vector<TrialOutcome> outcome(nt);
   auto run_trial = [&](std::size_t t) {
-    TrialOutcome& out = outcome[t];
-    out.cameras.resize(cameras.size());
-    out.failure.resize(cameras.size());
-    std::vector<CalibrationProblem> joint;  // the network's cameras, adjusted together below
-    for (std::size_t c = 0; c < cameras.size(); ++c) {
-      DeterministicRandom rng(mix_seed(options.seed, c, t));
-      CalibrationProblem p = trial_problem(cameras[c], truth[c], options, t, rng);
-      if (network.size() >= 2 && truth[c].method == "network") {
-        joint.push_back(std::move(p));
-        continue;
-      }
-      try {
-        const CalibrationResult r = calibrate_camera(truth[c].method, p);
-        out.cameras[c] = TrialCamera{r.camera, r.clock_offset_s};
-      } catch (const Error& e) {
-        if (e.kind() != ErrorKind::calibration) throw;
-        out.failure[c] = e.what();
-      }
-    }
-    if (!joint.empty()) {
-      try {
-        const NetworkProblem n = trial_network(network_cams, network_truth, joint);
-        const NetworkResult r = network_adjust(n.cameras, n.points, n.observations);
-        for (std::size_t j = 0; j < network.size(); ++j)
-          out.cameras[network[j]] =
-              TrialCamera{r.cameras[j].calibration.camera, r.cameras[j].calibration.clock_offset_s};
-      } catch (const Error& e) {
-        if (e.kind() != ErrorKind::calibration) throw;
-        for (std::size_t c : network) out.failure[c] = e.what();
-      }
-    }
-    DeterministicRandom rng(mix_seed(options.seed, kPoleStream, t));
-    for (const MonteCarloPole& pole : poles) {
-      std::vector<TriangulationView> views;
-      for (std::size_t c : pole.cameras) {
-        Eigen::Vector2d uv;
-        const bool ok = project(cameras[c].reference.camera, pole.enu, &uv);
-        const double zu = rng.normal(), zv = rng.normal();  // drawn always: streams stay aligned
-        if (!ok || !out.cameras[c]) continue;
-        TriangulationView v;
-        v.camera = out.cameras[c]->camera;
-        v.uv_px = uv + options.pick_sigma_px * Eigen::Vector2d(zu, zv);
-        v.pick_sigma_px = options.pick_sigma_px;
-        views.push_back(v);
-      }
-      std::optional<Eigen::Vector3d> err;
-      if (views.size() >= 2) {
-        try {
-          err = triangulate_point(views, "pole " + pole.id).point - pole.enu;
-        } catch (const Error&) {
-        }
-      }
-      out.pole_error.push_back(err);
-    }
+    calibrate_trial(in, t, &outcome[t]);
+    triangulate_trial_poles(in, t, &outcome[t]);
   };
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   arena.execute([&] {
@@ -271,95 +406,11 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
   // Statistics in trial order: the same sums in the same order for any thread count.
   MonteCarloResult result;
   result.trials = options.trials;
-  for (std::size_t c = 0; c < cameras.size(); ++c) {
-    const CalibrationResult& ref = cameras[c].reference;
-    CameraMonteCarlo cm;
-    cm.camera_id = cameras[c].problem.camera_id;
-    cm.method = truth[c].method;
-    for (const TrialOutcome& o : outcome) {
-      if (o.cameras[c]) {
-        ++cm.trials_ok;
-      } else {
-        ++cm.trials_failed;
-        if (cm.first_failure.empty()) cm.first_failure = o.failure[c];
-      }
-    }
-    if (cm.trials_ok == 0)
-      throw_calibration_error("montecarlo " + cm.camera_id,
-                              "every trial failed; the first: " + cm.first_failure);
-    for (const CameraParameter name : truth[c].parameters) {
-      ParameterStatistics s;
-      s.parameter = name;
-      s.estimate = parameter_value(ref.camera, name, ref.camera, ref.clock_offset_s);
-      double sum = 0;
-      for (const TrialOutcome& o : outcome)
-        if (o.cameras[c]) sum += o.cameras[c]->value(ref.camera, name);
-      s.mean = sum / cm.trials_ok;
-      double ss = 0;
-      for (const TrialOutcome& o : outcome)
-        if (o.cameras[c]) {
-          const double d = o.cameras[c]->value(ref.camera, name) - s.mean;
-          ss += d * d;
-        }
-      s.bias_mc = s.mean - s.estimate;
-      s.sd_mc = cm.trials_ok > 1 ? std::sqrt(ss / (cm.trials_ok - 1)) : kNaN;
-      s.sd_predicted = ref.sigma(name);
-      cm.parameters.push_back(s);
-    }
-    result.cameras.push_back(cm);
-  }
-
+  for (std::size_t c = 0; c < cameras.size(); ++c)
+    result.cameras.push_back(camera_statistics(cameras[c], truth[c], c, outcome));
   for (std::size_t k = 0; k < poles.size(); ++k) {
-    const MonteCarloPole& pole = poles[k];
-    PoleMonteCarlo pm;
-    pm.id = pole.id;
-    double ss = 0, sn = 0;
-    for (const TrialOutcome& o : outcome) {
-      if (!o.pole_error[k]) continue;
-      const Eigen::Vector3d& e = *o.pole_error[k];
-      ++pm.n;
-      pm.mean_error_m += e;
-      ss += e.squaredNorm();
-      sn += e.norm();
-      pm.max_error_m = std::max(pm.max_error_m, e.norm());
-    }
-    if (pm.n > 0) {
-      pm.mean_error_m /= pm.n;
-      pm.rms_error_m = std::sqrt(ss / pm.n);
-      pm.mean_error_norm_m = sn / pm.n;
-    } else {
-      pm.mean_error_m.setConstant(kNaN);
-      pm.rms_error_m = pm.mean_error_norm_m = pm.max_error_m = kNaN;
-    }
-    // Predicted 1σ: exact picks through the reference cameras with their covariances, and the
-    // cross blocks of a joint (network) covariance when given.
-    std::vector<TriangulationView> views;
-    std::vector<std::size_t> used;
-    for (std::size_t c : pole.cameras) {
-      TriangulationView v;
-      v.camera = cameras[c].reference.camera;
-      if (!project(v.camera, pole.enu, &v.uv_px)) continue;
-      v.calibration.parameters = cameras[c].reference.parameters;
-      v.calibration.covariance = cameras[c].reference.covariance;
-      v.pick_sigma_px = options.pick_sigma_px;
-      views.push_back(v);
-      used.push_back(c);
-    }
-    CrossCovariances cross;
-    if (reference_cross && !reference_cross->empty()) {
-      cross.assign(used.size(), std::vector<Eigen::MatrixXd>(used.size()));
-      for (std::size_t i = 0; i < used.size(); ++i)
-        for (std::size_t j = 0; j < used.size(); ++j)
-          if (i != j) cross[i][j] = (*reference_cross)[used[i]][used[j]];
-    }
-    pm.sigma_predicted_m = kNaN;
-    if (views.size() >= 2) {
-      try {
-        pm.sigma_predicted_m =
-            triangulate_point(views, "pole " + pole.id, cross.empty() ? nullptr : &cross).sigma_m;
-      } catch (const Error&) {
-      }
-    }
+    PoleMonteCarlo pm = pole_statistics(poles[k], k, outcome);
+    pm.sigma_predicted_m = predicted_pole_sigma(poles[k], cameras, options, reference_cross);
     result.poles.push_back(pm);
   }
   return result;

@@ -75,11 +75,6 @@ PlannedNetwork planned_network(const SimMission& m, const PlanOptions& o) {
   return n;
 }
 
-PlannedNetwork with_sharper_images(PlannedNetwork n, double factor) {
-  for (NetworkObservation& ob : n.observations) ob.pixel_sigma_px /= factor;
-  return n;
-}
-
 Eigen::MatrixXd network_cramer_rao_bound(const PlannedNetwork& n, const std::vector<std::string>& free,
                                          double pixel_sigma_px, double image_factor) {
   std::vector<NetworkCamera> cams;

@@ -26,11 +26,6 @@ PlannedNetwork planned_network(const Scenario& s, const PlanOptions& options = {
 /// The same from a mission already simulated (`rangecal plan` simulates each candidate once).
 PlannedNetwork planned_network(const SimMission& m, const PlanOptions& options = {});
 
-/// `n` with every observation's σ (lamp centroid, pole pick) divided by `factor`: the same sharper
-/// images as network_cramer_rao_bound's `image_factor`, made in the data (the tests' independent
-/// route to the datum floor).
-PlannedNetwork with_sharper_images(PlannedNetwork n, double factor);
-
 /// The network's Cramér–Rao bound of every camera's parameters named by `free` (the joint Fisher
 /// information with the points eliminated: the Schur complement of the noise-free network at the
 /// truth, optim/network/network_covariance.hpp): the joint covariance, cameras in order. Every image

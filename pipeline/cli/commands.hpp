@@ -1,5 +1,5 @@
 #pragma once
-// Each CLI subcommand lives in its own pipeline/<name>_command.cpp and registers itself on the
+// Each CLI subcommand lives in its own pipeline/cli/<name>_command.cpp and registers itself on the
 // CLI11 app through one of these functions (called from cli.cpp). A subcommand's callback throws
 // rangecal::Error for user-caused failures; run_cli maps the error kind to the exit code.
 #include <CLI/CLI.hpp>

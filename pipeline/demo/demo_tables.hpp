@@ -40,9 +40,6 @@ struct ParameterCheck {
 };
 /// f, k1 and the centre of `method`'s calibration (empty when the camera has none).
 std::vector<ParameterCheck> parameter_checks(const DemoCamera& cam, const std::string& method);
-inline std::vector<ParameterCheck> bundle_parameter_checks(const DemoCamera& cam) {
-  return parameter_checks(cam, "bundle");
-}
 
 /// Seed 002 Table 1 layout (u0, v0, f, sx, k1, R, T per method), paper columns first.
 std::string format_demo_table1(const DemoCamera& cam);

@@ -11,9 +11,6 @@ std::atomic<bool> g_on{false};
 void set_progress_bars(bool on) {
   g_on = on;
 }
-bool progress_bars_on() {
-  return g_on;
-}
 
 ProgressBar::ProgressBar(std::string label, std::size_t total)
     : label_(std::move(label)), total_(total), on_(g_on && total > 0) {

@@ -12,7 +12,6 @@ namespace rangecal {
 
 /// Turns progress bars on or off for the whole process (default off).
 void set_progress_bars(bool on);
-bool progress_bars_on();
 
 /// One bar: "label [#######.............]  345/1400". Thread-safe tick(); redraws at most every
 /// 100 ms; the destructor finishes the line. Does nothing when bars are off.

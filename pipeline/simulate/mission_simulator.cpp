@@ -201,105 +201,123 @@ SimState state_at(const Scenario& s, const FlightPath& path, double t_s) {
   return state_with(s, path, make_wobble(s.seed), t_s);
 }
 
+namespace {
+
+/// GNSS epochs at k/rate, the antenna position + noise (float epochs noisier, Q=2).
+std::vector<SimEpoch> simulate_gnss_epochs(const Scenario& s, const FlightPath& path, const Wobble& wob) {
+  std::vector<SimEpoch> epochs;
+  const double duration = path.duration_s();
+  RenderRandom noise(mix_seed(s.seed, kGnssNoise)), flt(mix_seed(s.seed, kGnssFloat));
+  const double period_ns = 1e9 / s.gnss.rate_hz;
+  for (std::int64_t k = 0;; ++k) {
+    const std::int64_t tn = static_cast<std::int64_t>(std::llround(k * period_ns));
+    const double t = tn * 1e-9;
+    if (t > duration + 1e-9) break;
+    // Draw for every epoch, in or out of a gap, so the draws do not depend on the gaps.
+    const double u_float = flt.uniform();
+    const Eigen::Vector3d z(noise.normal(), noise.normal(), noise.normal());
+    bool in_gap = false;
+    for (const auto& g : s.gnss.gaps) in_gap = in_gap || g.contains(t);
+    if (in_gap) continue;
+    bool is_float = u_float < s.gnss.float_fraction;
+    for (const auto& f : s.gnss.float_intervals) is_float = is_float || f.contains(t);
+    const SimState st = state_with(s, path, wob, t);
+    SimEpoch e;
+    e.t_s = t;
+    e.utc = UtcTime{s.start_utc.ns + tn};
+    e.antenna_true = st.antenna_enu;
+    e.lamp_true = st.lamp_enu;
+    e.attitude = st.attitude;
+    e.quality = is_float ? 2 : 1;
+    e.sd_enu = s.gnss.noise_sd_m * (is_float ? s.gnss.float_noise_factor : 1.0);
+    e.antenna_measured = st.antenna_enu + e.sd_enu.cwiseProduct(z);
+    epochs.push_back(e);
+  }
+  return epochs;
+}
+
+/// Attitude log at its rate (times rounded to the microsecond, as written).
+std::vector<SimAttitudeSample> simulate_attitude_log(const Scenario& s, const FlightPath& path,
+                                                     const Wobble& wob) {
+  std::vector<SimAttitudeSample> attitude;
+  const double duration = path.duration_s();
+  const double period_us = 1e6 / s.attitude.rate_hz;
+  for (std::int64_t k = 0;; ++k) {
+    const std::int64_t tus = static_cast<std::int64_t>(std::llround(k * period_us));
+    const double t = tus * 1e-6;
+    if (t > duration + 1e-9) break;
+    attitude.push_back({UtcTime{s.start_utc.ns + tus * 1000}, state_with(s, path, wob, t).attitude});
+  }
+  return attitude;
+}
+
+/// Poles: survey noise.
+std::vector<SimPole> simulate_pole_survey(const Scenario& s) {
+  std::vector<SimPole> poles;
+  RenderRandom rng(mix_seed(s.seed, kSurvey));
+  for (const auto& p : s.poles) {
+    SimPole sp;
+    sp.truth = p;
+    const Eigen::Vector3d z(rng.normal(), rng.normal(), rng.normal());
+    sp.surveyed_enu = p.enu_m + s.survey_noise_m * z;
+    poles.push_back(sp);
+  }
+  return poles;
+}
+
+/// Camera ci: exported frames with the true lamp pixel, hot pixels, pole picks.
+SimCamera simulate_camera(const Scenario& s, const FlightPath& path, const Wobble& wob, std::size_t ci) {
+  const double duration = path.duration_s();
+  SimCamera sc;
+  sc.spec = s.cameras[ci];
+  const Camera& cam = sc.spec.camera;
+  const std::int64_t start_ns = seconds_to_ns(sc.spec.start_s);
+  const std::int64_t offset_ns = seconds_to_ns(sc.spec.clock_offset_s);
+  for (std::int64_t n = 0;; n += sc.spec.export_step) {
+    const std::int64_t tn = start_ns + static_cast<std::int64_t>(std::llround(n * 1e9 / sc.spec.fps));
+    const double t = tn * 1e-9;
+    if (t > duration + 1e-9) break;
+    if (t < 0) continue;
+    SimFrame f;
+    f.frame = n;
+    f.true_utc = UtcTime{s.start_utc.ns + tn};
+    f.stamp_utc = UtcTime{f.true_utc.ns + offset_ns};
+    char name[96];
+    std::snprintf(name, sizeof name, "frames/%s_%07lld.png", sc.spec.id.c_str(), static_cast<long long>(n));
+    f.file = name;
+    f.lamp_enu = state_with(s, path, wob, t).lamp_enu;
+    constexpr double h = 1e-3;
+    f.lamp_velocity_enu =
+        (state_with(s, path, wob, t + h).lamp_enu - state_with(s, path, wob, t - h).lamp_enu) / (2 * h);
+    f.projects = project(cam, f.lamp_enu, &f.lamp_px);
+    f.in_view = f.projects && inside_image(cam.intr, f.lamp_px);
+    sc.frames.push_back(f);
+  }
+  sc.hot_pixels =
+      random_hot_pixels(cam.intr.width_px, cam.intr.height_px, s.sky.hot_pixels, 0.5 * s.sky.hot_pixel_excess,
+                        s.sky.hot_pixel_excess, mix_seed(s.seed, kHotPixels, ci));
+  RenderRandom rng(mix_seed(s.seed, kPicks, ci));
+  for (const auto& p : s.poles) {
+    const Eigen::Vector2d z(rng.normal(), rng.normal());
+    Eigen::Vector2d uv;
+    if (!project(cam, p.enu_m, &uv) || !inside_image(cam.intr, uv)) continue;
+    sc.picks.push_back({p.id, uv, uv + s.pick_noise_px * z});
+  }
+  return sc;
+}
+
+}  // namespace
+
 SimMission simulate_mission(const Scenario& s) {
   SimMission m;
   m.scenario = s;
   m.path = make_flight_path(s);
-  const double duration = m.path.duration_s();
   const Wobble wob = make_wobble(s.seed);
-
-  // GNSS epochs at k/rate, the antenna position + noise (float epochs noisier, Q=2).
-  {
-    RenderRandom noise(mix_seed(s.seed, kGnssNoise)), flt(mix_seed(s.seed, kGnssFloat));
-    const double period_ns = 1e9 / s.gnss.rate_hz;
-    for (std::int64_t k = 0;; ++k) {
-      const std::int64_t tn = static_cast<std::int64_t>(std::llround(k * period_ns));
-      const double t = tn * 1e-9;
-      if (t > duration + 1e-9) break;
-      // Draw for every epoch, in or out of a gap, so the draws do not depend on the gaps.
-      const double u_float = flt.uniform();
-      const Eigen::Vector3d z(noise.normal(), noise.normal(), noise.normal());
-      bool in_gap = false;
-      for (const auto& g : s.gnss.gaps) in_gap = in_gap || g.contains(t);
-      if (in_gap) continue;
-      bool is_float = u_float < s.gnss.float_fraction;
-      for (const auto& f : s.gnss.float_intervals) is_float = is_float || f.contains(t);
-      const SimState st = state_with(s, m.path, wob, t);
-      SimEpoch e;
-      e.t_s = t;
-      e.utc = UtcTime{s.start_utc.ns + tn};
-      e.antenna_true = st.antenna_enu;
-      e.lamp_true = st.lamp_enu;
-      e.attitude = st.attitude;
-      e.quality = is_float ? 2 : 1;
-      e.sd_enu = s.gnss.noise_sd_m * (is_float ? s.gnss.float_noise_factor : 1.0);
-      e.antenna_measured = st.antenna_enu + e.sd_enu.cwiseProduct(z);
-      m.epochs.push_back(e);
-    }
-  }
-
-  // Attitude log at its rate (times rounded to the microsecond, as written).
-  {
-    const double period_us = 1e6 / s.attitude.rate_hz;
-    for (std::int64_t k = 0;; ++k) {
-      const std::int64_t tus = static_cast<std::int64_t>(std::llround(k * period_us));
-      const double t = tus * 1e-6;
-      if (t > duration + 1e-9) break;
-      m.attitude.push_back({UtcTime{s.start_utc.ns + tus * 1000}, state_with(s, m.path, wob, t).attitude});
-    }
-  }
-
-  // Poles: survey noise.
-  {
-    RenderRandom rng(mix_seed(s.seed, kSurvey));
-    for (const auto& p : s.poles) {
-      SimPole sp;
-      sp.truth = p;
-      const Eigen::Vector3d z(rng.normal(), rng.normal(), rng.normal());
-      sp.surveyed_enu = p.enu_m + s.survey_noise_m * z;
-      m.poles.push_back(sp);
-    }
-  }
-
-  // Cameras: exported frames with the true lamp pixel, hot pixels, pole picks.
-  for (std::size_t ci = 0; ci < s.cameras.size(); ++ci) {
-    SimCamera sc;
-    sc.spec = s.cameras[ci];
-    const Camera& cam = sc.spec.camera;
-    const std::int64_t start_ns = seconds_to_ns(sc.spec.start_s);
-    const std::int64_t offset_ns = seconds_to_ns(sc.spec.clock_offset_s);
-    for (std::int64_t n = 0;; n += sc.spec.export_step) {
-      const std::int64_t tn = start_ns + static_cast<std::int64_t>(std::llround(n * 1e9 / sc.spec.fps));
-      const double t = tn * 1e-9;
-      if (t > duration + 1e-9) break;
-      if (t < 0) continue;
-      SimFrame f;
-      f.frame = n;
-      f.true_utc = UtcTime{s.start_utc.ns + tn};
-      f.stamp_utc = UtcTime{f.true_utc.ns + offset_ns};
-      char name[96];
-      std::snprintf(name, sizeof name, "frames/%s_%07lld.png", sc.spec.id.c_str(), static_cast<long long>(n));
-      f.file = name;
-      f.lamp_enu = state_with(s, m.path, wob, t).lamp_enu;
-      constexpr double h = 1e-3;
-      f.lamp_velocity_enu =
-          (state_with(s, m.path, wob, t + h).lamp_enu - state_with(s, m.path, wob, t - h).lamp_enu) / (2 * h);
-      f.projects = project(cam, f.lamp_enu, &f.lamp_px);
-      f.in_view = f.projects && inside_image(cam.intr, f.lamp_px);
-      sc.frames.push_back(f);
-    }
-    sc.hot_pixels = random_hot_pixels(cam.intr.width_px, cam.intr.height_px, s.sky.hot_pixels,
-                                      0.5 * s.sky.hot_pixel_excess, s.sky.hot_pixel_excess,
-                                      mix_seed(s.seed, kHotPixels, ci));
-    RenderRandom rng(mix_seed(s.seed, kPicks, ci));
-    for (const auto& p : s.poles) {
-      const Eigen::Vector2d z(rng.normal(), rng.normal());
-      Eigen::Vector2d uv;
-      if (!project(cam, p.enu_m, &uv) || !inside_image(cam.intr, uv)) continue;
-      sc.picks.push_back({p.id, uv, uv + s.pick_noise_px * z});
-    }
-    m.cameras.push_back(std::move(sc));
-  }
+  m.epochs = simulate_gnss_epochs(s, m.path, wob);
+  m.attitude = simulate_attitude_log(s, m.path, wob);
+  m.poles = simulate_pole_survey(s);
+  for (std::size_t ci = 0; ci < s.cameras.size(); ++ci)
+    m.cameras.push_back(simulate_camera(s, m.path, wob, ci));
   return m;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "config/error.hpp"
@@ -25,6 +26,89 @@ std::string join(const std::vector<std::string>& v) {
   return s;
 }
 
+/// One pole's picks: a view per camera that picked it, the cameras' ids and their index in the
+/// camera list.
+struct PoleViews {
+  std::vector<TriangulationView> views;
+  std::vector<std::string> cameras;
+  std::vector<std::size_t> index;  ///< into `cameras`
+};
+
+/// Every camera's picks grouped by pole id; `order` gets the ids the survey does not know, in
+/// order of first appearance (a warning each when there is a survey).
+std::map<std::string, PoleViews> views_by_pole(const std::vector<IntersectCamera>& cameras,
+                                               const std::vector<SurveyedPole>& survey,
+                                               const std::map<std::string, const SurveyedPole*>& surveyed,
+                                               double pick_sigma_px, std::vector<std::string>* order,
+                                               std::vector<std::string>* warnings) {
+  std::map<std::string, PoleViews> seen;
+  for (std::size_t ci = 0; ci < cameras.size(); ++ci) {
+    const IntersectCamera& cam = cameras[ci];
+    for (const PolePick& pick : cam.picks) {
+      if (!seen.count(pick.id) && !surveyed.count(pick.id)) {
+        order->push_back(pick.id);
+        if (!survey.empty())
+          warnings->push_back("pole '" + pick.id + "' (picked in " + cam.id +
+                              ") is not in the pole survey: triangulated, not compared");
+      }
+      PoleViews& s = seen[pick.id];
+      TriangulationView v;
+      v.camera = cam.camera;
+      v.calibration = cam.calibration;
+      v.uv_px = pick.uv;
+      v.pick_sigma_px = pick_sigma_px;
+      s.views.push_back(std::move(v));
+      s.cameras.push_back(cam.id);
+      s.index.push_back(ci);
+    }
+  }
+  return seen;
+}
+
+/// The cross-covariance blocks between one pole's views, taken from the cameras' joint ones.
+CrossCovariances views_cross_covariances(const PoleViews& s, const CrossCovariances& cross,
+                                         std::size_t n_cameras) {
+  CrossCovariances views_cross(s.views.size(), std::vector<Eigen::MatrixXd>(s.views.size()));
+  for (std::size_t a = 0; a < s.views.size(); ++a)
+    for (std::size_t b = 0; b < s.views.size(); ++b)
+      if (a != b && cross[s.index[a]].size() == n_cameras) {
+        // A block that does not fit the two calibrations (e.g. one without a usable
+        // covariance) is left out: those cameras are taken as independent.
+        const Eigen::MatrixXd& m = cross[s.index[a]][s.index[b]];
+        if (m.rows() == static_cast<Eigen::Index>(s.views[a].calibration.parameters.size()) &&
+            m.cols() == static_cast<Eigen::Index>(s.views[b].calibration.parameters.size()))
+          views_cross[a][b] = m;
+      }
+  return views_cross;
+}
+
+/// Pole `id` triangulated from its views (joint: with the cameras' cross covariances), or nothing
+/// with a warning when it cannot be: one pole that cannot be triangulated (parallel rays, behind a
+/// camera) must not stop the others (docs/intersection.md "every pole seen by ≥ 2 calibrated cameras").
+std::optional<PoleIntersection> triangulate_pole(const std::string& id, const PoleViews& s,
+                                                 const CrossCovariances* cross, std::size_t n_cameras,
+                                                 std::vector<std::string>* warnings) {
+  PoleIntersection p;
+  p.id = id;
+  p.cameras = s.cameras;
+  try {
+    CrossCovariances views_cross;
+    if (cross) views_cross = views_cross_covariances(s, *cross, n_cameras);
+    const TriangulationResult t = triangulate_point(s.views, "pole " + id, cross ? &views_cross : nullptr);
+    p.enu = t.point;
+    p.rms_px = t.rms_px;
+    p.max_ray_angle_deg = t.max_ray_angle_deg;
+    p.cov_m2 = t.cov_m2;
+    p.sigma_m = t.sigma_m;
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::calibration) throw;
+    warnings->push_back("pole '" + id + "' (cameras " + join(s.cameras) +
+                        "): triangulation failed: " + e.what());
+    return std::nullopt;
+  }
+  return p;
+}
+
 }  // namespace
 
 IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
@@ -41,33 +125,9 @@ IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
     surveyed[p.id] = &p;
     order.push_back(p.id);
   }
-  struct Seen {
-    std::vector<TriangulationView> views;
-    std::vector<std::string> cameras;
-    std::vector<std::size_t> index;  ///< into `cameras`
-  };
   const bool joint = cross && cross->size() == cameras.size();
-  std::map<std::string, Seen> seen;
-  for (std::size_t ci = 0; ci < cameras.size(); ++ci) {
-    const IntersectCamera& cam = cameras[ci];
-    for (const PolePick& pick : cam.picks) {
-      if (!seen.count(pick.id) && !surveyed.count(pick.id)) {
-        order.push_back(pick.id);
-        if (!survey.empty())
-          out.warnings.push_back("pole '" + pick.id + "' (picked in " + cam.id +
-                                 ") is not in the pole survey: triangulated, not compared");
-      }
-      Seen& s = seen[pick.id];
-      TriangulationView v;
-      v.camera = cam.camera;
-      v.calibration = cam.calibration;
-      v.uv_px = pick.uv;
-      v.pick_sigma_px = pick_sigma_px;
-      s.views.push_back(std::move(v));
-      s.cameras.push_back(cam.id);
-      s.index.push_back(ci);
-    }
-  }
+  const std::map<std::string, PoleViews> seen =
+      views_by_pole(cameras, survey, surveyed, pick_sigma_px, &order, &out.warnings);
 
   for (const std::string& id : order) {
     const auto sv = surveyed.find(id);
@@ -79,52 +139,23 @@ IntersectionResult intersect_poles(const std::vector<IntersectCamera>& cameras,
         out.warnings.push_back("check pole '" + id + "' is picked in no camera");
       continue;
     }
-    const Seen& s = it->second;
+    const PoleViews& s = it->second;
     if (s.views.size() < 2) {
       out.warnings.push_back("pole '" + id + "' is picked only in camera " + s.cameras.front() +
                              ": two cameras are needed to triangulate it");
       continue;
     }
-    PoleIntersection p;
-    p.id = id;
-    p.cameras = s.cameras;
-    try {
-      CrossCovariances views_cross;
-      if (joint) {
-        views_cross.assign(s.views.size(), std::vector<Eigen::MatrixXd>(s.views.size()));
-        for (std::size_t a = 0; a < s.views.size(); ++a)
-          for (std::size_t b = 0; b < s.views.size(); ++b)
-            if (a != b && (*cross)[s.index[a]].size() == cameras.size()) {
-              // A block that does not fit the two calibrations (e.g. one without a usable
-              // covariance) is left out: those cameras are taken as independent.
-              const Eigen::MatrixXd& m = (*cross)[s.index[a]][s.index[b]];
-              if (m.rows() == static_cast<Eigen::Index>(s.views[a].calibration.parameters.size()) &&
-                  m.cols() == static_cast<Eigen::Index>(s.views[b].calibration.parameters.size()))
-                views_cross[a][b] = m;
-            }
-      }
-      const TriangulationResult t = triangulate_point(s.views, "pole " + id, joint ? &views_cross : nullptr);
-      p.enu = t.point;
-      p.rms_px = t.rms_px;
-      p.max_ray_angle_deg = t.max_ray_angle_deg;
-      p.cov_m2 = t.cov_m2;
-      p.sigma_m = t.sigma_m;
-    } catch (const Error& e) {
-      // One pole that cannot be triangulated (parallel rays, behind a camera) must not stop the
-      // others (docs/intersection.md "every pole seen by ≥ 2 calibrated cameras").
-      if (e.kind() != ErrorKind::calibration) throw;
-      out.warnings.push_back("pole '" + id + "' (cameras " + join(s.cameras) +
-                             "): triangulation failed: " + e.what());
-      continue;
-    }
+    std::optional<PoleIntersection> p =
+        triangulate_pole(id, s, joint ? cross : nullptr, cameras.size(), &out.warnings);
+    if (!p) continue;
     if (sv != surveyed.end()) {
-      p.surveyed = true;
-      p.role = sv->second->role;
-      p.survey_enu = sv->second->enu;
-      p.d_enu = p.enu - p.survey_enu;  // measured − surveyed, as Table 4's Δ
-      p.dR = p.d_enu.norm();
+      p->surveyed = true;
+      p->role = sv->second->role;
+      p->survey_enu = sv->second->enu;
+      p->d_enu = p->enu - p->survey_enu;  // measured − surveyed, as Table 4's Δ
+      p->dR = p->d_enu.norm();
     }
-    out.poles.push_back(std::move(p));
+    out.poles.push_back(std::move(*p));
   }
   out.check = intersection_means(out.poles, PoleRole::check);
   out.control = intersection_means(out.poles, PoleRole::control);

@@ -91,7 +91,7 @@ TEST(IntersectCommand, StandaloneFormPrintsTriangulatedPoints) {
   EXPECT_NE(malformed.err.find("'u'"), std::string::npos) << malformed.err;
 }
 
-/// A mission folder: empty gnss/frames inputs (the stage does not read them), poles.csv (ENU),
+/// A mission folder: empty GNSS and frame inputs (the stage does not read them), poles.csv (ENU),
 /// picks for three cameras, calibration.json for cam1 and cam2 only (cam3 "failed" calibration).
 std::filesystem::path build_mission(const std::string& name, bool with_poles) {
   const auto dir = test::scratch_dir(name);

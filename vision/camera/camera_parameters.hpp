@@ -19,7 +19,7 @@
 //   Tx Ty Tz      m       translation (Xc = R·Xw + T), for methods that estimate T instead of C (Tsai)
 //
 // The canonical order is the enum's. The bundle's parameter layout is its first
-// kBundleParameterCount entries (optim/bundle/bundle_problem.hpp). A rotation perturbation turns
+// kBundleParameterCount entries (optim/bundle/bundle_parameters.hpp). A rotation perturbation turns
 // the camera about its centre when the centre (or neither C nor T) is in a parameter set, and about
 // the world origin when the translation is; one set never holds both C and T.
 #include <Eigen/Core>

@@ -1,4 +1,4 @@
-// Bundle adjustment (optim/bundle_adjustment): truth recovery on noise-free narrow-field points,
+// Bundle adjustment (optim/bundle/bundle_adjustment): truth recovery on noise-free narrow-field points,
 // σ calibration and efficiency by Monte Carlo against a Cramér–Rao bound computed here from
 // numeric derivatives of vision's project() (not from the code under test), outliers, priors,
 // warnings and degenerate input.

@@ -1,4 +1,4 @@
-// LM / quasi-Newton hybrid (optim/lm_qn, seed 000 §3): converges to the same minimum as plain LM
+// LM / quasi-Newton hybrid (optim/search/lm_qn, seed 000 §3): converges to the same minimum as plain LM
 // on Rosenbrock (zero residual: stays LM) and on a noisy seed-000-like camera resection (non-zero
 // residual: switches to QN), reporting iteration counts of both.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// tsai_sassa (optim/tsai_sassa): SA-SSA on f, Tz, k1 after a true Tsai step 1, started 0 %, 5 %
+// tsai_sassa (optim/methods/tsai_sassa): SA-SSA on f, Tz, k1 after a true Tsai step 1, started 0 %, 5 %
 // and 25 % of the half-range S off the truth, against plain LM from the same start; the whole
 // method from correspondences; the all-parameter variant.
 #include <gtest/gtest.h>

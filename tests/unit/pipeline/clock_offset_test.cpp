@@ -248,7 +248,7 @@ TEST(ClockOffsetMission, TwoMillisecondsRecoveredWithinThreeSigmaAndTheDemoBarHo
     ASSERT_TRUE(std::isfinite(sigma) && sigma > 0) << r.camera_id;
     EXPECT_LE(std::abs(r.clock_offset_s - truth), 3 * sigma) << r.camera_id;
     EXPECT_LT(sigma, 1e-3) << r.camera_id << ": 2 ms must stand out of the noise";
-    for (const ParameterCheck& p : bundle_parameter_checks(run.results.cameras[c]))
+    for (const ParameterCheck& p : parameter_checks(run.results.cameras[c], "bundle"))
       EXPECT_LE(std::abs(p.z()), 3.0) << r.camera_id << " " << p.name;
   }
   // The per-camera bundle's intersection (the network, the default with two cameras, is beside it).

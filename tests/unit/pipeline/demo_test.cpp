@@ -75,7 +75,7 @@ TEST(Demo, CheckPolesWithinOneCentimetreOfTruthAndParametersWithinThreeSigma) {
 
   ASSERT_EQ(run.results.cameras.size(), 2u);
   for (const DemoCamera& c : run.results.cameras) {
-    const auto checks = bundle_parameter_checks(c);
+    const auto checks = parameter_checks(c, "bundle");
     ASSERT_EQ(checks.size(), 5u);
     for (const ParameterCheck& p : checks) {
       EXPECT_GT(p.sigma, 0) << c.id << " " << p.name;

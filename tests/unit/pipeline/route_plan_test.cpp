@@ -23,6 +23,7 @@
 #include "pipeline/analysis/network_plan.hpp"
 #include "pipeline/analysis/network_vs_per_camera.hpp"
 #include "support/paths.hpp"
+#include "support/sharper_images.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
@@ -249,7 +250,7 @@ TEST(Plan, NetworkDatumFloorIsTheSimilarityFitOfTheFixes) {
     const std::vector<CameraParameter> params = expand_free_parameters(o.free_sets[0]);
     const double sharper = predicted_intersection_rms(
         n.truth, params,
-        network_cramer_rao_bound(with_sharper_images(n, 1000), o.free_sets[0], o.pixel_sigma_px / 1000),
+        network_cramer_rao_bound(test::with_sharper_images(n, 1000), o.free_sets[0], o.pixel_sigma_px / 1000),
         volume, true);
     EXPECT_NEAR(sharper / v.network_datum_floor_m, 1.0, 0.005);
     // Just above the similarity fit, which itself is above 0.6 × per-camera.
@@ -313,7 +314,7 @@ TEST(Plan, OneCameraNetworkEqualsPerCamera) {
 }
 
 /// The planned network with PPK noise (one draw per epoch or pole, shared by every camera that sees
-/// it) and pixel noise: as tests/unit/pipeline/network_adjustment_test.cpp draws it.
+/// it) and pixel noise: as tests/unit/optim/network_adjustment_test.cpp draws it.
 PlannedNetwork noisy(const PlannedNetwork& truth, std::uint64_t seed) {
   PlannedNetwork n = truth;
   std::mt19937_64 rng(seed);

@@ -41,7 +41,7 @@ const DemoIntersection& bundle_intersection(const DemoResults& r) {
 double worst_z(const DemoResults& r) {
   double z = 0;
   for (const DemoCamera& c : r.cameras)
-    for (const ParameterCheck& p : bundle_parameter_checks(c)) z = std::max(z, std::abs(p.z()));
+    for (const ParameterCheck& p : parameter_checks(c, "bundle")) z = std::max(z, std::abs(p.z()));
   return z;
 }
 
@@ -55,7 +55,7 @@ TEST(RouteShapes, HorizontalLegsAndADiagonalClimbCalibrateWithAttitude) {
     EXPECT_GT(r.reprojection.n_used, 150) << c.id << ": the legs cross the field of view";
     EXPECT_LT(r.reprojection.rms_px, 1.15 * c.expected_rms_px) << c.id;
     EXPECT_GT(r.reprojection.rms_px, 0.8 * c.expected_rms_px) << c.id;
-    for (const ParameterCheck& p : bundle_parameter_checks(c))
+    for (const ParameterCheck& p : parameter_checks(c, "bundle"))
       EXPECT_LE(std::abs(p.z()), 3.0) << c.id << " " << p.name << " estimate " << p.estimate << " truth "
                                       << p.truth << " sigma " << p.sigma;
   }

@@ -260,7 +260,7 @@ TEST(Triangulation, Errors) {
   EXPECT_NE(e.reason().find("behind camera cam2"), std::string::npos) << e.what();
 
   // (An unknown parameter name cannot reach the triangulation: calibration.json's reader refuses
-  // it, tests/unit/pipeline/calibration_io_test.cpp.)
+  // it, tests/unit/pipeline/calibration_json_test.cpp.)
   auto bad = views;
   bad[0].calibration.parameters = test::parameters({"f", "u0"});
   bad[0].calibration.covariance = Eigen::Matrix3d::Identity();

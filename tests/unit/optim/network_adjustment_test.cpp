@@ -26,6 +26,7 @@
 #include "pipeline/analysis/network_plan.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "support/paths.hpp"
+#include "support/sharper_images.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
@@ -456,8 +457,9 @@ TEST(NetworkAdjustment, DatumFloorIsTheNetworkWithImagesAHundredTimesSharper) {
   ASSERT_GT(r.joint_covariance.rows(), 0);
   ASSERT_EQ(r.datum_floor_covariance.rows(), r.joint_covariance.rows());
   EXPECT_EQ(r.datum_floor_image_factor, kDatumFloorImageFactor);
-  const MatrixXd crb = network_cramer_rao_bound(with_sharper_images(demo(), kDatumFloorImageFactor), kFree,
-                                                BundleOptions{}.pixel_sigma_px / kDatumFloorImageFactor);
+  const MatrixXd crb =
+      network_cramer_rao_bound(test::with_sharper_images(demo(), kDatumFloorImageFactor), kFree,
+                               BundleOptions{}.pixel_sigma_px / kDatumFloorImageFactor);
   ASSERT_EQ(crb.rows(), r.datum_floor_covariance.rows());
   const VectorXd floor = r.datum_floor_covariance.diagonal().cwiseSqrt();
   const VectorXd bound = crb.diagonal().cwiseSqrt();
