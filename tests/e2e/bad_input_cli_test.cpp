@@ -388,7 +388,8 @@ TEST(BadInputCli, ACameraThatFailsIsNotUsedDownstream) {
   EXPECT_FALSE(fs::exists(m / "out/c1/calibration.json.tmp.4194302"));
   EXPECT_TRUE(fs::exists(m / "out/c1/calibration.json"));
   const json runlog = read_json(m / "out/run.json");
-  EXPECT_NE(runlog["stages"]["calibrate"]["counts"]["c2"]["failed"].get<std::string>().find("lie in one"),
+  EXPECT_NE(runlog["stages"]["calibrate"]["counts"]["cameras"]["c2"]["failed"].get<std::string>().find(
+                "lie in one"),
             std::string::npos);
   EXPECT_EQ(runlog["stages"]["intersect"]["counts"]["cameras_used"], json::array({"c1"}));
   const json summary = read_json(m / "out/summary.json");
