@@ -3,6 +3,7 @@
 #include <string>
 
 #include "config/number_format.hpp"
+#include "pipeline/io/calibrate_record.hpp"
 #include "pipeline/report/flight_volume_sigma.hpp"
 
 namespace rangecal {
@@ -87,11 +88,14 @@ std::string detect_line(const std::string& cam, const json& c) {
   return s + "\n";
 }
 
-std::string calibrate_line(const std::string& cam, const json& c) {
-  if (c.contains("failed")) return "  " + cam + ": FAILED\n";
-  return "  " + cam + ": " + c.value("method", std::string("?")) + ", " + count(c.value("n_used", json())) +
-         " points used, " + count(c.value("n_rejected", json())) + " rejected, rms " +
-         fixed(c.value("rms_px", json()), "%.2f") + " px\n";
+std::string calibrate_lines(const CalibrateRecord& r) {
+  std::string s;
+  for (const auto& [cam, c] : r.cameras)
+    s += c.failed.empty() ? "  " + cam + ": " + c.method + ", " + count(c.n_used) + " points used, " +
+                                count(c.n_rejected) + " rejected, rms " + fixed(c.rms_px, "%.2f") + " px\n"
+                          : "  " + cam + ": FAILED\n";
+  if (r.method_choice) s += "  method: " + r.method_choice->method + " (" + r.method_choice->why + ")\n";
+  return s;
 }
 
 std::string intersect_lines(const json& c) {
@@ -142,13 +146,7 @@ std::string stage_summary(const StageLog& log, bool verbose) {
   else if (log.stage == "detect")
     s += per_camera(c, detect_line);
   else if (log.stage == "calibrate") {
-    // The mission-level keys (the default-method choice, the network's statistics) are not cameras.
-    json cams = c;
-    if (cams.is_object()) cams.erase("network"), cams.erase("method_choice");
-    s += per_camera(cams, calibrate_line);
-    if (c.contains("method_choice") && c["method_choice"].is_object())
-      s += "  method: " + c["method_choice"].value("method", std::string("?")) + " (" +
-           c["method_choice"].value("why", std::string()) + ")\n";
+    s += calibrate_lines(parse_calibrate_record(c, "run.json", "stages.calibrate.counts"));
   } else if (log.stage == "intersect") {
     s += intersect_lines(c);
   } else if (log.stage == "report") {

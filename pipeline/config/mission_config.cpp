@@ -11,14 +11,14 @@
 #include "config/json_view.hpp"
 #include "config/physical_ranges.hpp"
 #include "config/sha256.hpp"
+#include "pipeline/steps/calibration_method_names.hpp"
 #include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
 namespace fs = std::filesystem;
 
-const std::vector<std::string>& calibration_method_names() {
-  static const std::vector<std::string> names = {"tsai",   "tsai_sassa", "dlt_lmqn",
-                                                 "bundle", "network",    "planar"};
+const std::vector<std::string>& reserved_camera_ids() {
+  static const std::vector<std::string> names = {"gnss", "network", "method_choice"};
   return names;
 }
 
@@ -152,105 +152,130 @@ bool valid_id(const std::string& id) {
   return true;
 }
 
-CameraConfig parse_camera(const Loader& L, const JsonView& c) {
-  c.require_object("a camera object {\"id\", \"frames\", \"sensor\", \"lens\", ...}");
-  c.check_keys({"id", "frames", "sensor", "lens", "pole_observations", "priors"});
-  CameraConfig cam;
+// The camera's id: it names the output folder and keys the camera's records in run.json, so it
+// may not be one of the names those already use for the mission (reserved_camera_ids()).
+std::string parse_camera_id(const JsonView& c) {
   const std::string id_form = "a camera id of letters, digits, '_' or '-' (it names the output folder)";
   const JsonView idv = c.at("id", id_form);
-  cam.id = idv.string(id_form);
-  if (!valid_id(cam.id)) idv.fail_expected(id_form);
+  const std::string id = idv.string(id_form);
+  if (!valid_id(id)) idv.fail_expected(id_form);
+  const std::vector<std::string>& reserved = reserved_camera_ids();
+  if (std::find(reserved.begin(), reserved.end(), id) != reserved.end())
+    idv.fail("'" + id + "' is reserved (" + join(reserved) +
+             " name the mission's own outputs and records); expected " + id_form + " other than these");
+  return id;
+}
 
-  if (auto f = c.find("frames")) {
-    const std::string form =
-        "an object with one of {\"timestamps\": \"frame,file,utc CSV\"}, {\"cine\": \"file.cine\"} or "
-        "{\"mraw\": \"file.mraw\", \"clock_utc_offset_h\": h}, and optionally \"allow_missing\": true|false";
-    f->require_object(form);
-    f->check_keys({"timestamps", "cine", "mraw", "clock_utc_offset_h", "allow_missing"});
-    const bool has_ts = f->has("timestamps"), has_cine = f->has("cine"), has_mraw = f->has("mraw");
-    std::vector<std::string> given;
-    for (const char* key : {"timestamps", "cine", "mraw"})
-      if (f->has(key)) given.push_back(std::string("'") + key + "'");
-    if (given.size() != 1)
-      f->fail((given.empty() ? std::string("no frames given")
-               : given.size() == 2
-                   ? "both " + given[0] + " and " + given[1] + " are given"
-                   : "all of " + given[0] + ", " + given[1] + " and " + given[2] + " are given") +
-              "; expected " + form);
-    if (has_ts) cam.frames.timestamps = L.input_file(*f->find("timestamps"), "a timestamps CSV path");
-    if (has_cine) cam.frames.cine = L.input_file(*f->find("cine"), "a Phantom .cine path");
-    if (has_mraw) cam.frames.mraw = L.input_file(*f->find("mraw"), "a Photron .mraw path");
-    // Photron's header date and time are the camera clock's local time with no zone (Photron
-    // FASTCAM Viewer .cihx fileInfo/date, time): the offset is stated, never assumed.
-    if (auto o = f->find("clock_utc_offset_h")) {
-      if (!has_mraw)
-        o->fail(
-            "applies only to 'mraw' (the Photron header clock); timestamps CSVs and .cine stamps are UTC");
-      cam.frames.clock_utc_offset_h = Loader::in_range(
-          *o, -14, 14, "the camera clock's offset from UTC in hours (clock - UTC), within ±14");
-    } else if (has_mraw) {
-      f->fail(
-          "'mraw' needs \"clock_utc_offset_h\": the camera clock - UTC in hours (Photron's header time "
-          "is the camera's local clock with no time zone); or give \"timestamps\": a frame,file,utc CSV "
-          "naming the .mraw");
-    }
-    if (auto a = f->find("allow_missing")) cam.frames.allow_missing = a->boolean("true or false");
+FramesConfig parse_frames(const Loader& L, const JsonView& f) {
+  const std::string form =
+      "an object with one of {\"timestamps\": \"frame,file,utc CSV\"}, {\"cine\": \"file.cine\"} or "
+      "{\"mraw\": \"file.mraw\", \"clock_utc_offset_h\": h}, and optionally \"allow_missing\": true|false";
+  f.require_object(form);
+  f.check_keys({"timestamps", "cine", "mraw", "clock_utc_offset_h", "allow_missing"});
+  const bool has_ts = f.has("timestamps"), has_cine = f.has("cine"), has_mraw = f.has("mraw");
+  std::vector<std::string> given;
+  for (const char* key : {"timestamps", "cine", "mraw"})
+    if (f.has(key)) given.push_back(std::string("'") + key + "'");
+  if (given.size() != 1)
+    f.fail((given.empty() ? std::string("no frames given")
+            : given.size() == 2
+                ? "both " + given[0] + " and " + given[1] + " are given"
+                : "all of " + given[0] + ", " + given[1] + " and " + given[2] + " are given") +
+           "; expected " + form);
+  FramesConfig frames;
+  if (has_ts) frames.timestamps = L.input_file(*f.find("timestamps"), "a timestamps CSV path");
+  if (has_cine) frames.cine = L.input_file(*f.find("cine"), "a Phantom .cine path");
+  if (has_mraw) frames.mraw = L.input_file(*f.find("mraw"), "a Photron .mraw path");
+  // Photron's header date and time are the camera clock's local time with no zone (Photron
+  // FASTCAM Viewer .cihx fileInfo/date, time): the offset is stated, never assumed.
+  if (auto o = f.find("clock_utc_offset_h")) {
+    if (!has_mraw)
+      o->fail("applies only to 'mraw' (the Photron header clock); timestamps CSVs and .cine stamps are UTC");
+    frames.clock_utc_offset_h = Loader::in_range(
+        *o, -14, 14, "the camera clock's offset from UTC in hours (clock - UTC), within ±14");
+  } else if (has_mraw) {
+    f.fail(
+        "'mraw' needs \"clock_utc_offset_h\": the camera clock - UTC in hours (Photron's header time "
+        "is the camera's local clock with no time zone); or give \"timestamps\": a frame,file,utc CSV "
+        "naming the .mraw");
   }
+  if (auto a = f.find("allow_missing")) frames.allow_missing = a->boolean("true or false");
+  return frames;
+}
 
+SensorConfig parse_sensor(const JsonView& c) {
   const std::string sform = "an object {\"width_px\", \"height_px\", \"pixel_size_um\": [x, y]}";
   const JsonView s = c.at("sensor", sform);
   s.require_object(sform);
   s.check_keys({"width_px", "height_px", "pixel_size_um"});
+  SensorConfig sensor;
   const std::string wform =
       "a positive integer number of pixels (at most " + std::to_string(ranges::kMaxImageSidePx) + ")";
   for (const char* key : {"width_px", "height_px"}) {
     const JsonView v = s.at(key, wform);
     const std::int64_t n = v.integer(wform);
     if (n < 1 || n > ranges::kMaxImageSidePx) v.fail_expected(wform);
-    (std::string(key) == "width_px" ? cam.sensor.width_px : cam.sensor.height_px) = static_cast<int>(n);
+    (std::string(key) == "width_px" ? sensor.width_px : sensor.height_px) = static_cast<int>(n);
   }
   const std::string pform = "an array of 2 positive numbers (µm), each at most 1000";
   const JsonView ps = s.at("pixel_size_um", pform);
   const auto pp = ps.numbers(2, pform);
   for (int i = 0; i < 2; ++i) {
     if (!(pp[i] > 0) || pp[i] > 1000) ps.fail_expected(pform);
-    cam.sensor.pixel_size_um[i] = pp[i];
+    sensor.pixel_size_um[i] = pp[i];
   }
+  return sensor;
+}
 
+double parse_nominal_focal_mm(const JsonView& c) {
   const std::string lform = "an object {\"nominal_focal_mm\": f}";
   const JsonView lens = c.at("lens", lform);
   lens.require_object(lform);
   lens.check_keys({"nominal_focal_mm"});
   const std::string fform = "a positive focal length in millimetres (at most 10000)";
   const JsonView fv = lens.at("nominal_focal_mm", fform);
-  cam.nominal_focal_mm = Loader::positive(fv, fform);
-  if (cam.nominal_focal_mm > 10000) fv.fail_expected(fform);
+  const double f = Loader::positive(fv, fform);
+  if (f > 10000) fv.fail_expected(fform);
+  return f;
+}
 
+// The priors; the principal point must lie inside `sensor`'s image.
+CameraPriors parse_priors(const JsonView& pr, const SensorConfig& sensor) {
+  pr.require_object("an object of priors");
+  pr.check_keys({"principal_point_px", "principal_point_sigma_px", "center_enu_m", "center_sigma_m"});
+  CameraPriors priors;
+  if (auto pp2 = pr.find("principal_point_px")) {
+    const std::string form = "an array of 2 numbers [u0, v0] in pixels, inside the image";
+    const auto x = pp2->numbers(2, form);
+    // Pixel centres run 0 … width−1; the image area extends half a pixel beyond them.
+    if (x[0] < -0.5 || x[0] > sensor.width_px - 0.5 || x[1] < -0.5 || x[1] > sensor.height_px - 0.5)
+      pp2->fail("principal point (" + pp2->json().dump() + ") lies outside the " +
+                std::to_string(sensor.width_px) + "x" + std::to_string(sensor.height_px) +
+                " image; expected " + form);
+    priors.principal_point_px = Eigen::Vector2d(x[0], x[1]);
+  }
+  if (auto v = pr.find("principal_point_sigma_px"))
+    priors.principal_point_sigma_px = Loader::positive(*v, "a positive standard deviation in pixels");
+  if (auto v = pr.find("center_enu_m")) {
+    const auto x = v->numbers(3, "an array of 3 numbers [E, N, U] in metres");
+    priors.center_enu_m = Eigen::Vector3d(x[0], x[1], x[2]);
+  }
+  if (auto v = pr.find("center_sigma_m"))
+    priors.center_sigma_m = Loader::positive(*v, "a positive standard deviation in metres");
+  return priors;
+}
+
+CameraConfig parse_camera(const Loader& L, const JsonView& c) {
+  c.require_object("a camera object {\"id\", \"frames\", \"sensor\", \"lens\", ...}");
+  c.check_keys({"id", "frames", "sensor", "lens", "pole_observations", "priors"});
+  CameraConfig cam;
+  cam.id = parse_camera_id(c);
+  if (auto f = c.find("frames")) cam.frames = parse_frames(L, *f);
+  cam.sensor = parse_sensor(c);
+  cam.nominal_focal_mm = parse_nominal_focal_mm(c);
   if (auto p = c.find("pole_observations"))
     cam.pole_observations = L.input_file(*p, "a pole-pixel CSV path (id,u,v)");
-
-  if (auto pr = c.find("priors")) {
-    pr->require_object("an object of priors");
-    pr->check_keys({"principal_point_px", "principal_point_sigma_px", "center_enu_m", "center_sigma_m"});
-    if (auto pp2 = pr->find("principal_point_px")) {
-      const std::string form = "an array of 2 numbers [u0, v0] in pixels, inside the image";
-      const auto x = pp2->numbers(2, form);
-      // Pixel centres run 0 … width−1; the image area extends half a pixel beyond them.
-      if (x[0] < -0.5 || x[0] > cam.sensor.width_px - 0.5 || x[1] < -0.5 || x[1] > cam.sensor.height_px - 0.5)
-        pp2->fail("principal point (" + pp2->json().dump() + ") lies outside the " +
-                  std::to_string(cam.sensor.width_px) + "x" + std::to_string(cam.sensor.height_px) +
-                  " image; expected " + form);
-      cam.priors.principal_point_px = Eigen::Vector2d(x[0], x[1]);
-    }
-    if (auto v = pr->find("principal_point_sigma_px"))
-      cam.priors.principal_point_sigma_px = Loader::positive(*v, "a positive standard deviation in pixels");
-    if (auto v = pr->find("center_enu_m")) {
-      const auto x = v->numbers(3, "an array of 3 numbers [E, N, U] in metres");
-      cam.priors.center_enu_m = Eigen::Vector3d(x[0], x[1], x[2]);
-    }
-    if (auto v = pr->find("center_sigma_m"))
-      cam.priors.center_sigma_m = Loader::positive(*v, "a positive standard deviation in metres");
-  }
+  if (auto pr = c.find("priors")) cam.priors = parse_priors(*pr, cam.sensor);
   return cam;
 }
 

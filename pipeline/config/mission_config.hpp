@@ -105,9 +105,11 @@ struct MissionConfig {
   std::string output_dir;  ///< absolute; default "<config_dir>/out"
 };
 
-/// The calibration methods calibrate.method and compare may name (docs/optimisation.md;
-/// pipeline/steps/calibration_methods.hpp runs them): tsai, tsai_sassa, dlt_lmqn, bundle, network, planar.
-const std::vector<std::string>& calibration_method_names();
+/// Names a camera id may not take: `gnss` is the mission's folder of track files
+/// (pipeline/io/output_paths.hpp), `network` and `method_choice` the calibrate stage's mission-level
+/// records (run.json `stages.calibrate.counts`, network.json), which a camera's records must never
+/// be read as.
+const std::vector<std::string>& reserved_camera_ids();
 
 /// Loads and validates a mission config. Throws rangecal::Error (kind usage → exit 2) naming the
 /// config file and the JSON path (e.g. `cameras[1].sensor.pixel_size_um`), the problem and the

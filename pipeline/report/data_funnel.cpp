@@ -2,6 +2,8 @@
 
 #include <optional>
 
+#include "pipeline/io/calibrate_record.hpp"
+
 namespace rangecal {
 namespace {
 
@@ -37,6 +39,9 @@ std::vector<FunnelRow> data_funnel(const nlohmann::json& stages, const std::vect
       rows.push_back(r);
     }
   }
+  std::optional<CalibrateRecord> calibrate;
+  if (const nlohmann::json* k = counts_of(stages, "calibrate"))
+    calibrate = parse_calibrate_record(*k, "run.json", "stages.calibrate.counts");
   for (const std::string& id : camera_ids) {
     const nlohmann::json* a = counts_of(stages, "align");
     if (a && a->contains(id)) {
@@ -64,16 +69,12 @@ std::vector<FunnelRow> data_funnel(const nlohmann::json& stages, const std::vect
         rows.push_back(r);
       }
     }
-    const nlohmann::json* k = counts_of(stages, "calibrate");
-    if (k && k->contains(id)) {
-      const nlohmann::json& c = (*k)[id];
-      const auto pairs = count_at(c, "pairs"), poles = count_at(c, "control_poles"),
-                 used = count_at(c, "n_used");
-      if (pairs && used) {
-        FunnelRow r{"calibrate", id, "observations", *pairs + poles.value_or(0), *used, {}};
-        add_drop(&r, "outlier", count_at(c, "n_rejected"));
-        rows.push_back(r);
-      }
+    if (calibrate && calibrate->cameras.count(id) && calibrate->cameras.at(id).failed.empty()) {
+      const CalibrateCameraRecord& c = calibrate->cameras.at(id);
+      FunnelRow r{"calibrate", id, "observations", static_cast<long long>(c.pairs + c.control_poles),
+                  c.n_used,    {}};
+      add_drop(&r, "outlier", c.n_rejected);
+      rows.push_back(r);
     }
   }
   if (const nlohmann::json* x = counts_of(stages, "intersect")) {

@@ -7,6 +7,7 @@
 #include "config/error.hpp"
 #include "config/json_view.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
+#include "pipeline/io/calibrate_record.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/output_paths.hpp"
 
@@ -47,19 +48,16 @@ void read_run_json(const std::string& path, ReportData* data,
       }
     }
     data->stage_warnings.push_back(sw);
-    if (name != "calibrate" || !stage.contains("counts") || !stage["counts"].is_object()) continue;
-    const nlohmann::json& counts = stage["counts"];
-    for (const auto& [cam, c] : counts.items())
-      if (c.is_object() && c.contains("failed") && c["failed"].is_string())
-        failures->emplace_back(cam, c["failed"].get<std::string>());
-    if (counts.contains("network"))
+    if (name != "calibrate" || !stage.contains("counts")) continue;
+    const CalibrateRecord record = parse_calibrate_record(stage["counts"], path, "stages.calibrate.counts");
+    for (const auto& [cam, c] : record.cameras)
+      if (!c.failed.empty()) failures->emplace_back(cam, c.failed);
+    if (!record.network.is_null())
       data->network_statistics =
-          parse_network_statistics_json(counts["network"], path, "stages.calibrate.counts.network");
-    if (counts.contains("method_choice") && counts["method_choice"].is_object()) {
-      const nlohmann::json& m = counts["method_choice"];
-      if (m.contains("method") && m["method"].is_string())
-        data->method_choice = m["method"].get<std::string>();
-      if (m.contains("why") && m["why"].is_string()) data->method_choice_why = m["why"].get<std::string>();
+          parse_network_statistics_json(record.network, path, "stages.calibrate.counts.network");
+    if (record.method_choice) {
+      data->method_choice = record.method_choice->method;
+      data->method_choice_why = record.method_choice->why;
     }
   }
 }

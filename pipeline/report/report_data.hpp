@@ -37,7 +37,7 @@ struct CameraReportData {
   /// absent: residuals.csv missing (not calibrated); its lamp rows follow `pairs` one to one
   std::optional<std::vector<ResidualRow>> residuals;
   std::optional<std::vector<MethodRow>> methods;  ///< absent: methods.csv missing (no `compare`)
-  /// run.json calibrate counts "<cam>.failed": why the calibrate stage gave up on the camera.
+  /// run.json calibrate counts "cameras.<cam>.failed": why the calibrate stage gave up on the camera.
   std::string calibration_failure;
   /// Image size (px) for the plots: calibration.json's, else 0 until the caller sets the config's.
   int width_px = 0;

@@ -13,6 +13,7 @@
 #include "pipeline/report/projection_uncertainty.hpp"
 #include "pipeline/report/report_plots.hpp"
 #include "pipeline/report/svg_plot.hpp"
+#include "pipeline/report/verdict.hpp"
 #include "pipeline/steps/intersection.hpp"
 #include "vision/camera/camera_model.hpp"
 
@@ -474,7 +475,7 @@ std::string datum_floor_sentence(const FlightVolumeSigma& v) {
       " (what the PPK fixes and control poles alone allow): median " +
       fmt("%.2f", v.datum_floor_stats.median * 100) + " cm; the calibration is " +
       fmt("%.2f", v.over_datum_floor) + "&#215; its floor. ";
-  if (v.over_datum_floor <= kDatumLimitedRatio)
+  if (datum_limited(v))
     s += "The datum limits it, not the images: more fix epochs, or control poles surveyed better than the "
          "PPK average, would lower it; sharper centroids or more cameras would not.";
   else
@@ -483,11 +484,33 @@ std::string datum_floor_sentence(const FlightVolumeSigma& v) {
   return s + "</p>\n";
 }
 
-std::string verdict_section(const ReportData& d, const std::vector<CameraFigures>& figs,
-                            const FlightVolumeSigma& volume) {
-  std::string s = "<section id=\"verdict\">\n<h2>Verdict</h2>\n<table class=\"verdict\">\n<tr>" +
-                  th("Camera") + th("Method") + th("RMS /px") + th("RMS expected /px") + th("ratio") +
-                  th("projection &#963; at centre /px") + th("reading") + "</tr>\n";
+// Whether one of the calibration's warnings says a parameter is poorly determined or correlated.
+bool warns_of_weak_parameters(const CalibrationResult& cal) {
+  for (const std::string& x : cal.warnings)
+    if (x.find("correlated") != std::string::npos || x.find("poorly determined") != std::string::npos)
+      return true;
+  return false;
+}
+
+std::string reading_cell(const CameraVerdict& v) {
+  switch (v.reading) {
+    case ResidualReading::no_residuals:
+      return "no lamp residuals to judge";
+    case ResidualReading::as_expected:
+      return "<span class=\"ok\">residuals as the noise model expects</span>";
+    case ResidualReading::too_large:
+      break;
+  }
+  return "<span class=\"bad\">residuals " + fmt("%.1f", v.residual_ratio) +
+         "&#215; the noise model's: look at the residual plots (a trend with time: clock offset; with image "
+         "row: lever arm or heights)</span>";
+}
+
+std::string verdict_table(const ReportData& d, const std::vector<CameraFigures>& figs,
+                          const std::vector<CameraVerdict>& verdicts) {
+  std::string s = "<table class=\"verdict\">\n<tr>" + th("Camera") + th("Method") + th("RMS /px") +
+                  th("RMS expected /px") + th("ratio") + th("projection &#963; at centre /px") +
+                  th("reading") + "</tr>\n";
   for (std::size_t i = 0; i < d.cameras.size(); ++i) {
     const CameraReportData& c = d.cameras[i];
     const CameraFigures& f = figs[i];
@@ -497,83 +520,89 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
            td("<span class=\"missing\">" + html_escape(status_of(c)) + "</span>", "txt") + "</tr>\n";
       continue;
     }
-    const double ratio = f.consistency.rms_px / f.consistency.expected_rms_px;
-    std::string reading;
-    if (!std::isfinite(ratio))
-      reading = "no lamp residuals to judge";
-    else if (ratio <= 1.5)
-      reading = "<span class=\"ok\">residuals as the noise model expects</span>";
-    else
-      reading =
-          "<span class=\"bad\">residuals " + fmt("%.1f", ratio) +
-          "&#215; the noise model's: look at the residual plots (a trend with time: clock offset; with image "
-          "row: lever arm or heights)</span>";
     s += td(html_escape(c.calibration->method), "txt") + td(fmt("%.3f", f.consistency.rms_px)) +
-         td(fmt("%.3f", f.consistency.expected_rms_px)) + td(fmt("%.2f", ratio)) +
-         td(fmt("%.3f", f.centre_sigma_px)) + td(reading, "txt") + "</tr>\n";
+         td(fmt("%.3f", f.consistency.expected_rms_px)) + td(fmt("%.2f", verdicts[i].residual_ratio)) +
+         td(fmt("%.3f", f.centre_sigma_px)) + td(reading_cell(verdicts[i]), "txt") + "</tr>\n";
   }
-  s += "</table>\n" + method_sentence(d);
-  const SliceStats& st = volume.stats;
-  if (d.intersection && !d.intersection->empty()) {
-    const IntersectionMeans m = intersection_means(*d.intersection);
-    const bool pass = m.mean_dR <= d.bar_mean_dR_m;
-    s += "<p class=\"" + std::string(pass ? "ok" : "bad") + "\">Check poles (" + std::to_string(m.n) +
+  return s + "</table>\n";
+}
+
+std::string check_pole_sentence(const std::optional<CheckPoleVerdict>& v, double bar_mean_dR_m) {
+  if (!v)
+    return "<p class=\"missing\">No check poles intersected: the calibration is not checked against an "
+           "independent survey.</p>\n";
+  const IntersectionMeans& m = v->means;
+  return "<p class=\"" + std::string(v->met ? "ok" : "bad") + "\">Check poles (" + std::to_string(m.n) +
          "): mean &#916;R " + fmt("%.2f", m.mean_dR * 100) + " cm, max " + fmt("%.2f", m.max_dR * 100) +
          " cm, RMS " + fmt("%.2f", m.rms_dR * 100) + " cm against the predicted 1&#963; " +
          fmt("%.2f", m.mean_sigma_m * 100) + " cm (mean); bar: mean &#916;R &#8804; " +
-         fmt("%.1f", d.bar_mean_dR_m * 100) +
+         fmt("%.1f", bar_mean_dR_m * 100) +
          " cm (the config's intersect.bar_mean_dR_m; rangecal's quality bar is 1 cm, "
          "docs/accuracy_analysis.md): " +
-         (pass ? "met" : "NOT met") + ".</p>\n";
-  } else {
-    s += "<p class=\"missing\">No check poles intersected: the calibration is not checked against an "
-         "independent survey.</p>\n";
-  }
+         (v->met ? "met" : "NOT met") + ".</p>\n";
+}
+
+// What a camera's weak parameters mean for the intersection (judge_camera), in words.
+std::string weak_parameter_paragraph(const CameraVerdict& v, const CameraFigures& f, const SliceStats& st,
+                                     double bar_mean_dR_m) {
+  if (v.weak == WeakParameterEffect::none) return "";
+  if (v.weak == WeakParameterEffect::not_judgeable)
+    return "<p>No covariance: their effect on the intersection cannot be judged.</p>\n";
+  const bool small = v.weak == WeakParameterEffect::harmless;
+  const double worst = f.uncertainty ? f.uncertainty->sigma_px.maxCoeff() : std::nan("");
+  std::string w =
+      "<p class=\"" + std::string(small ? "ok" : "bad") + "\">" +
+      (small ? "Harmless for the intersection. " : "This matters for the intersection. ") +
+      "What the images fix is the combination of these parameters that places a point of the flight "
+      "volume; that combination is " +
+      (small ? "well" : "poorly") +
+      " determined: a point at the flight "
+      "distance (" +
+      fmt("%.1f", f.depth_m) + " m) projects with 1&#963; " + fmt("%.3f", f.centre_sigma_px) +
+      " px at the image centre (up to " + fmt("%.2f", worst) +
+      " px in the corners, where no lamp was seen; see the uncertainty map)";
   if (st.n > 0)
-    s += "<p>Predicted intersection &#963; from the calibrations alone over the flight volume at U = " +
-         fmt("%.1f", volume.slice->up_m) + " m: " + fmt("%.2f", st.min * 100) + "&#8211;" +
-         fmt("%.2f", st.max * 100) + " cm (median " + fmt("%.2f", st.median * 100) + " cm).</p>\n";
-  if (st.n > 0 && std::isfinite(volume.over_datum_floor)) s += datum_floor_sentence(volume);
-  // Each camera's calibration warnings, then once what they mean for the intersection: a poorly
-  // determined or strongly correlated parameter matters only through where it moves the flown points.
+    w += ", and the predicted intersection &#963; from the calibrations is " + fmt("%.2f", st.median * 100) +
+         " cm (median over the flight volume), against the bar of " + fmt("%.1f", bar_mean_dR_m * 100) +
+         " cm";
+  return w + ".</p>\n";
+}
+
+// Each camera's calibration warnings, then once what they mean for the intersection.
+std::string verdict_warnings(const ReportData& d, const std::vector<CameraFigures>& figs,
+                             const std::vector<CameraVerdict>& verdicts, const SliceStats& st) {
   std::string w;
   for (std::size_t i = 0; i < d.cameras.size(); ++i) {
     const CameraReportData& c = d.cameras[i];
     if (!c.calibration || c.calibration->warnings.empty()) continue;
     w += "<li><b>" + html_escape(c.id) + "</b>:<ul>\n";
-    bool weak = false;
-    for (const std::string& x : c.calibration->warnings) {
-      weak |= x.find("correlated") != std::string::npos || x.find("poorly determined") != std::string::npos;
+    for (const std::string& x : c.calibration->warnings)
       w += "<li class=\"warn\">" + html_escape(x) + "</li>\n";
-    }
-    w += "</ul>\n";
-    const CameraFigures& f = figs[i];
-    if (weak && std::isfinite(f.centre_sigma_px)) {
-      const double worst = f.uncertainty ? f.uncertainty->sigma_px.maxCoeff() : std::nan("");
-      const bool small = st.n > 0 ? st.median <= d.bar_mean_dR_m : f.centre_sigma_px < 0.5;
-      w += "<p class=\"" + std::string(small ? "ok" : "bad") + "\">" +
-           (small ? "Harmless for the intersection. " : "This matters for the intersection. ") +
-           "What the images fix is the combination of these parameters that places a point of the flight "
-           "volume; that combination is " +
-           (small ? "well" : "poorly") +
-           " determined: a point at the flight "
-           "distance (" +
-           fmt("%.1f", f.depth_m) + " m) projects with 1&#963; " + fmt("%.3f", f.centre_sigma_px) +
-           " px at the image centre (up to " + fmt("%.2f", worst) +
-           " px in the corners, where no lamp was seen; see the uncertainty map)";
-      if (st.n > 0)
-        w += ", and the predicted intersection &#963; from the calibrations is " +
-             fmt("%.2f", st.median * 100) + " cm (median over the flight volume), against the bar of " +
-             fmt("%.1f", d.bar_mean_dR_m * 100) + " cm";
-      w += ".</p>\n";
-    } else if (weak) {
-      w += "<p>No covariance: their effect on the intersection cannot be judged.</p>\n";
-    }
-    w += "</li>\n";
+    w += "</ul>\n" + weak_parameter_paragraph(verdicts[i], figs[i], st, d.bar_mean_dR_m) + "</li>\n";
   }
-  if (!w.empty())
-    s +=
-        "<h3>Calibration warnings and what they mean</h3>\n<ul class=\"verdict-warnings\">\n" + w + "</ul>\n";
+  if (w.empty()) return "";
+  return "<h3>Calibration warnings and what they mean</h3>\n<ul class=\"verdict-warnings\">\n" + w +
+         "</ul>\n";
+}
+
+std::string verdict_section(const ReportData& d, const std::vector<CameraFigures>& figs,
+                            const FlightVolumeSigma& volume) {
+  const SliceStats& st = volume.stats;
+  std::vector<CameraVerdict> verdicts(d.cameras.size());
+  for (std::size_t i = 0; i < d.cameras.size(); ++i)
+    if (d.cameras[i].calibration)
+      verdicts[i] = judge_camera(
+          {figs[i].consistency, figs[i].centre_sigma_px, warns_of_weak_parameters(*d.cameras[i].calibration)},
+          st, d.bar_mean_dR_m);
+  std::string s = "<section id=\"verdict\">\n<h2>Verdict</h2>\n" + verdict_table(d, figs, verdicts) +
+                  method_sentence(d) +
+                  check_pole_sentence(judge_check_poles(d.intersection, d.bar_mean_dR_m), d.bar_mean_dR_m);
+  if (st.n > 0)
+    s += "<p>Predicted intersection &#963; from the calibrations alone over the flight volume at U = " +
+         fmt("%.1f", volume.slice->up_m) + " m: " + fmt("%.2f", st.min * 100) + "&#8211;" +
+         fmt("%.2f", st.max * 100) + " cm (median " + fmt("%.2f", st.median * 100) + " cm).</p>\n";
+  if (st.n > 0 && std::isfinite(volume.over_datum_floor)) s += datum_floor_sentence(volume);
+  s += verdict_warnings(d, figs, verdicts, st);
   return s + "</section>\n";
 }
 

@@ -72,7 +72,10 @@ double magnification(double size, double want) {
 
 }  // namespace
 
-std::string svg_site_plan(const SiteMap& m, const std::string& id) {
+namespace {
+
+// The plan view's axes: equal scales over the cameras, their wedges, the track and the poles.
+ChartAxes site_plan_axes(const SiteMap& m) {
   std::vector<double> es, ns;
   auto add = [&](const Eigen::Vector3d& p) { es.push_back(p.x()), ns.push_back(p.y()); };
   for (const SiteCamera& c : m.cameras) {
@@ -90,10 +93,13 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
   a.width = 560;
   a.height = 440;
   equal_aspect(&a, padded_range(es, 0.12, 10), padded_range(ns, 0.12, 10));
-  const double scale = a.width / (a.x1 - a.x0);  // drawing units per metre
-  std::string s = svg_open(a.right() + 16, a.bottom() + 104, id, "Site map, plan view");
-  s += "<g class=\"data\">\n";
-  // Viewing wedges, then the track, then the markers on top.
+  return a;
+}
+
+// Viewing wedges, the track coloured by time (0 … t_end s) and the rejected pairs: the layer under
+// the markers.
+std::string site_plan_wedges_and_track(const SiteMap& m, const ChartAxes& a, double t_end) {
+  std::string s;
   for (std::size_t i = 0; i < m.cameras.size(); ++i) {
     const SiteCamera& c = m.cameras[i];
     const Eigen::Vector2d hl = horizontal(c.left_ray) * c.wedge_m, hr = horizontal(c.right_ray) * c.wedge_m;
@@ -103,26 +109,34 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
          camera_colour(i) + "\" fill-opacity=\"0.12\" stroke=\"" + camera_colour(i) +
          "\" stroke-width=\"0.6\"/>\n";
   }
-  const double t_end = m.track_t_s.empty() ? 1 : std::max(1e-9, m.track_t_s.back());
   for (std::size_t k = 0; k < m.track.size(); ++k)
     s += "<circle class=\"track\" cx=\"" + n2(a.X(m.track[k].x())) + "\" cy=\"" + n2(a.Y(m.track[k].y())) +
          "\" r=\"1.60\" fill=\"" + sequential_colour(k < m.track_t_s.size() ? m.track_t_s[k] / t_end : 0) +
          "\"/>\n";
   for (const Eigen::Vector3d& p : m.outliers) s += cross(a.X(p.x()), a.Y(p.y()), 3, "outlier", "#d62728");
-  // Camera centres with their 1σ ellipses (E, N block of the covariance).
+  return s;
+}
+
+// How much the camera centres' 1σ ellipses are magnified: the largest spans 8 drawing units.
+double site_plan_centre_gain(const SiteMap& m, double scale) {
   double max_sigma = 0;
   for (const SiteCamera& c : m.cameras)
     if (c.center_cov_m2.allFinite())
       max_sigma = std::max(
           max_sigma,
           std::sqrt(std::max(0.0, c.center_cov_m2.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff())));
-  const double gain_c = magnification(max_sigma * scale, 8);
+  return magnification(max_sigma * scale, 8);
+}
+
+// Camera centres with their 1σ ellipses (E, N block of the covariance) magnified `gain` times.
+std::string site_plan_cameras(const SiteMap& m, const ChartAxes& a, double scale, double gain) {
+  std::string s;
   for (std::size_t i = 0; i < m.cameras.size(); ++i) {
     const SiteCamera& c = m.cameras[i];
     const double x = a.X(c.center.x()), y = a.Y(c.center.y());
     if (c.center_cov_m2.allFinite()) {
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es2(c.center_cov_m2.topLeftCorner<2, 2>());
-      const Eigen::Vector2d ev = es2.eigenvalues().cwiseMax(0).cwiseSqrt() * gain_c * scale;
+      const Eigen::Vector2d ev = es2.eigenvalues().cwiseMax(0).cwiseSqrt() * gain * scale;
       const Eigen::Vector2d major = es2.eigenvectors().col(1);
       const double angle = -std::atan2(major.y(), major.x()) * 57.29577951308232;  // drawing y is down
       s += "<ellipse class=\"center-sigma\" cx=\"" + n2(x) + "\" cy=\"" + n2(y) + "\" rx=\"" + n2(ev[1]) +
@@ -134,21 +148,30 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
     s += "<text class=\"camera-label\" x=\"" + n2(std::min(x + 6, a.right() - 40)) + "\" y=\"" +
          n2(std::max(y - 6, a.top + 12)) + "\" font-size=\"11\">" + html_escape(c.id) + "</text>\n";
   }
-  // Poles; check poles' errors and σ magnified so the largest spans 30 drawing units.
+  return s;
+}
+
+// How much the check poles' errors and σ are magnified: the largest spans 30 drawing units.
+double site_plan_pole_gain(const SiteMap& m, double scale) {
   double max_err = 0;
   for (const SitePole& p : m.poles)
     if (p.has_error)
       max_err = std::max({max_err, Eigen::Vector2d(p.d_enu.x(), p.d_enu.y()).norm(), p.sigma_m});
-  const double gain_p = max_err > 0 ? std::max(1.0, nice_floor(30.0 / (max_err * scale))) : 1;
+  return max_err > 0 ? std::max(1.0, nice_floor(30.0 / (max_err * scale))) : 1;
+}
+
+// Poles; check poles' errors and σ magnified `gain` times.
+std::string site_plan_poles(const SiteMap& m, const ChartAxes& a, double scale, double gain) {
+  std::string s;
   for (const SitePole& p : m.poles) {
     const double x = a.X(p.enu.x()), y = a.Y(p.enu.y());
     if (p.check) {
       if (p.has_error) {
         s += "<circle class=\"pole-sigma\" cx=\"" + n2(x) + "\" cy=\"" + n2(y) + "\" r=\"" +
-             n2(p.sigma_m * gain_p * scale) +
+             n2(p.sigma_m * gain * scale) +
              "\" fill=\"none\" stroke=\"#777\" stroke-dasharray=\"2,2\" stroke-width=\"0.8\"/>\n";
         s += "<line class=\"pole-error\" x1=\"" + n2(x) + "\" y1=\"" + n2(y) + "\" x2=\"" +
-             n2(x + p.d_enu.x() * gain_p * scale) + "\" y2=\"" + n2(y - p.d_enu.y() * gain_p * scale) +
+             n2(x + p.d_enu.x() * gain * scale) + "\" y2=\"" + n2(y - p.d_enu.y() * gain * scale) +
              "\" stroke=\"#d62728\" stroke-width=\"1.4\"/>\n";
       }
       s += "<rect class=\"check-pole\" x=\"" + n2(x - 2.5) + "\" y=\"" + n2(y - 2.5) +
@@ -158,13 +181,16 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
            n2(y + 2.5) + "L" + n2(x - 3.2) + " " + n2(y + 2.5) + "Z\" fill=\"#ff7f0e\"/>\n";
     }
   }
-  s += "</g>\n";
-  s += svg_axes(a, "E (m), east", "N (m), north");
-  // Key: scale bar, markers, magnifications, time colours.
+  return s;
+}
+
+// Key: scale bar, markers, magnifications, time colours.
+std::string site_plan_key(const ChartAxes& a, double scale, double gain_p, double gain_c, double t_end) {
   const double bar_m = nice_floor((a.x1 - a.x0) / 5), ky = a.bottom() + 48;
-  s += "<g class=\"key\" font-size=\"11\">\n<line x1=\"" + n2(a.left) + "\" y1=\"" + n2(ky) + "\" x2=\"" +
-       n2(a.left + bar_m * scale) + "\" y2=\"" + n2(ky) + "\" stroke=\"#000\" stroke-width=\"2\"/>" +
-       text(a.left + bar_m * scale + 6, ky + 4, tick_label(bar_m) + " m") + "\n";
+  std::string s = "<g class=\"key\" font-size=\"11\">\n<line x1=\"" + n2(a.left) + "\" y1=\"" + n2(ky) +
+                  "\" x2=\"" + n2(a.left + bar_m * scale) + "\" y2=\"" + n2(ky) +
+                  "\" stroke=\"#000\" stroke-width=\"2\"/>" +
+                  text(a.left + bar_m * scale + 6, ky + 4, tick_label(bar_m) + " m") + "\n";
   const double kx = a.left + bar_m * scale + 60;
   s += "<rect x=\"" + n2(kx) + "\" y=\"" + n2(ky - 6) + "\" width=\"5\" height=\"5\"/>" +
        text(kx + 8, ky, "check pole") + "<path d=\"M" + n2(kx + 82) + " " + n2(ky - 7) + "L" + n2(kx + 85) +
@@ -180,9 +206,27 @@ std::string svg_site_plan(const SiteMap& m, const std::string& id) {
   for (int k = 0; k < 10; ++k)
     s += "<rect x=\"" + n2(a.left + k * 12) + "\" y=\"" + n2(ky3 - 8) +
          "\" width=\"12\" height=\"9\" fill=\"" + sequential_colour((k + 0.5) / 10) + "\"/>";
-  s += text(a.left + 126, ky3, "lamp track, time 0 … " + format_number("%.1f", t_end) + " s") +
-       "\n</g>\n</svg>\n";
+  s += text(a.left + 126, ky3, "lamp track, time 0 … " + format_number("%.1f", t_end) + " s") + "\n</g>\n";
   return s;
+}
+
+}  // namespace
+
+std::string svg_site_plan(const SiteMap& m, const std::string& id) {
+  const ChartAxes a = site_plan_axes(m);
+  const double scale = a.width / (a.x1 - a.x0);  // drawing units per metre
+  const double t_end = m.track_t_s.empty() ? 1 : std::max(1e-9, m.track_t_s.back());
+  const double gain_c = site_plan_centre_gain(m, scale), gain_p = site_plan_pole_gain(m, scale);
+  std::string s = svg_open(a.right() + 16, a.bottom() + 104, id, "Site map, plan view");
+  s += "<g class=\"data\">\n";
+  // Viewing wedges, then the track, then the markers on top.
+  s += site_plan_wedges_and_track(m, a, t_end);
+  s += site_plan_cameras(m, a, scale, gain_c);
+  s += site_plan_poles(m, a, scale, gain_p);
+  s += "</g>\n";
+  s += svg_axes(a, "E (m), east", "N (m), north");
+  s += site_plan_key(a, scale, gain_p, gain_c, t_end);
+  return s + "</svg>\n";
 }
 
 std::string svg_site_side(const SiteMap& m, const std::string& id) {

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
 #include "optim/network/network_adjustment.hpp"
+#include "pipeline/io/calibrate_record.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/lamp_track_adjusted_csv.hpp"
@@ -33,8 +35,15 @@ struct CameraCalibration {
   OpenCvCamera opencv;
   DltCamera dlt;  ///< DLT-11 + Argus profile (DLTdv, Argus, easyWand)
   std::vector<ResidualRow> residuals;
-  nlohmann::json counts;
+  CalibrateCameraRecord record;
   std::vector<std::string> warnings;  ///< without the camera id prefix
+};
+
+/// One camera's inputs: its lamp pairs and the problem made of them (kept for the network).
+struct CameraInputs {
+  std::string id;
+  std::vector<Correspondence> pairs;
+  CalibrationProblem problem;
 };
 
 /// One row per observation of the problem: lamp pairs, then control poles.
@@ -62,52 +71,187 @@ std::vector<ResidualRow> residual_rows(const CalibrationProblem& problem,
   return rows;
 }
 
+/// cc.main's exports (OpenCV, DLT-11 + Argus profile) and its residual rows.
+void derive_exports_and_residuals(const CameraInputs& in, CameraCalibration* cc) {
+  cc->opencv = fit_opencv_camera(cc->main.camera);
+  cc->dlt = dlt_camera(cc->main.camera);
+  cc->residuals = residual_rows(in.problem, in.pairs, cc->main);
+}
+
+/// The record's method and reprojection statistics, from `r`.
+void record_fit(const CalibrationResult& r, CalibrateCameraRecord* record) {
+  record->method = r.method;
+  record->rms_px = r.reprojection.rms_px;
+  record->n_used = r.reprojection.n_used;
+  record->n_rejected = r.reprojection.n_rejected;
+}
+
+/// The export checks: how far the OpenCV and DLT-11 + Argus profile exports reproduce the camera,
+/// into the record, and a warning when beyond what their users can ignore.
+void check_exports(CameraCalibration* cc) {
+  CalibrateCameraRecord& rec = cc->record;
+  rec.opencv_fit_max_px = cc->opencv.fit_max_px;
+  rec.opencv_undistort_max_px = cc->opencv.undistort_max_px;
+  rec.dlt_only_rms_px = cc->dlt.dlt_only_rms_px;
+  rec.dlt_only_max_px = cc->dlt.dlt_only_max_px;
+  rec.dlt_profile_max_px = std::max(cc->dlt.profile_max_px, cc->dlt.undistort_max_px);
+  if (std::max(cc->opencv.fit_max_px, cc->opencv.undistort_max_px) > 0.01)
+    cc->warnings.push_back("OpenCV model reproduces rangecal only to " +
+                           std::to_string(cc->opencv.fit_max_px) + " px (cv::projectPoints) and " +
+                           std::to_string(cc->opencv.undistort_max_px) +
+                           " px (cv::undistortPoints, default iterations)");
+  if (rec.dlt_profile_max_px > 0.05)
+    cc->warnings.push_back("DLT-11 + Argus profile reproduce rangecal only to " +
+                           std::to_string(rec.dlt_profile_max_px) + " px");
+}
+
+double wall_time_record(const CalibrationResult& r) {
+  return std::round(r.wall_time_s * 1e4) / 1e4;
+}
+
 /// The configured method, then every `compare` method (a compared method that fails is a
 /// warning). Throws the configured method's rangecal::Error.
-CameraCalibration calibrate_one_camera(const CalibrateConfig& calibrate, const CalibrationProblem& problem,
-                                       const std::vector<Correspondence>& pairs) {
+CameraCalibration calibrate_one_camera(const CalibrateConfig& calibrate, const CameraInputs& in) {
   CameraCalibration cc;
-  cc.main = calibrate_camera(calibrate.method, problem);
-  cc.counts["pairs"] = pairs.size();
-  cc.counts["control_poles"] = problem.observations.size() - pairs.size();
-  if (pairs.empty())
+  cc.main = calibrate_camera(calibrate.method, in.problem);
+  cc.record.pairs = in.pairs.size();
+  cc.record.control_poles = in.problem.observations.size() - in.pairs.size();
+  if (in.pairs.empty())
     cc.warnings.push_back("no lamp pairs; calibrated from its " +
-                          std::to_string(problem.observations.size()) +
+                          std::to_string(in.problem.observations.size()) +
                           " control poles alone (seed 002's baseline setting, far fewer points)");
-  cc.opencv = fit_opencv_camera(cc.main.camera);
-  if (std::max(cc.opencv.fit_max_px, cc.opencv.undistort_max_px) > 0.01)
-    cc.warnings.push_back("OpenCV model reproduces rangecal only to " + std::to_string(cc.opencv.fit_max_px) +
-                          " px (cv::projectPoints) and " + std::to_string(cc.opencv.undistort_max_px) +
-                          " px (cv::undistortPoints, default iterations)");
-  cc.dlt = dlt_camera(cc.main.camera);
-  if (std::max(cc.dlt.profile_max_px, cc.dlt.undistort_max_px) > 0.05)
-    cc.warnings.push_back("DLT-11 + Argus profile reproduce rangecal only to " +
-                          std::to_string(std::max(cc.dlt.profile_max_px, cc.dlt.undistort_max_px)) + " px");
-  cc.residuals = residual_rows(problem, pairs, cc.main);
-  nlohmann::json times;
-  times[cc.main.method] = std::round(cc.main.wall_time_s * 1e4) / 1e4;
+  derive_exports_and_residuals(in, &cc);
+  check_exports(&cc);
+  cc.record.method_time_s[cc.main.method] = wall_time_record(cc.main);
   for (const std::string& m : calibrate.compare) {
     if (m == calibrate.method) continue;
     try {
-      cc.compared.push_back(calibrate_camera(m, problem));
-      times[m] = std::round(cc.compared.back().wall_time_s * 1e4) / 1e4;
+      cc.compared.push_back(calibrate_camera(m, in.problem));
+      cc.record.method_time_s[m] = wall_time_record(cc.compared.back());
     } catch (const Error& e) {
       if (e.kind() != ErrorKind::calibration) throw;
       cc.warnings.push_back("compare method " + m + " failed: " + e.what());
     }
   }
-  cc.counts["method"] = cc.main.method;
-  cc.counts["rms_px"] = cc.main.reprojection.rms_px;
-  cc.counts["n_used"] = cc.main.reprojection.n_used;
-  cc.counts["n_rejected"] = cc.main.reprojection.n_rejected;
-  cc.counts["opencv_fit_max_px"] = cc.opencv.fit_max_px;
-  cc.counts["opencv_undistort_max_px"] = cc.opencv.undistort_max_px;
-  cc.counts["dlt_only_rms_px"] = cc.dlt.dlt_only_rms_px;
-  cc.counts["dlt_only_max_px"] = cc.dlt.dlt_only_max_px;
-  cc.counts["dlt_profile_max_px"] = std::max(cc.dlt.profile_max_px, cc.dlt.undistort_max_px);
-  cc.counts["method_time_s"] = times;
+  record_fit(cc.main, &cc.record);
   for (const auto& w : cc.main.warnings) cc.warnings.push_back(w);
   return cc;
+}
+
+/// The per-camera pass over the config's cameras: who was calibrated, from what, and the record
+/// and warnings of every camera (one that cannot be calibrated is a warning; the others go on).
+struct PerCameraPass {
+  std::vector<std::pair<std::string, CameraCalibration>> done;  ///< calibrated, config order
+  std::vector<CameraInputs> inputs;                             ///< of `done`, same order
+  CalibrateRecord record;
+  std::vector<std::string> warnings;
+  std::string last_failure, last_failed_file;
+};
+
+/// Calibrates the camera read from `corr_path` into `pass`. Throws any rangecal::Error that is not
+/// a calibration failure.
+void calibrate_or_record_failure(const CalibrateConfig& per_camera, const GeodeticOrigin& origin,
+                                 const std::string& corr_path, CameraInputs in, PerCameraPass* pass) {
+  try {
+    CameraCalibration cc = calibrate_one_camera(per_camera, in);
+    // Every calibration.json names the ENU frame its pose is in, so it stands alone.
+    cc.main.site_origin = origin;
+    for (CalibrationResult& r : cc.compared) r.site_origin = origin;
+    pass->record.cameras[in.id] = cc.record;
+    for (const std::string& w : cc.warnings) pass->warnings.push_back(in.id + ": " + w);
+    pass->done.emplace_back(in.id, std::move(cc));
+    pass->inputs.push_back(std::move(in));
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::calibration) throw;
+    pass->warnings.push_back(in.id + ": calibration from " + corr_path + " failed: " + e.what());
+    pass->last_failure = in.id + ": " + e.what();
+    pass->last_failed_file = corr_path;
+    CalibrateCameraRecord& rec = pass->record.cameras[in.id];
+    rec.pairs = in.pairs.size();
+    rec.control_poles = in.problem.observations.size() - in.pairs.size();
+    rec.failed = e.what();
+  }
+}
+
+/// The lamp track the network keys pairs to (empty, with a warning, when the gnss stage has not
+/// written it).
+LampTrack read_network_track(const MissionConfig& cfg, bool warn, std::vector<std::string>* warnings) {
+  if (std::filesystem::exists(lamp_track_path(cfg))) return read_lamp_track_csv(lamp_track_path(cfg));
+  if (warn)
+    warnings->push_back("network: no " + lamp_track_path(cfg) +
+                        ": pairs cannot be keyed to epochs, every camera is calibrated from its own pairs");
+  return {};
+}
+
+/// The calibrated cameras' problems joined through their shared epochs, each starting from its
+/// per-camera bundle result.
+NetworkProblem build_network(const PerCameraPass& pass, const LampTrack& track, double max_frame_offset_s) {
+  std::vector<NetworkCameraInput> in;
+  for (std::size_t c = 0; c < pass.done.size(); ++c) {
+    const CameraInputs& ci = pass.inputs[c];
+    const CalibrationResult& start = pass.done[c].second.main;
+    in.push_back({&ci.problem, &ci.pairs, start.camera, start.clock_offset_s});
+  }
+  return make_network_problem(in, track, max_frame_offset_s);
+}
+
+/// The default rule (docs/config.md "Default method"): the network when an epoch is seen by two or
+/// more calibrated cameras, else each camera by bundle.
+MethodChoiceRecord choose_default_method(std::size_t shared) {
+  const bool use = shared > 0;
+  return {use ? "network" : "bundle", shared,
+          use ? "default: " + std::to_string(shared) + " epochs seen by two or more cameras"
+              : "default: no epoch seen by two or more calibrated cameras, each camera by bundle"};
+}
+
+/// The network's joint adjustment and the UTC of each of its points' epochs ("" for the others).
+struct NetworkSolution {
+  NetworkResult result;
+  std::vector<std::string> epoch_utc;
+};
+
+/// Method `network` (docs/optimisation.md "Network bundle"): one joint adjustment of the cameras
+/// through their shared lamp-track epochs.
+NetworkSolution solve_network(const NetworkProblem& n, const LampTrack& track) {
+  NetworkOptions options;
+  // The report sets the flight volume's intersection σ beside this floor (docs/accuracy_analysis.md
+  // "Datum floor"); the benchmarked network_adjust leaves it out by default.
+  options.datum_floor_image_factor = kDatumFloorImageFactor;
+  NetworkSolution s{network_adjust(n.cameras, n.points, n.observations, options), {}};
+  s.epoch_utc.resize(n.points.size());
+  for (std::size_t k = 0; k < n.points.size(); ++k)
+    if (n.epoch_of_point[k] >= 0)
+      s.epoch_utc[k] = format_iso8601_utc(track.epochs[static_cast<std::size_t>(n.epoch_of_point[k])].utc);
+  return s;
+}
+
+/// Each camera's result replaced by its network result (the per-camera bundle kept first among the
+/// compared), its exports and residuals redone, its record's fit and the warnings updated.
+void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origin, PerCameraPass* pass) {
+  const NetworkResult& r = s.result;
+  const nlohmann::json statistics = network_statistics_json(r, s.epoch_utc);
+  for (std::size_t c = 0; c < pass->done.size(); ++c) {
+    auto& [id, cc] = pass->done[c];
+    CalibrationResult net = r.cameras[c].calibration;
+    net.camera.id = id;
+    net.details = bundle_details_json(r.cameras[c].details);
+    net.details["network"] = statistics;
+    net.covariance = 0.5 * (net.covariance + net.covariance.transpose()).eval();
+    net.site_origin = origin;
+    cc.compared.erase(std::remove_if(cc.compared.begin(), cc.compared.end(),
+                                     [](const CalibrationResult& x) { return x.method == "network"; }),
+                      cc.compared.end());
+    cc.compared.insert(cc.compared.begin(), cc.main);
+    cc.main = net;
+    // The network lists each camera's rejected observations in that camera's own order, the
+    // problem's (make_network_problem adds them in it), as residual_rows reads them.
+    derive_exports_and_residuals(pass->inputs[c], &cc);
+    // The export fits and method times stay those of the per-camera pass (docs/outputs.md).
+    record_fit(net, &pass->record.cameras[id]);
+    for (const std::string& w : net.warnings) pass->warnings.push_back(id + ": " + w);
+  }
+  for (const std::string& w : r.warnings) pass->warnings.push_back("network: " + w);
+  pass->record.network = statistics;
 }
 
 void write_camera_calibration(const MissionConfig& cfg, const std::string& id, const CameraCalibration& cc) {
@@ -129,148 +273,67 @@ void write_camera_calibration(const MissionConfig& cfg, const std::string& id, c
   }
 }
 
-/// One camera's inputs kept for the network.
-struct CameraInputs {
-  std::string id;
-  CalibrationProblem problem;
-  std::vector<Correspondence> pairs;
-};
-
-/// The lamp track the network keys pairs to (empty, with a warning, when the gnss stage has not
-/// written it).
-LampTrack network_track(const MissionConfig& cfg, bool warn, StageLog* log) {
-  if (std::filesystem::exists(lamp_track_path(cfg))) return read_lamp_track_csv(lamp_track_path(cfg));
-  if (warn)
-    log->warnings.push_back(
-        "network: no " + lamp_track_path(cfg) +
-        ": pairs cannot be keyed to epochs, every camera is calibrated from its own pairs");
-  return {};
-}
-
-/// The calibrated cameras' problems joined through their shared epochs, each starting from its
-/// per-camera bundle result.
-NetworkProblem build_network(const MissionConfig& cfg, const std::vector<CameraInputs>& inputs,
-                             const std::vector<std::pair<std::string, CameraCalibration>>& done,
-                             const LampTrack& track) {
-  std::vector<NetworkCameraInput> in;
-  for (const auto& [id, cc] : done)
-    for (const CameraInputs& ci : inputs)
-      if (ci.id == id) in.push_back({&ci.problem, &ci.pairs, cc.main.camera, cc.main.clock_offset_s});
-  return make_network_problem(in, track, cfg.align.max_frame_offset_s);
-}
-
-/// Method `network` (docs/optimisation.md "Network bundle"): the cameras calibrated by the
-/// per-camera bundle (kept as the compared `bundle`) start one joint adjustment through their
-/// shared lamp-track epochs; each camera's result is replaced by its network result, and
-/// network.json and gnss/lamp_track_adjusted.csv are written.
-void run_network(const MissionConfig& cfg, const std::vector<CameraInputs>& inputs, const LampTrack& track,
-                 const NetworkProblem& n, std::vector<std::pair<std::string, CameraCalibration>>* done,
-                 StageLog* log) {
-  NetworkOptions options;
-  // The report sets the flight volume's intersection σ beside this floor (docs/accuracy_analysis.md
-  // "Datum floor"); the benchmarked network_adjust leaves it out by default.
-  options.datum_floor_image_factor = kDatumFloorImageFactor;
-  const NetworkResult r = network_adjust(n.cameras, n.points, n.observations, options);
-  std::vector<std::string> utc(n.points.size());
-  for (std::size_t k = 0; k < n.points.size(); ++k)
-    if (n.epoch_of_point[k] >= 0)
-      utc[k] = format_iso8601_utc(track.epochs[static_cast<std::size_t>(n.epoch_of_point[k])].utc);
-  for (std::size_t c = 0; c < done->size(); ++c) {
-    auto& [id, cc] = (*done)[c];
-    CalibrationResult net = r.cameras[c].calibration;
-    net.camera.id = id;
-    net.details = bundle_details_json(r.cameras[c].details);
-    net.details["network"] = network_statistics_json(r, utc);
-    net.covariance = 0.5 * (net.covariance + net.covariance.transpose()).eval();
-    // Map the network's rejected list (its observations of this camera) onto the problem's order.
-    cc.compared.erase(std::remove_if(cc.compared.begin(), cc.compared.end(),
-                                     [](const CalibrationResult& x) { return x.method == "network"; }),
-                      cc.compared.end());
-    cc.compared.insert(cc.compared.begin(), cc.main);
-    net.site_origin = cfg.origin;
-    cc.main = net;
-    cc.opencv = fit_opencv_camera(cc.main.camera);
-    cc.dlt = dlt_camera(cc.main.camera);
-    for (const CameraInputs& ci : inputs)
-      if (ci.id == id) cc.residuals = residual_rows(ci.problem, ci.pairs, cc.main);
-    log->counts[id]["method"] = "network";
-    log->counts[id]["rms_px"] = net.reprojection.rms_px;
-    log->counts[id]["n_used"] = net.reprojection.n_used;
-    log->counts[id]["n_rejected"] = net.reprojection.n_rejected;
-    for (const std::string& w : net.warnings) log->warnings.push_back(id + ": " + w);
-  }
-  for (const std::string& w : r.warnings) log->warnings.push_back("network: " + w);
-  log->counts["network"] = network_statistics_json(r, utc);
-  write_network_json(mission_output(cfg, kNetworkJson), network_json(r, utc));
+/// network.json and, when the pairs were keyed to a track, gnss/lamp_track_adjusted.csv.
+void write_network_outputs(const MissionConfig& cfg, const NetworkSolution& s, const LampTrack& track,
+                           const NetworkProblem& n) {
+  write_network_json(mission_output(cfg, kNetworkJson), network_json(s.result, s.epoch_utc));
   if (!track.epochs.empty())
     write_file_atomic(mission_output(cfg, kLampTrackAdjustedCsv),
-                      format_lamp_track_adjusted_csv(track, r, n.epoch_of_point));
+                      format_lamp_track_adjusted_csv(track, s.result, n.epoch_of_point));
+}
+
+/// One camera's inputs, read: its correspondences.csv (which must exist) and control-pole picks.
+CameraInputs read_camera_inputs(const MissionConfig& cfg, const CameraConfig& cam,
+                                const std::string& corr_path) {
+  if (!std::filesystem::exists(corr_path))
+    throw_input_error(corr_path, 0, "",
+                      "missing; run the detect stage first (rangecal detect CONFIG), or "
+                      "write the point pairs there yourself (docs/formats.md)");
+  CameraInputs in{cam.id, read_correspondences_csv(corr_path), {}};
+  in.problem = make_calibration_problem(cam, cfg.calibrate, in.pairs, read_control_pole_views(cfg, cam));
+  return in;
 }
 
 }  // namespace
 
 StageLog run_calibrate_stage(const MissionConfig& cfg) {
-  StageLog log;
-  log.stage = "calibrate";
-  std::vector<std::pair<std::string, CameraCalibration>> done;
-  std::vector<CameraInputs> inputs;
   // Without an explicit method: the per-camera bundle, then the network when the cameras share
   // epochs (docs/config.md "Default method").
   const bool automatic = cfg.calibrate.method.empty();
   const bool network = automatic || cfg.calibrate.method == "network";
   CalibrateConfig per_camera = cfg.calibrate;
   if (network) per_camera.method = "bundle";  // the network's start, kept as the compared bundle
-  std::string last_failure, last_failed_file;
+
+  PerCameraPass pass;
   for (const CameraConfig& cam : cfg.cameras) {
     const std::string corr_path = camera_output(cfg, cam.id, kCorrespondencesCsv);
-    if (!std::filesystem::exists(corr_path))
-      throw_input_error(corr_path, 0, "",
-                        "missing; run the detect stage first (rangecal detect CONFIG), or "
-                        "write the point pairs there yourself (docs/formats.md)");
-    const std::vector<Correspondence> pairs = read_correspondences_csv(corr_path);
-    const CalibrationProblem problem =
-        make_calibration_problem(cam, cfg.calibrate, pairs, read_control_pole_views(cfg, cam));
-    try {
-      CameraCalibration cc = calibrate_one_camera(per_camera, problem, pairs);
-      if (network) inputs.push_back({cam.id, problem, pairs});
-      // Every calibration.json names the ENU frame its pose is in, so it stands alone.
-      cc.main.site_origin = cfg.origin;
-      for (CalibrationResult& r : cc.compared) r.site_origin = cfg.origin;
-      log.counts[cam.id] = cc.counts;
-      for (const std::string& w : cc.warnings) log.warnings.push_back(cam.id + ": " + w);
-      done.emplace_back(cam.id, std::move(cc));
-    } catch (const Error& e) {
-      // One camera that cannot be calibrated must not stop the others: warn and go on.
-      if (e.kind() != ErrorKind::calibration) throw;
-      log.warnings.push_back(cam.id + ": calibration from " + corr_path + " failed: " + e.what());
-      last_failure = cam.id + ": " + e.what();
-      last_failed_file = corr_path;
-      log.counts[cam.id] = {{"pairs", pairs.size()},
-                            {"control_poles", problem.observations.size() - pairs.size()},
-                            {"failed", e.what()}};
-    }
+    calibrate_or_record_failure(per_camera, cfg.origin, corr_path, read_camera_inputs(cfg, cam, corr_path),
+                                &pass);
   }
-  if (done.empty())
-    throw Error(ErrorKind::calibration, last_failed_file, 0, "calibrate",
+  if (pass.done.empty())
+    throw Error(ErrorKind::calibration, pass.last_failed_file, 0, "calibrate",
                 cfg.cameras.empty() ? "no cameras in the config"
-                                    : "no camera could be calibrated (" + last_failure + ")");
+                                    : "no camera could be calibrated (" + pass.last_failure + ")");
+
+  std::optional<NetworkSolution> solution;
+  LampTrack track;
+  NetworkProblem n;
   if (network) {
-    const LampTrack track = network_track(cfg, !automatic, &log);
-    const NetworkProblem n = build_network(cfg, inputs, done, track);
-    const std::size_t shared = shared_epoch_count(n);
-    if (automatic) {
-      const bool use = shared > 0;
-      log.counts["method_choice"] = {
-          {"method", use ? "network" : "bundle"},
-          {"shared_epochs", shared},
-          {"why", use ? "default: " + std::to_string(shared) + " epochs seen by two or more cameras"
-                      : "default: no epoch seen by two or more calibrated cameras, each camera by bundle"}};
-      if (use) run_network(cfg, inputs, track, n, &done, &log);
-    } else {
-      run_network(cfg, inputs, track, n, &done, &log);
+    track = read_network_track(cfg, !automatic, &pass.warnings);
+    n = build_network(pass, track, cfg.align.max_frame_offset_s);
+    if (automatic) pass.record.method_choice = choose_default_method(shared_epoch_count(n));
+    if (!automatic || pass.record.method_choice->method == "network") {
+      solution = solve_network(n, track);
+      adopt_network_results(*solution, cfg.origin, &pass);
     }
   }
-  for (const auto& [id, cc] : done) write_camera_calibration(cfg, id, cc);
+
+  if (solution) write_network_outputs(cfg, *solution, track, n);
+  for (const auto& [id, cc] : pass.done) write_camera_calibration(cfg, id, cc);
+  StageLog log;
+  log.stage = "calibrate";
+  log.counts = calibrate_record_json(pass.record);
+  log.warnings = std::move(pass.warnings);
   return log;
 }
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -150,7 +151,7 @@ CalibrationResult run_bundle(const CalibrationProblem& p) {
 // One camera alone in the network: every pair its own point under its PPK prior, started from the
 // per-camera bundle — the same estimator (docs/optimisation.md "Network bundle"); the calibrate
 // stage joins the cameras through their shared epochs instead (network_problem.hpp).
-CalibrationResult run_network(const CalibrationProblem& p) {
+CalibrationResult run_network_one_camera(const CalibrationProblem& p) {
   const CalibrationResult start = run_bundle(p);
   const std::vector<Correspondence> pairs(p.observations.size() - p.control_pole_ids.size());
   NetworkCameraInput in{&p, &pairs, start.camera, start.clock_offset_s};
@@ -196,19 +197,13 @@ void require_depth_beyond_noise(const std::string& method, const CalibrationProb
   throw_calibration_error(p.camera_id.empty() ? method : p.camera_id + " " + method, buf);
 }
 
+/// A method's function; nullptr: known, but not a method for a lamp track.
 using MethodFunction = CalibrationResult (*)(const CalibrationProblem&);
-struct Method {
-  const char* name;    ///< one of calibration_method_names() (pipeline/config/mission_config.hpp)
-  MethodFunction run;  ///< nullptr: known, but not a method for a lamp track
-};
 
-const std::vector<Method>& methods() {
-  static const std::vector<Method> table = {
-      {"tsai", run_tsai},     {"tsai_sassa", run_tsai_sassa}, {"dlt_lmqn", run_dlt_lmqn},
-      {"bundle", run_bundle}, {"network", run_network},       {"planar", nullptr},
-  };
-  return table;
-}
+/// The method table: row i runs kCalibrationMethodNames[i] (pipeline/steps/calibration_method_names.hpp).
+constexpr std::array<MethodFunction, kCalibrationMethodNames.size()> kMethodFunctions = {
+    run_tsai, run_tsai_sassa, run_dlt_lmqn, run_bundle, run_network_one_camera, nullptr /* planar */,
+};
 
 }  // namespace
 
@@ -253,16 +248,17 @@ ReprojectionStats reprojection_stats(const std::vector<Eigen::Vector2d>& residua
 
 CalibrationResult calibrate_camera(const std::string& method, const CalibrationProblem& problem) {
   const auto t0 = std::chrono::steady_clock::now();
-  const auto m =
-      std::find_if(methods().begin(), methods().end(), [&](const Method& e) { return method == e.name; });
-  if (m == methods().end())
+  const auto name = std::find(kCalibrationMethodNames.begin(), kCalibrationMethodNames.end(), method);
+  if (name == kCalibrationMethodNames.end())
     throw Error(ErrorKind::usage, "", 0, "calibrate.method", "unknown method '" + method + "'");
-  if (!m->run)
+  const MethodFunction run =
+      kMethodFunctions[static_cast<std::size_t>(name - kCalibrationMethodNames.begin())];
+  if (!run)
     throw Error(ErrorKind::usage, "", 0, "calibrate.method",
                 "'planar' calibrates from several views of a planar target (seed 001); a lamp track is one "
                 "view of non-coplanar points — use bundle, tsai, tsai_sassa or dlt_lmqn");
   require_depth_beyond_noise(method, problem);
-  CalibrationResult r = m->run(problem);
+  CalibrationResult r = run(problem);
   if (method != "bundle" && method != "network" &&
       contains(expand_free_parameters(problem.free), CameraParameter::clock_offset))
     r.warnings.push_back("clock_offset is estimated by the bundle method only; " + method +

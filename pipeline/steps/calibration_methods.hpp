@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/steps/calibration_method_names.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 #include "vision/camera/calibration_result.hpp"
 

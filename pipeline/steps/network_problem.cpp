@@ -36,7 +36,6 @@ NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cams,
   const std::int64_t max_ns = static_cast<std::int64_t>(std::llround(max_frame_offset_s * 1e9));
   std::map<std::size_t, std::size_t> point_of_epoch;
   std::map<std::string, std::size_t> point_of_pole;
-  n.observation_of.resize(cams.size());
   for (std::size_t c = 0; c < cams.size(); ++c) {
     const CalibrationProblem& p = *cams[c].problem;
     const std::vector<Correspondence>& pairs = *cams[c].pairs;
@@ -98,7 +97,6 @@ NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cams,
         n.points.push_back(pt);
         n.epoch_of_point.push_back(-1);
       }
-      n.observation_of[c].push_back(n.observations.size());
       n.observations.push_back(ob);
     }
   }

@@ -32,8 +32,6 @@ struct NetworkProblem {
   std::vector<NetworkObservation> observations;
   /// Per point: the lamp-track epoch it is (index into the track), or −1 (a pole or a lone pair).
   std::vector<long> epoch_of_point;
-  /// Per camera: network observation index of each of its problem's observations.
-  std::vector<std::vector<std::size_t>> observation_of;
 };
 
 /// One camera of the network: its free set, pixel σ and priors as its problem states them,

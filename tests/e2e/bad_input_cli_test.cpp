@@ -388,7 +388,8 @@ TEST(BadInputCli, ACameraThatFailsIsNotUsedDownstream) {
   EXPECT_FALSE(fs::exists(m / "out/c1/calibration.json.tmp.4194302"));
   EXPECT_TRUE(fs::exists(m / "out/c1/calibration.json"));
   const json runlog = read_json(m / "out/run.json");
-  EXPECT_NE(runlog["stages"]["calibrate"]["counts"]["c2"]["failed"].get<std::string>().find("lie in one"),
+  EXPECT_NE(runlog["stages"]["calibrate"]["counts"]["cameras"]["c2"]["failed"].get<std::string>().find(
+                "lie in one"),
             std::string::npos);
   EXPECT_EQ(runlog["stages"]["intersect"]["counts"]["cameras_used"], json::array({"c1"}));
   const json summary = read_json(m / "out/summary.json");
@@ -443,6 +444,23 @@ TEST(BadInputCli, DuplicateJsonKeyNamesBothLines) {
   EXPECT_NE(o.cli.err.find("lines " + std::to_string(first) + " and " + std::to_string(first + 1)),
             std::string::npos)
       << o.cli.err;
+}
+
+// A camera named as one of the mission's own outputs or records ("gnss" is the track's folder,
+// "network" and "method_choice" the calibrate stage's mission-level records) is refused at load,
+// before any stage writes.
+TEST(BadInputCli, ReservedCameraIdIsRefusedWithItsLine) {
+  const fs::path m = mission_copy("reserved_id");
+  std::string text = test::read_text(m / "mission.json");
+  const auto at = text.find("\"c1\"");
+  ASSERT_NE(at, std::string::npos);
+  const long line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n');
+  text.replace(at, 4, "\"network\"");
+  test::write_text(m / "mission.json", text);
+  const Outcome o = run("run " + q(m / "mission.json"));
+  expect_refused(o, 2, "mission.json:" + std::to_string(line), "cameras[0].id");
+  EXPECT_NE(o.cli.err.find("'network' is reserved"), std::string::npos) << o.cli.err;
+  EXPECT_TRUE(no_mission_outputs(m));
 }
 
 // ---- 7. messages -------------------------------------------------------------------------------

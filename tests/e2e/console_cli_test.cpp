@@ -122,7 +122,7 @@ TEST(ConsoleCli, RunPrintsOneReadableBlockPerStage) {
                            " of " + std::to_string(d["frames_examined"].get<int>()) + " frames"),
               std::string::npos)
         << run.out;
-    const auto& c = st["calibrate"]["counts"][cam];
+    const auto& c = st["calibrate"]["counts"]["cameras"][cam];
     EXPECT_NE(run.out.find(std::string(cam) + ": " + c["method"].get<std::string>() + ", " +
                            std::to_string(c["n_used"].get<int>()) + " points used"),
               std::string::npos)

@@ -5,6 +5,7 @@
 
 #include "gnss/formats/lamp_track_csv.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "pipeline/io/calibrate_record.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/methods_csv.hpp"
@@ -146,7 +147,8 @@ ReportOutput write_report_output(const fs::path& dir, bool with_intersection, bo
 
   StageLog cal_log;
   cal_log.stage = "calibrate";
-  cal_log.counts["cam2"] = {{"failed", "points on one line <degenerate>"}};
+  CalibrateRecord cal_record;
+  cal_record.cameras["cam2"].failed = "points on one line <degenerate>";
   if (with_network) {
     std::string csv = "utc,E,N,U,sdE,sdN,sdU,dE,dN,dU,flag\n";
     for (const AdjustedEpoch& e : kAdjusted)
@@ -154,11 +156,11 @@ ReportOutput write_report_output(const fs::path& dir, bool with_intersection, bo
              "," + fixed("%.4f", e.sdN) + "," + fixed("%.4f", e.sdU) + "," + fixed("%.4f", e.dE) + "," +
              fixed("%.4f", e.dN) + "," + fixed("%.4f", e.dU) + "," + std::to_string(e.flag) + "\n";
     write_text(out + "/gnss/lamp_track_adjusted.csv", csv);
-    cal_log.counts["network"] = network_counts();
-    cal_log.counts["method_choice"] = {{"method", "network"},
-                                       {"shared_epochs", 71},
-                                       {"why", "default: 71 epochs seen by two or more cameras"}};
+    cal_record.network = network_counts();
+    cal_record.method_choice =
+        MethodChoiceRecord{"network", 71, "default: 71 epochs seen by two or more cameras"};
   }
+  cal_log.counts = calibrate_record_json(cal_record);
   cal_log.warnings = {"cam2: calibration failed: points on one line <degenerate>"};
   update_run_log(fx.cfg, cal_log);
   return fx;

@@ -258,6 +258,18 @@ TEST(MissionConfigErrors, BadCameraIdCharacters) {
   expect_error(j, "cameras[0].id", "letters, digits");
 }
 
+TEST(MissionConfigErrors, ReservedCameraIdsAreRefused) {
+  for (const char* id : {"gnss", "network", "method_choice"}) {
+    auto j = minimal();
+    j["cameras"][0]["id"] = id;
+    expect_error(j, "cameras[0].id", "'" + std::string(id) + "' is reserved");
+  }
+  // A reserved name inside a longer id is an ordinary id.
+  auto j = minimal();
+  j["cameras"][0]["id"] = "network_2";
+  EXPECT_EQ(parse_mission_config(j.dump(), kPath, false).cameras[0].id, "network_2");
+}
+
 TEST(MissionConfigErrors, UnknownMethodSuggests) {
   auto j = minimal();
   j["calibrate"] = {{"method", "bundel"}};

@@ -127,7 +127,8 @@ TEST(ReportFigures, FunnelCountsComeFromRunJson) {
                                   "rejected_offset": 4, "rejected_gap": 0, "rejected_outside_track": 1}}},
     "detect": {"counts": {"cam1": {"frames_examined": 139, "correspondences": 73,
                                    "by_status": {"ok": 73, "rejected_static": 60, "not_found": 6}}}},
-    "calibrate": {"counts": {"cam1": {"pairs": 73, "control_poles": 6, "n_used": 77, "n_rejected": 2}}},
+    "calibrate": {"counts": {"cameras": {"cam1": {"pairs": 73, "control_poles": 6, "n_used": 77,
+                                                 "n_rejected": 2}}}},
     "intersect": {"counts": {"poles_picked": 17, "poles_triangulated": 16}}})");
   const std::vector<FunnelRow> rows = data_funnel(stages, {"cam1", "cam2"});
   ASSERT_EQ(rows.size(), 5u);  // cam2 has no counts: no rows
