@@ -53,7 +53,7 @@ void BM_LampSearch_1280x800_8bit(benchmark::State& state) {
   std::size_t i = 0;
   for (auto _ : state) {
     const std::size_t k = i++ % sc.frames.size();
-    const LampDetection d = decide_single_frame(find_lamp_candidates(sc.frames[k], 8, opt), opt);
+    const LampDetection d = resolve_lamp_sequence({find_lamp_candidates(sc.frames[k], 8, opt)}, opt).front();
     benchmark::DoNotOptimize(d.u);
     if (i <= sc.frames.size()) {
       if (!d.usable()) {

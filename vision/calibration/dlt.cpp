@@ -136,6 +136,72 @@ Camera camera_from_krc(const KrcDecomposition& krc, const SensorGeometry& sensor
   return cam;
 }
 
+namespace {
+
+// RANSAC over 6-point samples (seed 000 eq. 2 on each): the largest consensus set; sets *iterations.
+std::vector<std::size_t> ransac_consensus(const std::vector<PointCorrespondence>& pts, const DltOptions& opt,
+                                          int* iterations) {
+  const std::size_t n = pts.size();
+  SampleRandom rng(opt.seed);
+  std::vector<std::size_t> best;
+  std::vector<std::size_t> sample(6);
+  long needed = opt.max_iterations;
+  int it = 0, solved = 0;
+  for (; it < std::min<long>(needed, opt.max_iterations); ++it) {
+    // 6 distinct indices (partial Fisher–Yates over a virtual index list).
+    for (int k = 0; k < 6; ++k) {
+      std::size_t c;
+      do c = rng.below(n);
+      while (std::find(sample.begin(), sample.begin() + k, c) != sample.begin() + k);
+      sample[k] = c;
+    }
+    std::vector<PointCorrespondence> sp;
+    for (std::size_t i : sample) sp.push_back(pts[i]);
+    if (classify_world_geometry(sp, 1e-6) != PointGeometry::general) continue;  // degenerate sample
+    ProjectionMatrix P;
+    if (!solve_dlt(pts, sample, &P)) continue;
+    ++solved;
+    auto in = inliers_of(P, pts, opt.inlier_threshold_px);
+    if (in.size() > best.size()) {
+      best = std::move(in);
+      const double w = double(best.size()) / n;
+      const double miss = 1.0 - std::pow(w, 6);
+      needed = miss <= 1e-12 ? it + 1
+                             : static_cast<long>(std::ceil(std::log(1 - opt.confidence) / std::log(miss)));
+    }
+  }
+  *iterations = it;
+  if (solved == 0)
+    throw_calibration_error(kMethod,
+                            "singular system: no 6-point sample gave a unique DLT solution (seed 000 "
+                            "eq. 2) in " +
+                                std::to_string(it) + " samples");
+  if (best.size() < 6)
+    throw_calibration_error(kMethod, "RANSAC found no consistent camera: best sample had " +
+                                         std::to_string(best.size()) + " inliers within " +
+                                         std::to_string(opt.inlier_threshold_px) + " px (need ≥ 6)");
+  return best;
+}
+
+// Refit on the inliers and re-classify until the set is stable (at most 5 rounds).
+std::vector<std::size_t> stable_inliers(const std::vector<PointCorrespondence>& pts,
+                                        std::vector<std::size_t> inl, double threshold_px) {
+  for (int round = 0; round < 5; ++round) {
+    std::vector<PointCorrespondence> ip;
+    for (std::size_t i : inl) ip.push_back(pts[i]);
+    require_world_geometry(ip, true, kMethod);
+    ProjectionMatrix P;
+    if (!solve_dlt(pts, inl, &P)) throw_calibration_error(kMethod, "singular system on the RANSAC inliers");
+    auto in2 = inliers_of(P, pts, threshold_px);
+    if (in2.size() < 6) break;
+    if (in2 == inl) break;
+    inl = std::move(in2);
+  }
+  return inl;
+}
+
+}  // namespace
+
 DltResult dlt_calibrate(const std::vector<PointCorrespondence>& pts, const SensorGeometry& sensor,
                         const DltOptions& opt) {
   if (!(sensor.dx_mm > 0) || !(sensor.dy_mm > 0) || !std::isfinite(sensor.dx_mm) ||
@@ -152,57 +218,7 @@ DltResult dlt_calibrate(const std::vector<PointCorrespondence>& pts, const Senso
   if (opt.ransac && n > 6) {
     if (!(opt.inlier_threshold_px > 0))
       throw_calibration_error(kMethod, "RANSAC inlier threshold must be > 0 px");
-    SampleRandom rng(opt.seed);
-    std::vector<std::size_t> best;
-    std::vector<std::size_t> sample(6);
-    long needed = opt.max_iterations;
-    int it = 0, solved = 0;
-    for (; it < std::min<long>(needed, opt.max_iterations); ++it) {
-      // 6 distinct indices (partial Fisher–Yates over a virtual index list).
-      for (int k = 0; k < 6; ++k) {
-        std::size_t c;
-        do c = rng.below(n);
-        while (std::find(sample.begin(), sample.begin() + k, c) != sample.begin() + k);
-        sample[k] = c;
-      }
-      std::vector<PointCorrespondence> sp;
-      for (std::size_t i : sample) sp.push_back(pts[i]);
-      if (classify_world_geometry(sp, 1e-6) != PointGeometry::general) continue;  // degenerate sample
-      ProjectionMatrix P;
-      if (!solve_dlt(pts, sample, &P)) continue;
-      ++solved;
-      auto in = inliers_of(P, pts, opt.inlier_threshold_px);
-      if (in.size() > best.size()) {
-        best = std::move(in);
-        const double w = double(best.size()) / n;
-        const double miss = 1.0 - std::pow(w, 6);
-        needed = miss <= 1e-12 ? it + 1
-                               : static_cast<long>(std::ceil(std::log(1 - opt.confidence) / std::log(miss)));
-      }
-    }
-    res.ransac_iterations = it;
-    if (solved == 0)
-      throw_calibration_error(kMethod,
-                              "singular system: no 6-point sample gave a unique DLT solution (seed 000 "
-                              "eq. 2) in " +
-                                  std::to_string(it) + " samples");
-    if (best.size() < 6)
-      throw_calibration_error(kMethod, "RANSAC found no consistent camera: best sample had " +
-                                           std::to_string(best.size()) + " inliers within " +
-                                           std::to_string(opt.inlier_threshold_px) + " px (need ≥ 6)");
-    inl = best;
-    // Refit on the inliers and re-classify until the set is stable (at most 5 rounds).
-    for (int round = 0; round < 5; ++round) {
-      std::vector<PointCorrespondence> ip;
-      for (std::size_t i : inl) ip.push_back(pts[i]);
-      require_world_geometry(ip, true, kMethod);
-      ProjectionMatrix P;
-      if (!solve_dlt(pts, inl, &P)) throw_calibration_error(kMethod, "singular system on the RANSAC inliers");
-      auto in2 = inliers_of(P, pts, opt.inlier_threshold_px);
-      if (in2.size() < 6) break;
-      if (in2 == inl) break;
-      inl = std::move(in2);
-    }
+    inl = stable_inliers(pts, ransac_consensus(pts, opt, &res.ransac_iterations), opt.inlier_threshold_px);
   }
   if (!solve_dlt(pts, inl, &res.P))
     throw_calibration_error(kMethod,

@@ -64,30 +64,21 @@ double rms_of(const CameraIntrinsics& in, const std::vector<CameraPose>& poses,
   return std::sqrt(ss / n);
 }
 
-}  // namespace
+struct ClosedForm {
+  Eigen::Matrix3d K;  ///< camera matrix, K(2, 2) = 1
+  CameraIntrinsics in;
+};
 
-PlanarResult planar_calibrate(const std::vector<std::vector<PointCorrespondence>>& views,
-                              const SensorGeometry& sensor, const PlanarOptions& opt) {
-  if (!(sensor.dx_mm > 0) || !(sensor.dy_mm > 0) || !std::isfinite(sensor.dx_mm) ||
-      !std::isfinite(sensor.dy_mm))
-    throw_calibration_error(kMethod, "pixel pitch dx, dy must be finite and > 0 mm");
-  if (views.size() < 2)
-    throw_calibration_error(kMethod,
-                            "too few views: " + std::to_string(views.size()) +
-                                " given, at least 2 needed (4 unknowns of B up to scale, 2 equations "
-                                "per view)");
-  PlanarResult res;
-  for (std::size_t i = 0; i < views.size(); ++i)
-    res.homographies.push_back(fit_homography(views[i], "planar view " + std::to_string(i)));
-
-  // Closed form in pixel coordinates normalised about the image centre (conditioning): N·K stays
-  // upper triangular without skew, so K = N⁻¹·K'.
+// Closed form in pixel coordinates normalised about the image centre (conditioning): N·K stays
+// upper triangular without skew, so K = N⁻¹·K'.
+ClosedForm closed_form_intrinsics(const std::vector<Eigen::Matrix3d>& homographies,
+                                  const SensorGeometry& sensor) {
   const double s = 2.0 / std::max(1, sensor.width_px + sensor.height_px);
   Eigen::Matrix3d N;
   N << s, 0, -s * sensor.center_u_px(), 0, s, -s * sensor.center_v_px(), 0, 0, 1;
-  Eigen::MatrixXd V(2 * views.size(), 5);
-  for (std::size_t i = 0; i < views.size(); ++i) {
-    Eigen::Matrix3d Hn = N * res.homographies[i];
+  Eigen::MatrixXd V(2 * homographies.size(), 5);
+  for (std::size_t i = 0; i < homographies.size(); ++i) {
+    Eigen::Matrix3d Hn = N * homographies[i];
     Hn /= Hn.norm();
     V.row(2 * i) = v_row(Hn, 0, 1);
     V.row(2 * i + 1) = v_row(Hn, 0, 0) - v_row(Hn, 1, 1);
@@ -110,9 +101,11 @@ PlanarResult planar_calibrate(const std::vector<std::vector<PointCorrespondence>
                             "focal length");
   Eigen::Matrix3d Kn;
   Kn << std::sqrt(lam / B11), 0, u0n, 0, std::sqrt(lam / B22), v0n, 0, 0, 1;
-  Eigen::Matrix3d K = N.inverse() * Kn;
-  K /= K(2, 2);
-  CameraIntrinsics in;
+  ClosedForm cf;
+  cf.K = N.inverse() * Kn;
+  cf.K /= cf.K(2, 2);
+  const Eigen::Matrix3d& K = cf.K;
+  CameraIntrinsics& in = cf.in;
   in.width_px = sensor.width_px;
   in.height_px = sensor.height_px;
   in.dx_mm = sensor.dx_mm;
@@ -121,11 +114,15 @@ PlanarResult planar_calibrate(const std::vector<std::vector<PointCorrespondence>
   in.sx = K(0, 0) * sensor.dx_mm / in.f_mm;
   in.u0_px = K(0, 2);
   in.v0_px = K(1, 2);
+  return cf;
+}
 
-  // Extrinsics per view (seed 001 eq. 7 / Zhang §3.1).
+// Extrinsics per view (seed 001 eq. 7 / Zhang §3.1).
+std::vector<CameraPose> view_poses(const Eigen::Matrix3d& K,
+                                   const std::vector<Eigen::Matrix3d>& homographies) {
   const Eigen::Matrix3d Ki = K.inverse();
-  for (std::size_t i = 0; i < views.size(); ++i) {
-    const Eigen::Matrix3d& H = res.homographies[i];
+  std::vector<CameraPose> poses;
+  for (const Eigen::Matrix3d& H : homographies) {
     const Eigen::Vector3d a1 = Ki * H.col(0), a2 = Ki * H.col(1), a3 = Ki * H.col(2);
     double kappa = 2.0 / (a1.norm() + a2.norm());
     if (kappa * a3.z() < 0) kappa = -kappa;  // target in front of the camera
@@ -136,20 +133,15 @@ PlanarResult planar_calibrate(const std::vector<std::vector<PointCorrespondence>
     CameraPose pose;
     pose.R = nearest_rotation(R);
     pose.T = kappa * a3;
-    res.poses.push_back(pose);
+    poses.push_back(pose);
   }
+  return poses;
+}
 
-  // Radial k1, k2 by linear least squares (seed 001 eqs. 14–16).
-  std::vector<std::pair<CameraPose, std::vector<PointCorrespondence>>> vp;
-  for (std::size_t i = 0; i < views.size(); ++i) vp.emplace_back(res.poses[i], views[i]);
-  in.dist = fit_linear_distortion(in, vp, opt.estimate_k2 ? kRadialK1K2 : kRadialK1).dist;
-  res.closed_form = in;
-  res.closed_form_rms_px = rms_of(in, res.poses, views);
-  res.intrinsics = in;
-  res.rms_px = res.closed_form_rms_px;
-  if (!opt.refine) return res;
-
-  // Nonlinear refinement of everything (pixel reprojection error).
+// Nonlinear refinement of everything (pixel reprojection error), from res.intrinsics and res.poses.
+void refine_planar(const std::vector<std::vector<PointCorrespondence>>& views, const SensorGeometry& sensor,
+                   const PlanarOptions& opt, PlanarResult& res) {
+  const CameraIntrinsics& in = res.intrinsics;
   double intr[4] = {in.f_mm, in.sx, in.u0_px, in.v0_px};
   auto dist = in.dist.as_array();
   std::vector<std::array<double, 6>> pose_params(views.size());
@@ -197,6 +189,36 @@ PlanarResult planar_calibrate(const std::vector<std::vector<PointCorrespondence>
     res.poses[i].T = {pose_params[i][3], pose_params[i][4], pose_params[i][5]};
   }
   res.rms_px = rms_of(res.intrinsics, res.poses, views);
+}
+
+}  // namespace
+
+PlanarResult planar_calibrate(const std::vector<std::vector<PointCorrespondence>>& views,
+                              const SensorGeometry& sensor, const PlanarOptions& opt) {
+  if (!(sensor.dx_mm > 0) || !(sensor.dy_mm > 0) || !std::isfinite(sensor.dx_mm) ||
+      !std::isfinite(sensor.dy_mm))
+    throw_calibration_error(kMethod, "pixel pitch dx, dy must be finite and > 0 mm");
+  if (views.size() < 2)
+    throw_calibration_error(kMethod,
+                            "too few views: " + std::to_string(views.size()) +
+                                " given, at least 2 needed (4 unknowns of B up to scale, 2 equations "
+                                "per view)");
+  PlanarResult res;
+  for (std::size_t i = 0; i < views.size(); ++i)
+    res.homographies.push_back(fit_homography(views[i], "planar view " + std::to_string(i)));
+  const ClosedForm cf = closed_form_intrinsics(res.homographies, sensor);
+  CameraIntrinsics in = cf.in;
+  res.poses = view_poses(cf.K, res.homographies);
+
+  // Radial k1, k2 by linear least squares (seed 001 eqs. 14–16).
+  std::vector<std::pair<CameraPose, std::vector<PointCorrespondence>>> vp;
+  for (std::size_t i = 0; i < views.size(); ++i) vp.emplace_back(res.poses[i], views[i]);
+  in.dist = fit_linear_distortion(in, vp, opt.estimate_k2 ? kRadialK1K2 : kRadialK1).dist;
+  res.closed_form = in;
+  res.closed_form_rms_px = rms_of(in, res.poses, views);
+  res.intrinsics = in;
+  res.rms_px = res.closed_form_rms_px;
+  if (opt.refine) refine_planar(views, sensor, opt, res);
   return res;
 }
 

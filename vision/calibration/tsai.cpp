@@ -7,6 +7,7 @@
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
+#include <ceres/tiny_solver.h>
 
 #include "config/error.hpp"
 #include "vision/calibration/calibration_input_checks.hpp"
@@ -306,6 +307,67 @@ Camera tsai_camera(const TsaiSensor& sensor, const TsaiStep1& s1, double f_mm, d
   return cam;
 }
 
+namespace {
+
+// Seed 002 eq. 13 residuals of step 2 over z = (f, Tz[, k1]) / scale, with their analytic Jacobian,
+// for ceres::TinySolver (NP = 2: k1 fixed at 0).
+template <int NP>
+struct TsaiStep2Residuals {
+  using Scalar = double;
+  enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = NP };
+  const std::vector<PointCorrespondence>& pts;
+  const TsaiSensor& sensor;
+  const TsaiStep1& s1;
+  const Eigen::Vector3d& scale;
+
+  int NumResiduals() const { return 2 * static_cast<int>(pts.size()); }
+  bool operator()(const double* z, double* r, double* J) const {
+    const double f = z[0] * scale(0), Tz = z[1] * scale(1), k1 = NP == 3 ? z[NP - 1] * scale(2) : 0.0;
+    const std::size_t m = 2 * pts.size();
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const Eigen::Vector3d& X = pts[i].world;
+      const double xd = (pts[i].pixel.x() - s1.u0_px) * sensor.dx_mm / s1.sx;
+      const double yd = (pts[i].pixel.y() - s1.v0_px) * sensor.dy_mm;
+      const double r2 = xd * xd + yd * yd;
+      const double xc = s1.R.row(0).dot(X) + s1.Tx, yc = s1.R.row(1).dot(X) + s1.Ty;
+      const double zc = s1.R.row(2).dot(X) + Tz;
+      r[2 * i] = xd * (1 + k1 * r2) - f * xc / zc;
+      r[2 * i + 1] = yd * (1 + k1 * r2) - f * yc / zc;
+      if (J) {  // column-major m × NP
+        J[2 * i] = -xc / zc * scale(0);
+        J[2 * i + 1] = -yc / zc * scale(0);
+        J[m + 2 * i] = f * xc / (zc * zc) * scale(1);
+        J[m + 2 * i + 1] = f * yc / (zc * zc) * scale(1);
+        if (NP == 3) J[2 * m + 2 * i] = xd * r2 * scale(2), J[2 * m + 2 * i + 1] = yd * r2 * scale(2);
+      }
+    }
+    return true;
+  }
+};
+
+// ceres::TinySolver's Levenberg–Marquardt on the eq. 13 residuals from *p = (f, Tz, k1); sets
+// res->iterations and res->converged (a step below 1e-14 of ‖z‖ or no cost change left: machine
+// precision). Returns the final sum of squares.
+template <int NP>
+double solve_step2(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor, const TsaiStep1& s1,
+                   const Eigen::Vector3d& scale, int max_iterations, Eigen::Vector3d* p, TsaiResult* res) {
+  using Solver = ceres::TinySolver<TsaiStep2Residuals<NP>>;
+  Solver solver;
+  solver.options.max_num_iterations = max_iterations;
+  solver.options.parameter_tolerance = 1e-14;
+  solver.options.function_tolerance = 0;
+  solver.options.gradient_tolerance = 0;
+  solver.options.cost_threshold = 0;
+  typename Solver::Parameters z = (p->head<NP>().array() / scale.head<NP>().array()).matrix();
+  const auto& summary = solver.Solve(TsaiStep2Residuals<NP>{pts, sensor, s1, scale}, &z);
+  p->head<NP>() = (z.array() * scale.head<NP>().array()).matrix();
+  res->iterations = summary.iterations;
+  res->converged = summary.status != Solver::HIT_MAX_ITERATIONS;
+  return tsai_eq13_cost(pts, sensor, s1, (*p)(0), (*p)(1), (*p)(2), nullptr);
+}
+
+}  // namespace
+
 TsaiResult tsai_calibrate(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
                           const TsaiOptions& options) {
   return tsai_step2(pts, sensor, tsai_step1(pts, sensor, options.orthonormalisation), options);
@@ -323,77 +385,23 @@ TsaiResult tsai_step2(const std::vector<PointCorrespondence>& pts, const TsaiSen
   res.Tz_linear = ft.second;
   const TsaiStep1& s1 = res.step1;
   const std::size_t n = pts.size();
-  const int np = options.estimate_k1 ? 3 : 2;
 
-  // Natural scales for the convergence test: f and Tz relative; k1 relative to 1/r_max².
+  // Natural scales: the solver works on z = (f, Tz, k1) / scale, so its step tolerance is relative
+  // for f and Tz and relative to 1/r_max² for k1.
   double rmax2 = 0;
   for (const auto& p : pts) {
     const double xd = (p.pixel.x() - s1.u0_px) * sensor.dx_mm / s1.sx,
                  yd = (p.pixel.y() - s1.v0_px) * sensor.dy_mm;
     rmax2 = std::max(rmax2, xd * xd + yd * yd);
   }
+  const Eigen::Vector3d scale(ft.first != 0 ? std::abs(ft.first) : 1.0,
+                              ft.second != 0 ? std::abs(ft.second) : 1.0, 1.0 / std::max(rmax2, 1e-12));
   Eigen::Vector3d p(ft.first, ft.second, 0.0);
-  const Eigen::Vector3d scale(std::abs(p(0)), std::abs(p(1)), 1.0 / std::max(rmax2, 1e-12));
-
-  // Levenberg–Marquardt (Marquardt's diagonal scaling) on the eq. 13 residuals; analytic Jacobian.
-  auto evaluate = [&](const Eigen::Vector3d& q, Eigen::VectorXd* r, Eigen::MatrixXd* J) {
-    r->resize(2 * n);
-    if (J) J->resize(2 * n, np);
-    double ss = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d& X = pts[i].world;
-      const double xd = (pts[i].pixel.x() - s1.u0_px) * sensor.dx_mm / s1.sx;
-      const double yd = (pts[i].pixel.y() - s1.v0_px) * sensor.dy_mm;
-      const double r2 = xd * xd + yd * yd;
-      const double xc = s1.R.row(0).dot(X) + s1.Tx, yc = s1.R.row(1).dot(X) + s1.Ty;
-      const double zc = s1.R.row(2).dot(X) + q(1);
-      (*r)(2 * i) = xd * (1 + q(2) * r2) - q(0) * xc / zc;
-      (*r)(2 * i + 1) = yd * (1 + q(2) * r2) - q(0) * yc / zc;
-      if (J) {
-        (*J)(2 * i, 0) = -xc / zc;
-        (*J)(2 * i, 1) = q(0) * xc / (zc * zc);
-        (*J)(2 * i + 1, 0) = -yc / zc;
-        (*J)(2 * i + 1, 1) = q(0) * yc / (zc * zc);
-        if (np == 3) (*J)(2 * i, 2) = xd * r2, (*J)(2 * i + 1, 2) = yd * r2;
-      }
-      ss += (*r)(2 * i) * (*r)(2 * i) + (*r)(2 * i + 1) * (*r)(2 * i + 1);
-    }
-    return ss;
-  };
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J;
-  double cost = evaluate(p, &r, &J);
-  double lambda = 1e-3;
-  for (res.iterations = 0; res.iterations < options.max_iterations && !res.converged;) {
-    ++res.iterations;
-    const Eigen::MatrixXd H = J.transpose() * J;
-    const Eigen::VectorXd g = J.transpose() * r;
-    bool accepted = false;
-    while (!accepted) {
-      Eigen::MatrixXd A = H;
-      for (int k = 0; k < np; ++k) A(k, k) += lambda * std::max(H(k, k), 1e-300);
-      const Eigen::VectorXd dp = A.ldlt().solve(-g);
-      Eigen::Vector3d q = p;
-      q.head(np) += dp;
-      Eigen::VectorXd rq;
-      const double cq = dp.allFinite() ? evaluate(q, &rq, nullptr) : std::numeric_limits<double>::infinity();
-      double rel_step = 0;
-      for (int k = 0; k < np; ++k) rel_step = std::max(rel_step, std::abs(dp(k)) / scale(k));
-      if (cq <= cost) {
-        accepted = true;
-        p = q;
-        cost = evaluate(p, &r, &J);
-        lambda = std::max(lambda * 0.1, 1e-12);
-        if (rel_step < 1e-14 || cost == 0) res.converged = true;
-      } else {
-        lambda *= 10;
-        if (lambda > 1e12 || rel_step < 1e-15) {
-          res.converged = true;  // no descent left at machine precision: a minimum
-          break;
-        }
-      }
-    }
-  }
+  double cost = 0;
+  if (options.estimate_k1)
+    cost = solve_step2<3>(pts, sensor, s1, scale, options.max_iterations, &p, &res);
+  else
+    cost = solve_step2<2>(pts, sensor, s1, scale, options.max_iterations, &p, &res);
   if (!(p(0) > 0) || !p.allFinite())
     throw_calibration_error(kMethod, "nonlinear step diverged (f = " + std::to_string(p(0)) + " mm)");
   res.camera = tsai_camera(sensor, s1, p(0), p(1), p(2));

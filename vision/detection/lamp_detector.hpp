@@ -74,12 +74,9 @@ struct FrameCandidates {
 /// Thread-safe; no allocation per call after the first on a thread.
 FrameCandidates find_lamp_candidates(const cv::Mat& image, int bits, const LampDetectorOptions& options);
 
-/// Single-frame decision (no sequence context): the one lamp-like candidate with SNR ≥ min_snr,
-/// else ambiguous / no_lamp / rejected_*. Static lights are not recognisable from one frame.
-LampDetection decide_single_frame(const FrameCandidates& fc, const LampDetectorOptions& options);
-
 /// Sequence pass over candidates in frame (time) order: static-light rejection, per-frame status,
-/// then motion consistency for frames with several candidates. Output in the same order.
+/// then motion consistency for frames with several candidates. Output in the same order. On one
+/// frame this is the single-frame decision: static lights and motion need other frames.
 std::vector<LampDetection> resolve_lamp_sequence(const std::vector<FrameCandidates>& frames,
                                                  const LampDetectorOptions& options);
 

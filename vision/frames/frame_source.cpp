@@ -268,6 +268,87 @@ FrameSource FrameSource::from_mraw(const std::string& mraw_path, const FrameSour
   return s;
 }
 
+namespace {
+
+std::string size_mismatch(const FrameTimestamp& e, int w, int h, const std::string& how, int sensor_w,
+                          int sensor_h) {
+  return "frame '" + e.file + "' (frame " + std::to_string(e.frame) + ") is " + std::to_string(w) + "x" +
+         std::to_string(h) + " px" + how + "; the sensor is " + std::to_string(sensor_w) + "x" +
+         std::to_string(sensor_h);
+}
+
+// A PNG/TIFF frame file into f; returns the problem ("" when decoded). The header's size is checked
+// before decoding: a CSV that lists a forged 30,000-pixel image a thousand times must cost a thousand
+// header reads, not a thousand 2 GB decodes.
+std::string load_image_file(const FrameTimestamp& e, const std::string& origin, int sensor_w, int sensor_h,
+                            ImageFrame& f) {
+  if (!std::filesystem::exists(e.file)) return "missing frame file '" + e.file + "'";
+  const std::vector<unsigned char> bytes = read_file_bytes(e.file);
+  const std::optional<cv::Size> declared = image_header_size(bytes);
+  if (declared && sensor_w > 0 && sensor_h > 0 &&
+      (declared->width != sensor_w || declared->height != sensor_h))
+    throw_input_error(
+        origin, e.line, "file",
+        size_mismatch(e, declared->width, declared->height, " by its header", sensor_w, sensor_h));
+  f.image = decode_image_bytes(bytes, &f.bits);
+  if (f.image.empty()) return "cannot decode frame file '" + e.file + "' as an 8/16-bit PNG or TIFF";
+  return "";
+}
+
+// The open container of e.file, or nullptr with *problem set (its open error, or "not open").
+template <typename Handle>
+Handle* container_of(const std::map<std::string, std::shared_ptr<Handle>>& open,
+                     const std::map<std::string, std::string>& container_errors, const FrameTimestamp& e,
+                     std::string* problem) {
+  const auto it = open.find(e.file);
+  if (it != open.end()) return it->second.get();
+  *problem = container_errors.count(e.file) ? container_errors.at(e.file) : "'" + e.file + "' not open";
+  return nullptr;
+}
+
+std::string beyond_end(const FrameTimestamp& e) {
+  return "frame " + std::to_string(e.frame) + " is beyond the end of '" + e.file + "'";
+}
+
+std::string load_cine_frame(const CineReader& cine, const FrameTimestamp& e, ImageFrame& f) {
+  if (e.frame >= static_cast<std::int64_t>(cine.frame_count())) return beyond_end(e);
+  try {
+    f.image = cine.read_image(static_cast<std::size_t>(e.frame));
+    f.bits = cine.bits();
+  } catch (const Error& err) {
+    return err.what();
+  }
+  return "";
+}
+
+std::string load_mraw_frame(const PhotronMrawReader& mraw, const FrameTimestamp& e, ImageFrame& f) {
+  if (e.frame >= mraw.frame_count()) return beyond_end(e);
+  try {
+    const ImageFrame m = mraw.read_frame(e.frame);
+    f.image = m.image;
+    f.bits = m.bits;
+  } catch (const Error& err) {
+    return err.what();
+  }
+  return "";
+}
+
+// Sequential reads need no seek; the handle remembers where the decoder stands.
+std::string load_video_frame(VideoHandle& v, const FrameTimestamp& e, ImageFrame& f) {
+  cv::Mat m;
+  {
+    std::lock_guard<std::mutex> lock(v.mutex);
+    if (e.frame != v.next_index) v.capture.set(cv::CAP_PROP_POS_FRAMES, static_cast<double>(e.frame));
+    const bool ok = v.capture.read(m);
+    v.next_index = ok ? e.frame + 1 : -1;
+  }
+  f.image = to_grey(m, &f.bits);
+  if (f.image.empty()) return "cannot decode frame " + std::to_string(e.frame) + " of video '" + e.file + "'";
+  return "";
+}
+
+}  // namespace
+
 std::optional<ImageFrame> FrameSource::load(std::size_t i, std::string* skip_reason) const {
   const FrameTimestamp& e = entries_.at(i);
   ImageFrame f;
@@ -276,84 +357,20 @@ std::optional<ImageFrame> FrameSource::load(std::size_t i, std::string* skip_rea
   std::string problem;
   switch (frame_file_kind(e.file)) {
     case FrameFileKind::image:
-      if (!std::filesystem::exists(e.file)) {
-        problem = "missing frame file '" + e.file + "'";
-      } else {
-        // The header's size is checked before decoding: a CSV that lists a forged 30,000-pixel
-        // image a thousand times must cost a thousand header reads, not a thousand 2 GB decodes.
-        const std::vector<unsigned char> bytes = read_file_bytes(e.file);
-        const std::optional<cv::Size> declared = image_header_size(bytes);
-        if (declared && sensor_w_ > 0 && sensor_h_ > 0 &&
-            (declared->width != sensor_w_ || declared->height != sensor_h_)) {
-          throw_input_error(origin_, e.line, "file",
-                            "frame '" + e.file + "' (frame " + std::to_string(e.frame) + ") is " +
-                                std::to_string(declared->width) + "x" + std::to_string(declared->height) +
-                                " px by its header; the sensor is " + std::to_string(sensor_w_) + "x" +
-                                std::to_string(sensor_h_));
-        }
-        f.image = decode_image_bytes(bytes, &f.bits);
-        if (f.image.empty()) problem = "cannot decode frame file '" + e.file + "' as an 8/16-bit PNG or TIFF";
-      }
+      problem = load_image_file(e, origin_, sensor_w_, sensor_h_, f);
       break;
-    case FrameFileKind::cine: {
-      const auto it = cines_.find(e.file);
-      if (it == cines_.end()) {
-        problem =
-            container_errors_.count(e.file) ? container_errors_.at(e.file) : "'" + e.file + "' not open";
-        break;
-      }
-      if (e.frame >= static_cast<std::int64_t>(it->second->frame_count())) {
-        problem = "frame " + std::to_string(e.frame) + " is beyond the end of '" + e.file + "'";
-        break;
-      }
-      try {
-        f.image = it->second->read_image(static_cast<std::size_t>(e.frame));
-        f.bits = it->second->bits();
-      } catch (const Error& err) {
-        problem = err.what();
-      }
+    case FrameFileKind::cine:
+      if (const CineReader* c = container_of(cines_, container_errors_, e, &problem))
+        problem = load_cine_frame(*c, e, f);
       break;
-    }
-    case FrameFileKind::mraw: {
-      const auto it = mraws_.find(e.file);
-      if (it == mraws_.end()) {
-        problem =
-            container_errors_.count(e.file) ? container_errors_.at(e.file) : "'" + e.file + "' not open";
-        break;
-      }
-      if (e.frame >= it->second->frame_count()) {
-        problem = "frame " + std::to_string(e.frame) + " is beyond the end of '" + e.file + "'";
-        break;
-      }
-      try {
-        const ImageFrame m = it->second->read_frame(e.frame);
-        f.image = m.image;
-        f.bits = m.bits;
-      } catch (const Error& err) {
-        problem = err.what();
-      }
+    case FrameFileKind::mraw:
+      if (const PhotronMrawReader* m = container_of(mraws_, container_errors_, e, &problem))
+        problem = load_mraw_frame(*m, e, f);
       break;
-    }
-    case FrameFileKind::video: {
-      const auto it = videos_.find(e.file);
-      if (it == videos_.end()) {
-        problem =
-            container_errors_.count(e.file) ? container_errors_.at(e.file) : "'" + e.file + "' not open";
-        break;
-      }
-      VideoHandle& v = *it->second;
-      cv::Mat m;
-      {
-        std::lock_guard<std::mutex> lock(v.mutex);
-        if (e.frame != v.next_index) v.capture.set(cv::CAP_PROP_POS_FRAMES, static_cast<double>(e.frame));
-        const bool ok = v.capture.read(m);
-        v.next_index = ok ? e.frame + 1 : -1;
-      }
-      f.image = to_grey(m, &f.bits);
-      if (f.image.empty())
-        problem = "cannot decode frame " + std::to_string(e.frame) + " of video '" + e.file + "'";
+    case FrameFileKind::video:
+      if (VideoHandle* v = container_of(videos_, container_errors_, e, &problem))
+        problem = load_video_frame(*v, e, f);
       break;
-    }
     case FrameFileKind::unknown:
       problem = "'" + e.file + "' is not a supported frame file";
       break;
@@ -367,10 +384,7 @@ std::optional<ImageFrame> FrameSource::load(std::size_t i, std::string* skip_rea
   }
   if ((sensor_w_ > 0 && f.image.cols != sensor_w_) || (sensor_h_ > 0 && f.image.rows != sensor_h_))
     throw_input_error(origin_, e.line, "file",
-                      "frame '" + e.file + "' (frame " + std::to_string(e.frame) + ") is " +
-                          std::to_string(f.image.cols) + "x" + std::to_string(f.image.rows) +
-                          " px; the sensor is " + std::to_string(sensor_w_) + "x" +
-                          std::to_string(sensor_h_));
+                      size_mismatch(e, f.image.cols, f.image.rows, "", sensor_w_, sensor_h_));
   return f;
 }
 

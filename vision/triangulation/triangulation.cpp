@@ -113,32 +113,17 @@ ProjectionDerivatives differentiate(const Camera& cam, bool center_mode, const E
                                     "and the calibrations");
 }
 
-}  // namespace
+// Each view's parameter indices and pose form, after checking its pixel, pick σ and covariance.
+struct ViewParameters {
+  std::vector<std::vector<int>> param_idx;
+  std::vector<char> center_mode;
+};
 
-Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera,
-                                              const std::vector<CameraParameter>& parameters,
-                                              const Eigen::Vector3d& X,
-                                              Eigen::Matrix<double, 2, 3>* d_point) {
-  bool center_mode = true;
-  const std::vector<int> idx = parameter_indices(parameters, camera.id, &center_mode);
-  const ProjectionDerivatives pd = differentiate(camera, center_mode, X, true);
-  if (!(pd.depth > 0)) behind_camera("camera " + camera.id + " Jacobian", camera, pd.depth);
-  Eigen::MatrixXd J(2, static_cast<Eigen::Index>(idx.size()));
-  for (std::size_t k = 0; k < idx.size(); ++k) J.col(static_cast<Eigen::Index>(k)) = pd.d_params.col(idx[k]);
-  if (d_point) *d_point = pd.d_point;
-  return J;
-}
-
-TriangulationResult triangulate_point(const std::vector<TriangulationView>& views, const std::string& what,
-                                      const CrossCovariances* cross) {
+ViewParameters validated_views(const std::vector<TriangulationView>& views, const std::string& what) {
   const std::size_t n = views.size();
-  if (n < 2) {
-    throw_calibration_error(
-        what, "seen by " + std::to_string(n) + " calibrated camera(s); triangulation needs at least two");
-  }
-  // Validate the views and their covariances up front.
-  std::vector<std::vector<int>> param_idx(n);
-  std::vector<char> center_mode(n, 1);
+  ViewParameters vp;
+  vp.param_idx.resize(n);
+  vp.center_mode.assign(n, 1);
   for (std::size_t i = 0; i < n; ++i) {
     const TriangulationView& v = views[i];
     if (!(std::isfinite(v.uv_px.x()) && std::isfinite(v.uv_px.y())))
@@ -148,9 +133,9 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
                         what + ": camera " + v.camera.id + " pick σ must be positive, got " +
                             format_number("%g", v.pick_sigma_px));
     bool cm = true;
-    param_idx[i] = parameter_indices(v.calibration.parameters, v.camera.id, &cm);
-    center_mode[i] = cm;
-    const auto m = static_cast<Eigen::Index>(param_idx[i].size());
+    vp.param_idx[i] = parameter_indices(v.calibration.parameters, v.camera.id, &cm);
+    vp.center_mode[i] = cm;
+    const auto m = static_cast<Eigen::Index>(vp.param_idx[i].size());
     const Eigen::MatrixXd& S = v.calibration.covariance;
     if (S.rows() != m || S.cols() != m)
       throw_calibration_error("camera " + v.camera.id + " covariance",
@@ -159,9 +144,13 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
     if (m > 0 && !S.allFinite())
       throw_calibration_error("camera " + v.camera.id + " covariance", "has non-finite entries");
   }
+  return vp;
+}
 
-  TriangulationResult res;
-  // 1. Linear: least-squares midpoint of the rays.
+// 1. Linear: least-squares midpoint of the rays; sets linear_point and max_ray_angle_deg.
+void linear_midpoint(const std::vector<TriangulationView>& views, const std::string& what,
+                     TriangulationResult& res) {
+  const std::size_t n = views.size();
   std::vector<Eigen::Vector3d> dirs(n);
   Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
@@ -187,8 +176,12 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
     const double depth = world_to_camera(views[i].camera.pose, res.linear_point).z();
     if (!(depth > 0)) behind_camera(what, views[i].camera, depth);
   }
+}
 
-  // 2. Gauss–Newton on the weighted reprojection error.
+// 2. Gauss–Newton on the weighted reprojection error from res.linear_point; sets point and iterations.
+void gauss_newton_point(const std::vector<TriangulationView>& views, const ViewParameters& vp,
+                        const std::string& what, TriangulationResult& res) {
+  const std::size_t n = views.size();
   Eigen::Vector3d X = res.linear_point;
   Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
   bool converged = false;
@@ -196,7 +189,7 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
     N.setZero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < n; ++i) {
-      const ProjectionDerivatives pd = differentiate(views[i].camera, center_mode[i] != 0, X, false);
+      const ProjectionDerivatives pd = differentiate(views[i].camera, vp.center_mode[i] != 0, X, false);
       if (!(pd.depth > 0)) behind_camera(what, views[i].camera, pd.depth);
       const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
       N += w * pd.d_point.transpose() * pd.d_point;
@@ -210,14 +203,21 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
   }
   if (!converged)
     throw_calibration_error(what, "the nonlinear triangulation did not converge in 50 iterations");
-
-  // 3. Residuals and covariance at the solution.
   res.point = X;
-  N.setZero();
+}
+
+// 3. Residuals and covariance at res.point: pick noise through N⁻¹, calibration covariance (and the
+// cross-camera blocks) through ∂X/∂θ.
+void residuals_and_covariance(const std::vector<TriangulationView>& views, const ViewParameters& vp,
+                              const std::string& what, const CrossCovariances* cross,
+                              TriangulationResult& res) {
+  const std::size_t n = views.size();
+  const Eigen::Vector3d& X = res.point;
+  Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
   std::vector<ProjectionDerivatives> pds(n);
   double sum_sq = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    pds[i] = differentiate(views[i].camera, center_mode[i] != 0, X, !param_idx[i].empty());
+    pds[i] = differentiate(views[i].camera, vp.center_mode[i] != 0, X, !vp.param_idx[i].empty());
     if (!(pds[i].depth > 0)) behind_camera(what, views[i].camera, pds[i].depth);
     const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
     N += w * pds[i].d_point.transpose() * pds[i].d_point;
@@ -229,11 +229,12 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
   res.cov_pick_m2 = Ninv;
   std::vector<Eigen::MatrixXd> dXs(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (param_idx[i].empty()) continue;
+    const std::vector<int>& idx = vp.param_idx[i];
+    if (idx.empty()) continue;
     const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
-    Eigen::MatrixXd Jt(2, static_cast<Eigen::Index>(param_idx[i].size()));
-    for (std::size_t k = 0; k < param_idx[i].size(); ++k)
-      Jt.col(static_cast<Eigen::Index>(k)) = pds[i].d_params.col(param_idx[i][k]);
+    Eigen::MatrixXd Jt(2, static_cast<Eigen::Index>(idx.size()));
+    for (std::size_t k = 0; k < idx.size(); ++k)
+      Jt.col(static_cast<Eigen::Index>(k)) = pds[i].d_params.col(idx[k]);
     const Eigen::MatrixXd dX = -Ninv * (w * pds[i].d_point.transpose()) * Jt;  // ∂X/∂θ_i, 3×m
     res.cov_calibration_m2 += dX * views[i].calibration.covariance * dX.transpose();
     dXs[i] = dX;
@@ -251,6 +252,36 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
   res.cov_calibration_m2 = 0.5 * (res.cov_calibration_m2 + res.cov_calibration_m2.transpose()).eval();
   res.cov_m2 = res.cov_pick_m2 + res.cov_calibration_m2;
   res.sigma_m = std::sqrt(res.cov_m2.trace());
+}
+
+}  // namespace
+
+Eigen::MatrixXd pixel_jacobian_wrt_parameters(const Camera& camera,
+                                              const std::vector<CameraParameter>& parameters,
+                                              const Eigen::Vector3d& X,
+                                              Eigen::Matrix<double, 2, 3>* d_point) {
+  bool center_mode = true;
+  const std::vector<int> idx = parameter_indices(parameters, camera.id, &center_mode);
+  const ProjectionDerivatives pd = differentiate(camera, center_mode, X, true);
+  if (!(pd.depth > 0)) behind_camera("camera " + camera.id + " Jacobian", camera, pd.depth);
+  Eigen::MatrixXd J(2, static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t k = 0; k < idx.size(); ++k) J.col(static_cast<Eigen::Index>(k)) = pd.d_params.col(idx[k]);
+  if (d_point) *d_point = pd.d_point;
+  return J;
+}
+
+TriangulationResult triangulate_point(const std::vector<TriangulationView>& views, const std::string& what,
+                                      const CrossCovariances* cross) {
+  const std::size_t n = views.size();
+  if (n < 2) {
+    throw_calibration_error(
+        what, "seen by " + std::to_string(n) + " calibrated camera(s); triangulation needs at least two");
+  }
+  const ViewParameters vp = validated_views(views, what);
+  TriangulationResult res;
+  linear_midpoint(views, what, res);
+  gauss_newton_point(views, vp, what, res);
+  residuals_and_covariance(views, vp, what, cross, res);
   return res;
 }
 

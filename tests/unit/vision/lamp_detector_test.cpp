@@ -26,6 +26,11 @@ FrameRenderSettings sky_1280x800(int bits, double read_noise) {
   return st;
 }
 
+// One frame through the real decision path: the sequence pass over a sequence of one frame.
+LampDetection decide_one_frame(const cv::Mat& img, int bits, const LampDetectorOptions& opt) {
+  return resolve_lamp_sequence({find_lamp_candidates(img, bits, opt)}, opt).front();
+}
+
 struct ErrorStats {
   double rms_u = 0, rms_v = 0, bias_u = 0, bias_v = 0;
   int n = 0, missed = 0;
@@ -50,7 +55,7 @@ ErrorStats centroid_errors(int n, double snr, int bits, bool saturate, std::uint
   std::vector<LampDetection> dets(static_cast<std::size_t>(n));
   tbb::parallel_for(0, n, [&](int i) {
     const cv::Mat img = render_frame(st, {lamps[i]}, seed * 1000 + static_cast<std::uint64_t>(i));
-    dets[i] = decide_single_frame(find_lamp_candidates(img, bits, opt), opt);
+    dets[i] = decide_one_frame(img, bits, opt);
   });
   for (int i = 0; i < n; ++i) {
     const PsfSpot& lamp = lamps[i];
@@ -152,8 +157,7 @@ TEST(LampDetector, MovingLampAmongDistractorsAndTransientLight) {
   }
   // Without motion context the frames with two lights are ambiguous.
   const LampDetectorOptions opt;
-  EXPECT_EQ(decide_single_frame(find_lamp_candidates(frames[55].image, 8, opt), opt).status,
-            lamp_status::kAmbiguous);
+  EXPECT_EQ(decide_one_frame(frames[55].image, 8, opt).status, lamp_status::kAmbiguous);
 }
 
 TEST(LampDetector, StatusesForHotPixelFaintLampEdgeAndEmptyFrames) {
@@ -161,7 +165,7 @@ TEST(LampDetector, StatusesForHotPixelFaintLampEdgeAndEmptyFrames) {
   st.sky_gradient_u = st.sky_gradient_v = 0;
   const LampDetectorOptions opt;
   auto status = [&](const FrameRenderSettings& s, const std::vector<PsfSpot>& spots) {
-    return decide_single_frame(find_lamp_candidates(render_frame(s, spots, 3), 16, opt), opt).status;
+    return decide_one_frame(render_frame(s, spots, 3), 16, opt).status;
   };
   EXPECT_EQ(status(st, {}), lamp_status::kNoLamp);
   FrameRenderSettings hot = st;
@@ -171,8 +175,6 @@ TEST(LampDetector, StatusesForHotPixelFaintLampEdgeAndEmptyFrames) {
   EXPECT_EQ(status(st, {{0.6, 400.2, 1.2, 300}}), lamp_status::kEdge);
   EXPECT_EQ(status(st, {{640.3, 400.2, 1.2, 300}}), lamp_status::kOk);
   st.bits = 12;
-  EXPECT_EQ(decide_single_frame(
-                find_lamp_candidates(render_frame(st, {{640.3, 400.2, 1.5, 20000}}, 3), 12, opt), opt)
-                .status,
+  EXPECT_EQ(decide_one_frame(render_frame(st, {{640.3, 400.2, 1.5, 20000}}, 3), 12, opt).status,
             lamp_status::kOkSaturated);
 }
