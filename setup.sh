@@ -23,7 +23,7 @@ mkdir -p "$LOG_DIR"
 
 # What the rangecal program needs to build and run.
 RUNTIME_PKGS=(cmake g++ make ninja-build libgeographiclib-dev libeigen3-dev libopencv-dev libceres-dev
-              nlohmann-json3-dev libcli11-dev libtbb-dev)
+              nlohmann-json3-dev libcli11-dev libtbb-dev libfmt-dev)
 # What the tests add: GoogleTest, Google Benchmark, GeographicLib's CartConvert (an independent
 # oracle), Chromium (renders report.html headless), clang-format (the code_format test).
 TEST_PKGS=(libgtest-dev libgmock-dev libbenchmark-dev geographiclib-tools chromium clang-format)

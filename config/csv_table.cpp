@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
 #include "config/text_encoding.hpp"
 
@@ -134,10 +135,9 @@ double CsvTable::number_in(const CsvRecord& r, std::size_t col, double lo, doubl
                            const std::string& what) const {
   const double v = number(r, col);
   if (v < lo || v > hi) {
-    char range[96];
-    std::snprintf(range, sizeof range, "[%.10g, %.10g]", lo, hi);
     throw_input_error(path, r.line, header.at(col),
-                      "'" + r.fields[col] + "' is outside " + range + " (" + what + ")");
+                      "'" + r.fields[col] + "' is outside " + fmt::format("[{:.10g}, {:.10g}]", lo, hi) +
+                          " (" + what + ")");
   }
   return v;
 }

@@ -1,14 +1,13 @@
 #include "config/number_format.hpp"
 
+#include <fmt/printf.h>
+
 #include <cmath>
-#include <cstdio>
 
 namespace rangecal {
 
 std::string format_number(const char* format, double value) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, value);
-  return buf;
+  return fmt::sprintf(format, value);
 }
 
 std::string format_finite(const char* format, double value) {

@@ -9,6 +9,7 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "config/text_encoding.hpp"
 #include "config/xml_tree.hpp"
 
@@ -153,9 +154,7 @@ class Parser {
         line_start = i + 1;
       } else if ((c < 0x20 && c != '\t' && !(c == '\r' && i + 1 < t_.size() && t_[i + 1] == '\n')) ||
                  c == 0x7F) {
-        char b[8];
-        std::snprintf(b, sizeof b, "0x%02X", c);
-        fail(line, "", std::string("control byte ") + b + " (not a text file)");
+        fail(line, "", fmt::format("control byte 0x{:02X} (not a text file)", c));
       }
     }
   }

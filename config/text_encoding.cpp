@@ -1,8 +1,7 @@
 #include "config/text_encoding.hpp"
 
-#include <cstdio>
-
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 namespace {
@@ -58,9 +57,7 @@ std::string printable_text(std::string_view text) {
     const unsigned char c = static_cast<unsigned char>(text[i]);
     const std::size_t n = utf8_sequence_length(text, i);
     if (n == 0 || (n == 1 && ((c < 0x20 && c != '\t' && c != '\n') || c == 0x7F))) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02X", c);
-      out += buf;
+      fmt::format_to(std::back_inserter(out), "\\x{:02X}", c);
       ++i;
     } else {
       out.append(text.substr(i, n));
@@ -73,10 +70,9 @@ std::string printable_text(std::string_view text) {
 void require_utf8(std::string_view text, const std::string& file, long line, const std::string& field) {
   const auto bad = first_invalid_utf8(text);
   if (!bad) return;
-  char buf[8];
-  std::snprintf(buf, sizeof buf, "0x%02X", static_cast<unsigned char>(text[*bad]));
   throw_input_error(file, line, field,
-                    std::string("byte ") + buf + " at column " + std::to_string(*bad + 1) +
+                    fmt::format("byte 0x{:02X}", static_cast<unsigned char>(text[*bad])) + " at column " +
+                        std::to_string(*bad + 1) +
                         " is not UTF-8 text (is this a binary file, or text in another encoding?)");
 }
 

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdio>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 
@@ -163,9 +163,7 @@ class Parser {
   void check_byte(char ch) const {
     const auto c = static_cast<unsigned char>(ch);
     if (c < 0x20 && c != '\t' && c != '\n' && c != '\r') {
-      char b[96];
-      std::snprintf(b, sizeof b, "control byte 0x%02X in the document (not text XML)", c);
-      fail(b);
+      fail(fmt::format("control byte 0x{:02X} in the document (not text XML)", c));
     }
   }
   void expect(char c, const std::string& what) {

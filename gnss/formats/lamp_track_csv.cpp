@@ -2,13 +2,13 @@
 
 #include <Eigen/LU>
 #include <array>
-#include <cstdio>
 #include <limits>
 #include <optional>
 
 #include "config/atomic_file.hpp"
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
 
 namespace rangecal {
@@ -30,15 +30,13 @@ std::optional<Eigen::Vector3d> correlations(const Eigen::Matrix3d& cov) {
 std::string format_lamp_track_csv(const LampTrack& track) {
   std::string out = "utc,E,N,U,sdE,sdN,sdU,quality,rEN,rEU,rNU\n";
   out.reserve(out.size() + track.epochs.size() * 120);
-  char buf[200];
+  auto it = std::back_inserter(out);
   for (const LampEpoch& e : track.epochs) {
     out += format_iso8601_utc(e.utc, 9);
-    int n = std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%d", e.enu[0], e.enu[1], e.enu[2],
-                          e.sd_enu[0], e.sd_enu[1], e.sd_enu[2], e.quality);
-    out.append(buf, static_cast<std::size_t>(n));
+    fmt::format_to(it, ",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{}", e.enu[0], e.enu[1], e.enu[2],
+                   e.sd_enu[0], e.sd_enu[1], e.sd_enu[2], e.quality);
     if (const auto r = correlations(e.cov_enu)) {
-      n = std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f\n", (*r)[0], (*r)[1], (*r)[2]);
-      out.append(buf, static_cast<std::size_t>(n));
+      fmt::format_to(it, ",{:.4f},{:.4f},{:.4f}\n", (*r)[0], (*r)[1], (*r)[2]);
     } else {
       out += ",,,\n";  // not known: the network bundle then takes diag(sd²)
     }

@@ -6,6 +6,7 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "gnss/formats/binary_log_bytes.hpp"
 
 namespace rangecal {
@@ -111,7 +112,6 @@ std::optional<TypedName> parse_typed_name(std::string_view s, std::string* why) 
 }
 
 std::string number_text(UlogType t, const char* p) {
-  char b[40];
   switch (t) {
     case UlogType::int8:
       return std::to_string(load_i8(p));
@@ -130,11 +130,9 @@ std::string number_text(UlogType t, const char* p) {
     case UlogType::uint64:
       return std::to_string(load_u64(p));
     case UlogType::float32:
-      std::snprintf(b, sizeof b, "%.9g", static_cast<double>(load_f32(p)));
-      return b;
+      return fmt::format("{:.9g}", static_cast<double>(load_f32(p)));
     case UlogType::float64:
-      std::snprintf(b, sizeof b, "%.17g", load_f64(p));
-      return b;
+      return fmt::format("{:.17g}", load_f64(p));
     case UlogType::boolean:
       return load_u8(p) ? "true" : "false";
     case UlogType::character:

@@ -251,6 +251,71 @@ class Parser {
     throw_input_error(path_, line, field, "unknown column header: " + why);
   }
 
+  // Position format from the first column's name; then the exact expected names (alternatives per
+  // column) of the fixed columns and of the optional velocity columns.
+  void expected_columns(long line_no, PosHeader* h, std::vector<std::vector<std::string>>* expect,
+                        std::vector<std::vector<std::string>>* vel) const {
+    const std::string& first = h->columns[0];
+    if (first == "latitude(deg)" || first == "latitude(d'\")") {
+      h->position_format = first == "latitude(deg)" ? PosPositionFormat::llh_deg : PosPositionFormat::llh_dms;
+      const std::string ang = first == "latitude(deg)" ? "(deg)" : "(d'\")";
+      // RTKLIB's DMS header mislabels the n-u term `sdue(m)` (SOURCE.md §4).
+      *expect = {{"latitude" + ang},
+                 {"longitude" + ang},
+                 {"height(m)"},
+                 {"Q"},
+                 {"ns"},
+                 {"sdn(m)"},
+                 {"sde(m)"},
+                 {"sdu(m)"},
+                 {"sdne(m)"},
+                 {"sdeu(m)"},
+                 {"sdun(m)", "sdue(m)"},
+                 {"age(s)"},
+                 {"ratio"}};
+      *vel = {{"vn(m/s)"}, {"ve(m/s)"}, {"vu(m/s)"}, {"sdvn"}, {"sdve"},
+              {"sdvu"},    {"sdvne"},   {"sdveu"},   {"sdvun"}};
+    } else if (first == "x-ecef(m)") {
+      h->position_format = PosPositionFormat::ecef;
+      *expect = {{"x-ecef(m)"}, {"y-ecef(m)"}, {"z-ecef(m)"}, {"Q"},       {"ns"},     {"sdx(m)"}, {"sdy(m)"},
+                 {"sdz(m)"},    {"sdxy(m)"},   {"sdyz(m)"},   {"sdzx(m)"}, {"age(s)"}, {"ratio"}};
+      *vel = {{"vx(m/s)"}, {"vy(m/s)"}, {"vz(m/s)"}, {"sdvx"}, {"sdvy"},
+              {"sdvz"},    {"sdvxy"},   {"sdvyz"},   {"sdvzx"}};
+    } else if (first == "e-baseline(m)") {
+      h->position_format = PosPositionFormat::enu_baseline;
+      *expect = {{"e-baseline(m)"}, {"n-baseline(m)"}, {"u-baseline(m)"}, {"Q"},       {"ns"},
+                 {"sde(m)"},        {"sdn(m)"},        {"sdu(m)"},        {"sden(m)"}, {"sdnu(m)"},
+                 {"sdue(m)"},       {"age(s)"},        {"ratio"}};
+      // RTKLIB 2.4.3 writes no velocity for ENU; demo5 prints 9 velocity names but no values.
+      *vel = {{"ve(m/s)"}, {"vn(m/s)"}, {"vu(m/s)"}, {"sdve"}, {"sdvn"},
+              {"sdvu"},    {"sdven"},   {"sdvnu"},   {"sdvue"}};
+    } else {
+      bad_header(line_no, first,
+                 "position column '" + first +
+                     "' is none of latitude(deg), latitude(d'\"), x-ecef(m), e-baseline(m)");
+    }
+  }
+
+  // The data line's token layout and the field name of each token (for messages).
+  void set_layout(const PosHeader& h, const std::string& ts, std::size_t ncols) {
+    const auto& cols = h.columns;
+    // d m s: 3 tokens for each angle, then the height.
+    layout_.pos_tokens = h.position_format == PosPositionFormat::llh_dms ? 7 : 3;
+    layout_.total_tokens = 2 + layout_.pos_tokens + (ncols - 3);
+    layout_.field_names.clear();
+    layout_.field_names.push_back(ts + " (date or week)");
+    layout_.field_names.push_back(ts + " (time or tow)");
+    if (h.position_format == PosPositionFormat::llh_dms) {
+      for (const char* a : {"latitude", "longitude"})
+        for (const char* p : {" degrees", " minutes", " seconds"})
+          layout_.field_names.push_back(std::string(a) + p);
+      layout_.field_names.push_back(cols[2]);
+    } else {
+      for (std::size_t i = 0; i < 3; ++i) layout_.field_names.push_back(cols[i]);
+    }
+    for (std::size_t i = 3; i < ncols; ++i) layout_.field_names.push_back(cols[i]);
+  }
+
   // The column header: `%  GPST  latitude(deg) longitude(deg) height(m) Q ns sdn(m) ...`.
   void parse_column_header(std::string_view line, long line_no, PosHeader* h) {
     const std::vector<std::string> words = tokenize_all(line.substr(1));
@@ -271,48 +336,9 @@ class Parser {
     h->columns.assign(words.begin() + 1, words.end());
     if (h->columns.empty()) bad_header(line_no, ts, "no column names after the time system");
 
-    // Position format from the first column's name; then the exact expected names.
-    const std::string& first = h->columns[0];
     std::vector<std::vector<std::string>> expect;  // alternatives per column
     std::vector<std::vector<std::string>> vel;
-    if (first == "latitude(deg)" || first == "latitude(d'\")") {
-      h->position_format = first == "latitude(deg)" ? PosPositionFormat::llh_deg : PosPositionFormat::llh_dms;
-      const std::string ang = first == "latitude(deg)" ? "(deg)" : "(d'\")";
-      // RTKLIB's DMS header mislabels the n-u term `sdue(m)` (SOURCE.md §4).
-      expect = {{"latitude" + ang},
-                {"longitude" + ang},
-                {"height(m)"},
-                {"Q"},
-                {"ns"},
-                {"sdn(m)"},
-                {"sde(m)"},
-                {"sdu(m)"},
-                {"sdne(m)"},
-                {"sdeu(m)"},
-                {"sdun(m)", "sdue(m)"},
-                {"age(s)"},
-                {"ratio"}};
-      vel = {{"vn(m/s)"}, {"ve(m/s)"}, {"vu(m/s)"}, {"sdvn"}, {"sdve"},
-             {"sdvu"},    {"sdvne"},   {"sdveu"},   {"sdvun"}};
-    } else if (first == "x-ecef(m)") {
-      h->position_format = PosPositionFormat::ecef;
-      expect = {{"x-ecef(m)"}, {"y-ecef(m)"}, {"z-ecef(m)"}, {"Q"},       {"ns"},     {"sdx(m)"}, {"sdy(m)"},
-                {"sdz(m)"},    {"sdxy(m)"},   {"sdyz(m)"},   {"sdzx(m)"}, {"age(s)"}, {"ratio"}};
-      vel = {{"vx(m/s)"}, {"vy(m/s)"}, {"vz(m/s)"}, {"sdvx"}, {"sdvy"},
-             {"sdvz"},    {"sdvxy"},   {"sdvyz"},   {"sdvzx"}};
-    } else if (first == "e-baseline(m)") {
-      h->position_format = PosPositionFormat::enu_baseline;
-      expect = {{"e-baseline(m)"}, {"n-baseline(m)"}, {"u-baseline(m)"}, {"Q"},       {"ns"},
-                {"sde(m)"},        {"sdn(m)"},        {"sdu(m)"},        {"sden(m)"}, {"sdnu(m)"},
-                {"sdue(m)"},       {"age(s)"},        {"ratio"}};
-      // RTKLIB 2.4.3 writes no velocity for ENU; demo5 prints 9 velocity names but no values.
-      vel = {{"ve(m/s)"}, {"vn(m/s)"}, {"vu(m/s)"}, {"sdve"}, {"sdvn"},
-             {"sdvu"},    {"sdven"},   {"sdvnu"},   {"sdvue"}};
-    } else {
-      bad_header(line_no, first,
-                 "position column '" + first +
-                     "' is none of latitude(deg), latitude(d'\"), x-ecef(m), e-baseline(m)");
-    }
+    expected_columns(line_no, h, &expect, &vel);
     const auto& cols = h->columns;
     auto matches = [](const std::string& name, const std::vector<std::string>& alts) {
       for (const auto& a : alts)
@@ -343,21 +369,7 @@ class Parser {
         ncols = cols.size();
       }
     }
-    // d m s: 3 tokens for each angle, then the height.
-    layout_.pos_tokens = h->position_format == PosPositionFormat::llh_dms ? 7 : 3;
-    layout_.total_tokens = 2 + layout_.pos_tokens + (ncols - 3);
-    layout_.field_names.clear();
-    layout_.field_names.push_back(ts + " (date or week)");
-    layout_.field_names.push_back(ts + " (time or tow)");
-    if (h->position_format == PosPositionFormat::llh_dms) {
-      for (const char* a : {"latitude", "longitude"})
-        for (const char* p : {" degrees", " minutes", " seconds"})
-          layout_.field_names.push_back(std::string(a) + p);
-      layout_.field_names.push_back(cols[2]);
-    } else {
-      for (std::size_t i = 0; i < 3; ++i) layout_.field_names.push_back(cols[i]);
-    }
-    for (std::size_t i = 3; i < ncols; ++i) layout_.field_names.push_back(cols[i]);
+    set_layout(*h, ts, ncols);
   }
 
   std::optional<Eigen::Vector3d> parse_ref_pos(std::string_view text, long line_no,
@@ -466,8 +478,7 @@ class Parser {
     return gps_epoch_unix_ns + static_cast<std::int64_t>(week) * kWeekNs + *tow;
   }
 
-  PosEpoch parse_epoch(const std::array<std::string_view, kMaxTokens>& tok, std::size_t n, long line,
-                       const PosHeader& h) const {
+  void check_field_count(std::size_t n, long line) const {
     if (n < layout_.total_tokens)
       throw_input_error(path_, line, layout_.field_names[n],
                         "truncated line: expected " + std::to_string(layout_.total_tokens) +
@@ -477,31 +488,33 @@ class Parser {
                         "expected " + std::to_string(layout_.total_tokens) + " fields, found " +
                             (n > kMaxTokens ? "more than " + std::to_string(kMaxTokens) : std::to_string(n)) +
                             " (extra fields after '" + layout_.field_names.back() + "')");
-    PosEpoch e;
-    e.line = line;
-    e.utc = to_utc(parse_time_reading(tok, line, h.time_format), h.time_system);
+  }
+
+  // The position tokens from token 2 on, into e.position; returns the index of the next token.
+  std::size_t parse_position(const std::array<std::string_view, kMaxTokens>& tok, long line,
+                             const PosHeader& h, PosEpoch* e) const {
     std::size_t i = 2;
     if (h.position_format == PosPositionFormat::llh_dms) {
       double v[6];
       for (int k = 0; k < 6; ++k) v[k] = num(tok, i + k, line);
       for (int k : {1, 2, 4, 5})
         if (v[k] < 0 || v[k] >= 60) bad_field(line, i + k, tok[i + k], "is not in [0, 60)");
-      e.position =
+      e->position =
           Eigen::Vector3d(dms_value(tok[i], v[0], v[1], v[2]), dms_value(tok[i + 3], v[3], v[4], v[5]), 0);
       i += 6;
-      e.position[2] = num_in(tok, i++, line, kMinHeightM, kMaxHeightM, "ellipsoidal height, m");
+      e->position[2] = num_in(tok, i++, line, kMinHeightM, kMaxHeightM, "ellipsoidal height, m");
     } else if (h.position_format == PosPositionFormat::llh_deg) {
-      for (int k = 0; k < 2; ++k) e.position[k] = num(tok, i++, line);
-      e.position[2] = num_in(tok, i++, line, kMinHeightM, kMaxHeightM, "ellipsoidal height, m");
+      for (int k = 0; k < 2; ++k) e->position[k] = num(tok, i++, line);
+      e->position[2] = num_in(tok, i++, line, kMinHeightM, kMaxHeightM, "ellipsoidal height, m");
     } else if (h.position_format == PosPositionFormat::enu_baseline) {
       for (int k = 0; k < 2; ++k)
-        e.position[k] = num_in(tok, i++, line, -kMaxBaselineM, kMaxBaselineM, "baseline component, m");
-      e.position[2] = num_in(tok, i++, line, kMinHeightM - kMaxHeightM, kMaxHeightM - kMinHeightM,
-                             "up baseline component, m");
+        e->position[k] = num_in(tok, i++, line, -kMaxBaselineM, kMaxBaselineM, "baseline component, m");
+      e->position[2] = num_in(tok, i++, line, kMinHeightM - kMaxHeightM, kMaxHeightM - kMinHeightM,
+                              "up baseline component, m");
     } else {
       for (int k = 0; k < 3; ++k)
-        e.position[k] = num_in(tok, i++, line, -kMaxEcefRadiusM, kMaxEcefRadiusM, "ECEF coordinate, m");
-      const double r = e.position.norm();
+        e->position[k] = num_in(tok, i++, line, -kMaxEcefRadiusM, kMaxEcefRadiusM, "ECEF coordinate, m");
+      const double r = e->position.norm();
       if (r < kMinEcefRadiusM || r > kMaxEcefRadiusM)
         bad_field(line, 2, tok[2],
                   "starts an ECEF position " + format_number("%.10g", r) +
@@ -510,28 +523,33 @@ class Parser {
                       "] (does the column header match the columns?)");
     }
     if (h.position_format == PosPositionFormat::llh_deg || h.position_format == PosPositionFormat::llh_dms) {
-      if (std::abs(e.position[0]) > 90) bad_field(line, 2, tok[2], "latitude is outside [-90, 90]");
-      if (std::abs(e.position[1]) > 180)
+      if (std::abs(e->position[0]) > 90) bad_field(line, 2, tok[2], "latitude is outside [-90, 90]");
+      if (std::abs(e->position[1]) > 180)
         bad_field(line, h.position_format == PosPositionFormat::llh_dms ? 5 : 3,
                   tok[h.position_format == PosPositionFormat::llh_dms ? 5 : 3],
                   "longitude is outside [-180, 180]");
     }
+    return i;
+  }
+
+  // Q, ns and the six position σ/covariance terms from token i on; returns the next token's index.
+  std::size_t parse_quality_and_covariance(const std::array<std::string_view, kMaxTokens>& tok, std::size_t i,
+                                           long line, const PosHeader& h, PosEpoch* e) const {
     long long q, ns;
     if (!to_int(tok[i], &q)) bad_field(line, i, tok[i], "is not an integer");
     if (q < 1 || q > 6)
       bad_field(line, i, tok[i], "is outside 1-6 (1 fix, 2 float, 3 sbas, 4 dgps, 5 single, 6 ppp)");
-    e.quality = static_cast<int>(q);
+    e->quality = static_cast<int>(q);
     ++i;
     if (!to_int(tok[i], &ns) || ns < 0 || ns > 1000) bad_field(line, i, tok[i], "is not a satellite count");
-    e.ns = static_cast<int>(ns);
+    e->ns = static_cast<int>(ns);
     ++i;
     const double s0 = sd(tok, i, line), s1 = sd(tok, i + 1, line), s2 = sd(tok, i + 2, line);
     const std::string sq = "signed square root of a covariance, m";
     const double c01 = cov_from_signed_sqrt(num_in(tok, i + 3, line, -kMaxSigmaM, kMaxSigmaM, sq));
     const double c12 = cov_from_signed_sqrt(num_in(tok, i + 4, line, -kMaxSigmaM, kMaxSigmaM, sq));
     const double c20 = cov_from_signed_sqrt(num_in(tok, i + 5, line, -kMaxSigmaM, kMaxSigmaM, sq));
-    i += 6;
-    Eigen::Matrix3d& C = e.covariance;
+    Eigen::Matrix3d& C = e->covariance;
     switch (h.position_format) {
       case PosPositionFormat::llh_deg:
       case PosPositionFormat::llh_dms:
@@ -553,33 +571,49 @@ class Parser {
             c20, c12, s2 * s2;
         break;
     }
+    return i + 6;
+  }
+
+  // The 9 velocity columns from token i on.
+  void parse_velocity(const std::array<std::string_view, kMaxTokens>& tok, std::size_t i, long line,
+                      const PosHeader& h, PosEpoch* e) const {
+    const std::string sq = "signed square root of a covariance, m";
+    double v[3];
+    for (int k = 0; k < 3; ++k)
+      v[k] = num_in(tok, i + k, line, -kMaxVelocityMps, kMaxVelocityMps, "velocity, m/s");
+    const double t0 = sd(tok, i + 3, line), t1 = sd(tok, i + 4, line), t2 = sd(tok, i + 5, line);
+    const double d01 = cov_from_signed_sqrt(num_in(tok, i + 6, line, -kMaxSigmaM, kMaxSigmaM, sq));
+    const double d12 = cov_from_signed_sqrt(num_in(tok, i + 7, line, -kMaxSigmaM, kMaxSigmaM, sq));
+    const double d20 = cov_from_signed_sqrt(num_in(tok, i + 8, line, -kMaxSigmaM, kMaxSigmaM, sq));
+    e->has_velocity = true;
+    Eigen::Matrix3d& V = e->velocity_covariance;
+    if (h.position_format == PosPositionFormat::ecef) {
+      // vx vy vz sdvx sdvy sdvz sdvxy sdvyz sdvzx.
+      e->velocity = Eigen::Vector3d(v[0], v[1], v[2]);
+      V << t0 * t0, d01, d20,  //
+          d01, t1 * t1, d12,   //
+          d20, d12, t2 * t2;
+    } else {
+      // vn ve vu sdvn sdve sdvu sdvne sdveu sdvun → E, N, U.
+      e->velocity = Eigen::Vector3d(v[1], v[0], v[2]);
+      V << t1 * t1, d01, d12,  //
+          d01, t0 * t0, d20,   //
+          d12, d20, t2 * t2;
+    }
+  }
+
+  PosEpoch parse_epoch(const std::array<std::string_view, kMaxTokens>& tok, std::size_t n, long line,
+                       const PosHeader& h) const {
+    check_field_count(n, line);
+    PosEpoch e;
+    e.line = line;
+    e.utc = to_utc(parse_time_reading(tok, line, h.time_format), h.time_system);
+    std::size_t i = parse_position(tok, line, h, &e);
+    i = parse_quality_and_covariance(tok, i, line, h, &e);
     // RTKLIB prints small negative ages (-0.01 s) when the base epoch is ahead: sign is not checked.
     e.age_s = num_in(tok, i++, line, -kMaxAgeS, kMaxAgeS, "age of differential, s");
     e.ratio = num_in(tok, i++, line, 0, kMaxRatio, "ambiguity ratio");
-    if (h.has_velocity) {
-      double v[3];
-      for (int k = 0; k < 3; ++k)
-        v[k] = num_in(tok, i + k, line, -kMaxVelocityMps, kMaxVelocityMps, "velocity, m/s");
-      const double t0 = sd(tok, i + 3, line), t1 = sd(tok, i + 4, line), t2 = sd(tok, i + 5, line);
-      const double d01 = cov_from_signed_sqrt(num_in(tok, i + 6, line, -kMaxSigmaM, kMaxSigmaM, sq));
-      const double d12 = cov_from_signed_sqrt(num_in(tok, i + 7, line, -kMaxSigmaM, kMaxSigmaM, sq));
-      const double d20 = cov_from_signed_sqrt(num_in(tok, i + 8, line, -kMaxSigmaM, kMaxSigmaM, sq));
-      e.has_velocity = true;
-      Eigen::Matrix3d& V = e.velocity_covariance;
-      if (h.position_format == PosPositionFormat::ecef) {
-        // vx vy vz sdvx sdvy sdvz sdvxy sdvyz sdvzx.
-        e.velocity = Eigen::Vector3d(v[0], v[1], v[2]);
-        V << t0 * t0, d01, d20,  //
-            d01, t1 * t1, d12,   //
-            d20, d12, t2 * t2;
-      } else {
-        // vn ve vu sdvn sdve sdvu sdvne sdveu sdvun → E, N, U.
-        e.velocity = Eigen::Vector3d(v[1], v[0], v[2]);
-        V << t1 * t1, d01, d12,  //
-            d01, t0 * t0, d20,   //
-            d12, d20, t2 * t2;
-      }
-    }
+    if (h.has_velocity) parse_velocity(tok, i, line, h, &e);
     return e;
   }
 

@@ -1,10 +1,9 @@
 #include "gnss/formats/rtklib_pos_writer.hpp"
 
 #include <algorithm>
-#include <cstdarg>
-#include <cstdio>
 
 #include "config/atomic_file.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 namespace {
@@ -17,21 +16,11 @@ std::int64_t floor_div(std::int64_t a, std::int64_t b) {
   return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
 }
 
-std::string printf_string(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string printf_string(const char* fmt, ...) {
-  char buf[512];
-  va_list ap;
-  va_start(ap, fmt);
-  const int n = std::vsnprintf(buf, sizeof buf, fmt, ap);
-  va_end(ap);
-  return std::string(buf, static_cast<std::size_t>(std::max(0, std::min<int>(n, sizeof buf - 1))));
-}
-
 // `(weekNNNN TOW s)` part of the obs start/end lines: always GPST, %8.1f seconds of week.
 std::string week_tow_text(GpsTime t) {
   const std::int64_t week = floor_div(t.ns, kNsPerWeek);
   const double tow = static_cast<double>(t.ns - week * kNsPerWeek) * 1e-9;
-  return printf_string("(week%04d %8.1fs)", static_cast<int>(week), tow);
+  return fmt::format("(week{:04} {:>8.1f}s)", static_cast<int>(week), tow);
 }
 
 }  // namespace
@@ -56,9 +45,11 @@ std::string format_gpst_calendar(GpsTime t, int decimals) {
 std::string format_rtklib_pos_line(const PosWriterEpoch& e) {
   // postpos.c/solution.c outsolllh: time, then each field preceded by the one-space separator.
   return format_gpst_calendar(e.time, 3) +
-         printf_string(" %14.9f %14.9f %10.4f %3d %3d %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %6.2f %6.1f",
-                       e.lat_deg, e.lon_deg, e.h_m, e.quality, e.satellites, e.sdn_m, e.sde_m, e.sdu_m,
-                       e.sdne_m, e.sdeu_m, e.sdun_m, e.age_s, std::min(e.ratio, 999.9));
+         fmt::format(
+             " {:>14.9f} {:>14.9f} {:>10.4f} {:3} {:3} {:>8.4f} {:>8.4f} {:>8.4f} {:>8.4f} {:>8.4f} "
+             "{:>8.4f} {:>6.2f} {:>6.1f}",
+             e.lat_deg, e.lon_deg, e.h_m, e.quality, e.satellites, e.sdn_m, e.sde_m, e.sdu_m, e.sdne_m,
+             e.sdeu_m, e.sdun_m, e.age_s, std::min(e.ratio, 999.9));
 }
 
 std::string format_rtklib_pos(const PosWriterHeader& header, const std::vector<PosWriterEpoch>& epochs) {
@@ -72,8 +63,8 @@ std::string format_rtklib_pos(const PosWriterHeader& header, const std::vector<P
     s += "% obs end   : " + format_gpst_calendar(t1, 1) + " GPST " + week_tow_text(t1) + "\n";
   }
   if (header.has_ref_pos)
-    s += printf_string("%% ref pos   :%13.9f %14.9f %10.4f\n", header.ref_lat_deg, header.ref_lon_deg,
-                       header.ref_h_m);
+    s += fmt::format("% ref pos   :{:>13.9f} {:>14.9f} {:>10.4f}\n", header.ref_lat_deg, header.ref_lon_deg,
+                     header.ref_h_m);
   s += "%\n";
   s += "% (lat/lon/height=WGS84/ellipsoidal,Q=1:fix,2:float,3:sbas,4:dgps,5:single,6:ppp,ns=# of "
        "satellites)\r\n";

@@ -1,8 +1,9 @@
 #include "gnss/time/utc_time.hpp"
 
 #include <array>
-#include <cstdio>
 #include <limits>
+
+#include "config/number_format.hpp"
 
 namespace rangecal {
 namespace {
@@ -169,17 +170,16 @@ std::string format_iso8601_utc(UtcTime t, int ndigits) {
   const unsigned d = doy - (153 * mp + 2) / 5 + 1;
   const unsigned m = mp < 10 ? mp + 3 : mp - 9;
   y += m <= 2;
-  char buf[64];
-  int n = std::snprintf(buf, sizeof buf, "%04lld-%02u-%02uT%02d:%02d:%02d", static_cast<long long>(y), m, d,
-                        static_cast<int>(sod / 3600), static_cast<int>(sod / 60 % 60),
-                        static_cast<int>(sod % 60));
+  fmt::memory_buffer buf;
+  fmt::format_to(std::back_inserter(buf), "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}", y, m, d, sod / 3600,
+                 sod / 60 % 60, sod % 60);
   if (ndigits > 0) {
     if (ndigits > 9) ndigits = 9;
     for (int k = ndigits; k < 9; ++k) nanos /= 10;
-    n += std::snprintf(buf + n, sizeof buf - n, ".%0*lld", ndigits, static_cast<long long>(nanos));
+    fmt::format_to(std::back_inserter(buf), ".{:0{}}", nanos, ndigits);
   }
-  std::snprintf(buf + n, sizeof buf - n, "Z");
-  return buf;
+  buf.push_back('Z');
+  return fmt::to_string(buf);
 }
 
 int gps_minus_utc_seconds_at_utc(UtcTime t) {

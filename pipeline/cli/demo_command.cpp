@@ -10,6 +10,7 @@
 #include <string>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/cli/stage_summary.hpp"
 #include "pipeline/demo/demo.hpp"
@@ -51,22 +52,17 @@ void add_demo_command(CLI::App& app, const CliContext& ctx) {
         for (const ParameterCheck& p : parameter_checks(c, meth)) {
           const bool pass = std::abs(p.z()) <= 3;
           ok = ok && pass;
-          char b[200];
-          std::snprintf(b, sizeof b,
-                        "  %-5s %-7s %-3s estimate %.6g truth %.6g sigma %.3g -> %+.2f sigma  %s\n",
-                        c.id.c_str(), meth.c_str(), p.name.c_str(), p.estimate, p.truth, p.sigma, p.z(),
-                        pass ? "ok" : "FAIL");
-          std::cout << b;
+          std::cout << fmt::format(
+              "  {:<5} {:<7} {:<3} estimate {:.6g} truth {:.6g} sigma {:.3g} -> {:+.2f} sigma  {}\n", c.id,
+              meth, p.name, p.estimate, p.truth, p.sigma, p.z(), pass ? "ok" : "FAIL");
         }
     for (const DemoIntersection& d : r.intersections) {
       if (std::find(checked.begin(), checked.end(), d.method) == checked.end()) continue;
       const bool pass = d.n_check > 0 && d.mean_dR_truth_m <= 0.010;
       ok = ok && pass;
-      char b[200];
-      std::snprintf(b, sizeof b,
-                    "  %-7s check-pole mean dR against truth %.2f cm over %d poles (bar 1.0 cm)  %s\n",
-                    d.method.c_str(), 100 * d.mean_dR_truth_m, d.n_check, pass ? "ok" : "FAIL");
-      std::cout << b;
+      std::cout << fmt::format(
+          "  {:<7} check-pole mean dR against truth {:.2f} cm over {} poles (bar 1.0 cm)  {}\n", d.method,
+          100 * d.mean_dR_truth_m, d.n_check, pass ? "ok" : "FAIL");
     }
     for (const StageLog& log : run.logs) {
       const std::string line = log.stage == "report" ? flight_volume_line(log.counts) : "";

@@ -1,6 +1,5 @@
 // `rangecal gnss CONFIG` (docs/gnss.md, docs/cli.md): runs the gnss stage alone, merges its section into
 // run.json and prints a short summary (unless --quiet).
-#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -16,9 +15,7 @@ namespace rangecal {
 namespace {
 
 std::string row(const std::string& label, const std::string& value) {
-  char b[256];
-  std::snprintf(b, sizeof b, "  %-28s %s\n", label.c_str(), value.c_str());
-  return b;
+  return fmt::format("  {:<28} {}\n", label, value);
 }
 
 std::string num(const nlohmann::json& v) {

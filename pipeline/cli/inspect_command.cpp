@@ -23,9 +23,7 @@ namespace {
 constexpr int kTimelineColumns = 60;
 
 std::string row(const std::string& label, const std::string& value) {
-  char b[96];
-  std::snprintf(b, sizeof b, "  %-36s ", label.c_str());
-  return b + value + "\n";
+  return fmt::format("  {:<36} {}\n", label, value);
 }
 
 // 2775328 → "2,775,328".
@@ -76,14 +74,11 @@ std::string timeline_text(const std::vector<FileFacts>& files) {
   for (std::size_t i : timed) lo = std::min(lo, files[i].utc->first), hi = std::max(hi, files[i].utc->last);
   const double total = std::max(seconds_between(lo, hi), 1e-9);
   std::string s = "time spans (UTC)\n";
-  char b[160];
-  std::snprintf(b, sizeof b, "  %-3s %-26s %-26s %16s  %s\n", "#", "first", "last", "duration (s)", "file");
-  s += b;
+  s += fmt::format("  {:<3} {:<26} {:<26} {:>16}  {}\n", "#", "first", "last", "duration (s)", "file");
   for (std::size_t i : timed) {
     const UtcSpan& u = *files[i].utc;
-    std::snprintf(b, sizeof b, "  %-3zu %-26s %-26s %16.3f  ", i + 1, format_iso8601_utc(u.first, 3).c_str(),
-                  format_iso8601_utc(u.last, 3).c_str(), u.duration_s());
-    s += b + files[i].path + "\n";
+    s += fmt::format("  {:<3} {:<26} {:<26} {:>16.3f}  {}\n", i + 1, format_iso8601_utc(u.first, 3),
+                     format_iso8601_utc(u.last, 3), u.duration_s(), files[i].path);
   }
   s += "timeline " + format_iso8601_utc(lo, 0) + " .. " + format_iso8601_utc(hi, 0) +
        ", one column = " + format_number("%.6g", total / kTimelineColumns) + " s\n";
@@ -95,8 +90,7 @@ std::string timeline_text(const std::vector<FileFacts>& files) {
     };
     std::string line(kTimelineColumns, '.');
     for (int c = col(u.first); c <= col(u.last); ++c) line[static_cast<std::size_t>(c)] = '#';
-    std::snprintf(b, sizeof b, "  %-3zu |", i + 1);
-    s += b + line + "|\n";
+    s += fmt::format("  {:<3} |{}|\n", i + 1, line);
   }
   return s;
 }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "gnss/geodesy/local_enu.hpp"
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/cli/stage_command.hpp"
@@ -38,11 +39,8 @@ constexpr double kStandalonePickSigmaPx = 0.5;
 /// `id,E,N,U,rms_px`: metres and pixels with 4 decimals (0.1 mm; 1 px is ~1 cm at 64 m).
 std::string format_points_csv(const IntersectionResult& r) {
   std::string s = "id,E,N,U,rms_px\n";
-  char buf[160];
-  for (const PoleIntersection& p : r.poles) {
-    std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f,%.4f\n", p.enu.x(), p.enu.y(), p.enu.z(), p.rms_px);
-    s += p.id + buf;
-  }
+  for (const PoleIntersection& p : r.poles)
+    s += p.id + fmt::format(",{:.4f},{:.4f},{:.4f},{:.4f}\n", p.enu.x(), p.enu.y(), p.enu.z(), p.rms_px);
   return s;
 }
 
@@ -51,11 +49,9 @@ std::string format_points_csv(const IntersectionResult& r) {
 std::string format_geodetic_points_csv(const IntersectionResult& r, const GeodeticOrigin& origin) {
   const LocalEnu site(origin);
   std::string s = "id,lat,lon,h,rms_px\n";
-  char buf[160];
   for (const PoleIntersection& p : r.poles) {
     const Eigen::Vector3d llh = site.to_geodetic(p.enu);
-    std::snprintf(buf, sizeof buf, ",%.9f,%.9f,%.4f,%.4f\n", llh[0], llh[1], llh[2], p.rms_px);
-    s += p.id + buf;
+    s += p.id + fmt::format(",{:.9f},{:.9f},{:.4f},{:.4f}\n", llh[0], llh[1], llh[2], p.rms_px);
   }
   return s;
 }

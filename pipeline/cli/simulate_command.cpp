@@ -4,11 +4,11 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
 
+#include "config/number_format.hpp"
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/io/progress_bar.hpp"
 #include "pipeline/simulate/mission_simulator.hpp"
@@ -36,14 +36,13 @@ void add_simulate_command(CLI::App& app, const CliContext& ctx) {
       for (const SimFrame& f : c.frames) in_view += f.in_view ? 1 : 0;
       picks += c.picks.size();
     }
-    char line[512];
-    std::snprintf(
-        line, sizeof line,
-        "simulated %.1f s of flight: %zu GNSS epochs, %zu cameras, %zu frames (%zu with the lamp in "
-        "view), %zu poles, %zu pole picks; %zu files in %.2f s\n",
-        mission.path.duration_s(), w.n_epochs, mission.cameras.size(), w.n_frames, in_view,
-        mission.poles.size(), picks, w.n_files, secs);
-    std::cout << line << "mission config: " << w.config_path << "\ntruth:          " << w.truth_path << "\n";
+    std::cout
+        << fmt::format(
+               "simulated {:.1f} s of flight: {} GNSS epochs, {} cameras, {} frames ({} with the lamp in "
+               "view), {} poles, {} pole picks; {} files in {:.2f} s\n",
+               mission.path.duration_s(), w.n_epochs, mission.cameras.size(), w.n_frames, in_view,
+               mission.poles.size(), picks, w.n_files, secs)
+        << "mission config: " << w.config_path << "\ntruth:          " << w.truth_path << "\n";
   });
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "gnss/formats/pole_survey_csv.hpp"
 #include "optim/bundle/whitening.hpp"
 #include "pipeline/io/calibration_json.hpp"
@@ -143,10 +144,8 @@ DemoRun simulate_and_run(const Scenario& scenario, const std::string& out_dir,
       out_dir);
   run.config = load_mission_config(w.config_path);
   run.logs = run_mission(run.config, [&](const StageLog& log) {
-    char b[160];
-    std::snprintf(b, sizeof b, "stage %-10s %8.3f s, %zu warning(s)", log.stage.c_str(), log.wall_time_s,
-                  log.warnings.size());
-    say(b);
+    say(fmt::format("stage {:<10} {:>8.3f} s, {} warning(s)", log.stage, log.wall_time_s,
+                    log.warnings.size()));
   });
   run.results = collect_demo_results(run.mission, run.config);
   return run;

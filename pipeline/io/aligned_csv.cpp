@@ -1,23 +1,21 @@
 #include "pipeline/io/aligned_csv.hpp"
 
-#include <cstdio>
-
 #include "config/atomic_file.hpp"
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 
 std::string format_aligned_csv(const std::vector<AlignedFrame>& rows) {
   std::string out = "frame,utc,E,N,U,sdE,sdN,sdU,dt_s,vE,vN,vU\n";
   out.reserve(out.size() + rows.size() * 160);
-  char buf[400];
   for (const AlignedFrame& r : rows) {
-    std::snprintf(buf, sizeof buf, "%lld,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.9f,%.4f,%.4f,%.4f\n",
-                  static_cast<long long>(r.frame), format_iso8601_utc(r.utc, 9).c_str(), r.enu.x(), r.enu.y(),
-                  r.enu.z(), r.sd_enu.x(), r.sd_enu.y(), r.sd_enu.z(), r.dt_s, r.vel_enu.x(), r.vel_enu.y(),
-                  r.vel_enu.z());
-    out += buf;
+    fmt::format_to(std::back_inserter(out),
+                   "{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.9f},{:.4f},{:.4f},{:.4f}\n",
+                   static_cast<long long>(r.frame), format_iso8601_utc(r.utc, 9), r.enu.x(), r.enu.y(),
+                   r.enu.z(), r.sd_enu.x(), r.sd_enu.y(), r.sd_enu.z(), r.dt_s, r.vel_enu.x(), r.vel_enu.y(),
+                   r.vel_enu.z());
   }
   return out;
 }

@@ -1,10 +1,9 @@
 #include "pipeline/io/correspondences_csv.hpp"
 
-#include <cstdio>
-
 #include "config/atomic_file.hpp"
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
 
 namespace rangecal {
@@ -15,25 +14,19 @@ std::string format_correspondences_csv(const std::vector<Correspondence>& pairs)
   std::string out = "utc,E,N,U,u,v,residual_px,used";
   out += with_sd ? ",sdE,sdN,sdU" : "";
   out += with_vel ? ",vE,vN,vU\n" : "\n";
-  char buf[256];
+  auto it = std::back_inserter(out);
   for (const auto& p : pairs) {
     out += format_iso8601_utc(p.utc, 9);
-    std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f,%.4f,%.4f,", p.enu.x(), p.enu.y(), p.enu.z(), p.uv.x(),
-                  p.uv.y());
-    out += buf;
-    if (p.residual_px) {
-      std::snprintf(buf, sizeof buf, "%.4f", *p.residual_px);
-      out += buf;
-    }
+    fmt::format_to(it, ",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},", p.enu.x(), p.enu.y(), p.enu.z(), p.uv.x(),
+                   p.uv.y());
+    if (p.residual_px) fmt::format_to(it, "{:.4f}", *p.residual_px);
     out += ",";
     if (p.used) out += *p.used ? "1" : "0";
     if (with_sd) {
-      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f", p.sd_enu->x(), p.sd_enu->y(), p.sd_enu->z());
-      out += buf;
+      fmt::format_to(it, ",{:.4f},{:.4f},{:.4f}", p.sd_enu->x(), p.sd_enu->y(), p.sd_enu->z());
     }
     if (with_vel) {
-      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f", p.vel_enu->x(), p.vel_enu->y(), p.vel_enu->z());
-      out += buf;
+      fmt::format_to(it, ",{:.4f},{:.4f},{:.4f}", p.vel_enu->x(), p.vel_enu->y(), p.vel_enu->z());
     }
     out += "\n";
   }

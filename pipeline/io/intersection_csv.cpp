@@ -1,11 +1,11 @@
 #include "pipeline/io/intersection_csv.hpp"
 
-#include <cstdio>
 #include <set>
 
 #include "config/atomic_file.hpp"
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 
@@ -16,10 +16,9 @@ constexpr const char* kHeader = "id,E,N,U,E_survey,N_survey,U_survey,dE,dN,dU,dR
 /// "%.4f", with a value that rounds to zero always printed as "0.0000" (never "-0.0000"), so the
 /// text does not depend on the sign of a sub-0.05 mm rounding residue.
 void append_number(std::string* s, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.4f", v);
+  const std::string text = fmt::format("{:.4f}", v);
   s->push_back(',');
-  *s += std::string(buf) == "-0.0000" ? "0.0000" : buf;
+  *s += text == "-0.0000" ? "0.0000" : text;
 }
 
 }  // namespace

@@ -12,9 +12,7 @@ namespace {
 
 std::string hex_colour(double r, double g, double b) {
   auto c = [](double x) { return static_cast<int>(std::lround(std::clamp(x, 0.0, 1.0) * 255)); };
-  char buf[8];
-  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", c(r), c(g), c(b));
-  return buf;
+  return fmt::format("#{:02x}{:02x}{:02x}", c(r), c(g), c(b));
 }
 
 // Linear interpolation between colour stops (r, g, b in [0, 1]).

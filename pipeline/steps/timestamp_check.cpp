@@ -1,10 +1,10 @@
 #include "pipeline/steps/timestamp_check.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <optional>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "vision/calibration/dlt.hpp"
 
 namespace rangecal {
@@ -73,15 +73,13 @@ TimestampOffsetCheck check_timestamp_offset(const std::vector<std::pair<UtcTime,
 }
 
 std::string describe_timestamp_offset(const TimestampOffsetCheck& tc) {
-  char b[400];
-  std::snprintf(b, sizeof b,
-                "frame time stamps look off by %+.0f s: the lamp pairs fit one pinhole camera with rms "
-                "%.2f px when the track is taken %+.0f s from each stamp, against %.1f px as stamped — a "
-                "%s; correct the time stamps (the calibration of this camera will be wrong)",
-                -tc.best_offset_s, tc.rms_at_best_px, tc.best_offset_s, tc.rms_at_zero_px,
-                std::abs(std::abs(tc.best_offset_s) - 18) <= 1 ? "GPST/UTC leap-second mix-up"
-                                                               : "whole-second clock error");
-  return b;
+  return fmt::format(
+      "frame time stamps look off by {:+.0f} s: the lamp pairs fit one pinhole camera with rms "
+      "{:.2f} px when the track is taken {:+.0f} s from each stamp, against {:.1f} px as stamped — a "
+      "{}; correct the time stamps (the calibration of this camera will be wrong)",
+      -tc.best_offset_s, tc.rms_at_best_px, tc.best_offset_s, tc.rms_at_zero_px,
+      std::abs(std::abs(tc.best_offset_s) - 18) <= 1 ? "GPST/UTC leap-second mix-up"
+                                                     : "whole-second clock error");
 }
 
 }  // namespace rangecal

@@ -1,10 +1,10 @@
 #include "vision/camera/point_projection.hpp"
 
-#include <cstdio>
 #include <functional>
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
 #include "gnss/geodesy/local_enu.hpp"
 
@@ -30,9 +30,8 @@ std::string project_table(const Camera& cam, const CsvTable& t, const std::strin
       throw_input_error(t.path, r.line, fields,
                         "point '" + id + "' lies outside the region where camera '" + cam.id +
                             "''s distortion model can be inverted");
-    char buf[96];
-    std::snprintf(buf, sizeof buf, ",%.6f,%.6f\n", uv.x(), uv.y());
-    out += id + buf;
+    out += id;
+    fmt::format_to(std::back_inserter(out), ",{:.6f},{:.6f}\n", uv.x(), uv.y());
   }
   return out;
 }

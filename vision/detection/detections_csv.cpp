@@ -1,10 +1,9 @@
 #include "vision/detection/detections_csv.hpp"
 
-#include <cstdio>
-
 #include "config/atomic_file.hpp"
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 
@@ -18,15 +17,13 @@ bool is_known_lamp_status(const std::string& s) {
 
 std::string format_detections_csv(const std::vector<LampDetection>& rows) {
   std::string out = "frame,utc,u,v,peak,area,snr,status\n";
-  char buf[256];
   for (const LampDetection& d : rows) {
     out += std::to_string(d.frame);
     out += ',';
     out += format_iso8601_utc(d.utc, 9);
     if (std::isfinite(d.u) && std::isfinite(d.v)) {
-      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.1f,%d,%.2f,", d.u, d.v,
-                    std::isfinite(d.peak) ? d.peak : 0.0, d.area, std::isfinite(d.snr) ? d.snr : 0.0);
-      out += buf;
+      fmt::format_to(std::back_inserter(out), ",{:.4f},{:.4f},{:.1f},{},{:.2f},", d.u, d.v,
+                     std::isfinite(d.peak) ? d.peak : 0.0, d.area, std::isfinite(d.snr) ? d.snr : 0.0);
     } else {
       out += ",,,,,,";
     }

@@ -1,11 +1,11 @@
 #include "vision/frames/photron_mraw_writer.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
+#include "config/number_format.hpp"
 
 namespace rangecal {
 namespace {
@@ -30,9 +30,7 @@ std::string xml_text(const std::string& path, const char* field, const std::stri
 }
 
 std::string number_text(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
+  return fmt::format("{:.17g}", v);
 }
 
 }  // namespace

@@ -200,6 +200,18 @@ TEST(CalibrationIo, BadFilesNameFileAndKey) {
   j = good;
   j["image_size_px"] = {1280};
   expect_bad("size", j, "image_size_px", "array of 2 positive integers");
+  // The image side limit is config/physical_ranges.hpp's, 32768 px: one more is refused.
+  j = good;
+  j["image_size_px"] = {1280, 40000};
+  expect_bad("size_limit", j, "image_size_px", "each ≤ 32768");
+  j["image_size_px"] = {32769, 800};
+  expect_bad("size_limit_edge", j, "image_size_px", "got an array of 2 elements");
+  j["image_size_px"] = {32768, 800};
+  {
+    const auto path = (test::scratch_dir("calibration_size_limit_ok") / "calibration.json").string();
+    test::write_text(path, j.dump(2));
+    EXPECT_EQ(read_calibration_json(path).camera.intr.width_px, 32768);
+  }
   j = good;
   j["covariance"]["matrix"].erase(0);
   expect_bad("cov_shape", j, "covariance.matrix", "symmetric 8x8");
