@@ -17,6 +17,7 @@
 #include "gnss/track/lever_arm.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/progress_bar.hpp"
+#include "pipeline/simulate/ppk_error.hpp"
 #include "vision/frames/frame_renderer.hpp"
 
 namespace rangecal {
@@ -36,6 +37,8 @@ enum Stream : std::uint64_t {
   kPicks = 5,
   kHotPixels = 6,
   kFrames = 7,
+  kGnssGaussMarkov = 8,
+  kGnssFlightBias = 9,
 };
 
 // FNV-1a of a camera id: a frame's noise seed follows the camera's name, not its position.
@@ -166,6 +169,38 @@ nlohmann::ordered_json vec_json(const Eigen::VectorXd& v) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
   for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(v[i]);
   return a;
+}
+
+// The correlated PPK error (docs/simulator.md "PPK error model") added to the epochs' white noise, from
+// its own streams, so the white-noise and float draws stay as they were. A flight is the run of epochs
+// between two gaps: a new flight, with a new bias, starts at the first epoch after a gap. The .pos sd
+// becomes the total √(white² + σ_GM²).
+void add_correlated_ppk_error(const Scenario& s, std::vector<SimEpoch>* epochs) {
+  const PpkCorrelatedError& c = s.gnss.correlated_error;
+  if (!c.active()) return;
+  std::vector<double> times;
+  std::vector<int> flights;
+  for (const SimEpoch& e : *epochs) {
+    bool after_gap = false;
+    for (const TimeInterval& g : s.gnss.gaps)
+      after_gap = after_gap || (!times.empty() && g.start_s < e.t_s && g.end_s > times.back());
+    flights.push_back(flights.empty() ? 0 : flights.back() + (after_gap ? 1 : 0));
+    times.push_back(e.t_s);
+  }
+  const auto err = draw_ppk_correlated_error(c, times, flights, mix_seed(s.seed, kGnssGaussMarkov),
+                                             mix_seed(s.seed, kGnssFlightBias));
+  for (std::size_t i = 0; i < epochs->size(); ++i) {
+    (*epochs)[i].antenna_measured += err[i];
+    (*epochs)[i].sd_enu = reported_sd_m((*epochs)[i].sd_enu, c);
+  }
+}
+
+// truth.json's echo of the correlated PPK error, only when the scenario has one (white-noise scenarios
+// keep their bytes).
+void add_correlated_ppk_error_json(const PpkCorrelatedError& c, nlohmann::ordered_json* noise) {
+  if (c.has_gauss_markov())
+    (*noise)["gnss_gauss_markov"] = {{"sd_enu_m", vec_json(c.gm_sd_m)}, {"tau_enu_s", vec_json(c.gm_tau_s)}};
+  if (c.has_flight_bias()) (*noise)["gnss_flight_bias_sd_enu_m"] = vec_json(c.flight_bias_sd_m);
 }
 
 }  // namespace
@@ -314,6 +349,7 @@ SimMission simulate_mission(const Scenario& s) {
   m.path = make_flight_path(s);
   const Wobble wob = make_wobble(s.seed);
   m.epochs = simulate_gnss_epochs(s, m.path, wob);
+  add_correlated_ppk_error(s, &m.epochs);
   m.attitude = simulate_attitude_log(s, m.path, wob);
   m.poles = simulate_pole_survey(s);
   for (std::size_t ci = 0; ci < s.cameras.size(); ++ci)
@@ -371,6 +407,7 @@ std::string format_truth_json(const SimMission& m) {
                 {"lamp_peak_dn16", s.lamp.peak},
                 {"lamp_psf_sigma_px", s.lamp.psf_sigma_px},
                 {"lamp_peak_snr", s.sky.read_noise > 0 ? s.lamp.peak / s.sky.read_noise : 0.0}};
+  add_correlated_ppk_error_json(s.gnss.correlated_error, &j["noise"]);
   J cams = J::array();
   for (const SimCamera& c : m.cameras) {
     const Camera& cam = c.spec.camera;

@@ -61,7 +61,7 @@ struct SimEpoch {
   Eigen::Vector3d antenna_true = Eigen::Vector3d::Zero();
   Eigen::Vector3d antenna_measured = Eigen::Vector3d::Zero();  ///< what the .pos carries (ENU)
   Eigen::Vector3d lamp_true = Eigen::Vector3d::Zero();
-  Eigen::Vector3d sd_enu = Eigen::Vector3d::Zero();  ///< noise 1σ used (m), written as sde sdn sdu
+  Eigen::Vector3d sd_enu = Eigen::Vector3d::Zero();  ///< reported 1σ √(white² + σ_GM²) (m): sde sdn sdu
   Attitude attitude;
   int quality = 1;  ///< 1 fix, 2 float
 };

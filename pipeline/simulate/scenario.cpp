@@ -47,15 +47,48 @@ std::vector<TimeInterval> intervals(const JsonView& v) {
   return out;
 }
 
+// A per-axis quantity given as [E, N, U] or as {"horizontal": E and N, "vertical": U}; each ≥ 0 (or
+// > 0 when `strictly_positive`).
+Eigen::Vector3d enu_or_horizontal_vertical(const JsonView& v, const std::string& unit,
+                                           bool strictly_positive) {
+  const std::string each = strictly_positive ? "> 0" : "≥ 0";
+  const std::string expected =
+      "[E, N, U] or {\"horizontal\", \"vertical\"}, each " + each + " (" + unit + ")";
+  Eigen::Vector3d x;
+  if (v.json().is_object()) {
+    v.check_keys({"horizontal", "vertical"});
+    const double h =
+        v.at("horizontal", "a number " + each + " (" + unit + ")").number("a number (" + unit + ")");
+    const double u =
+        v.at("vertical", "a number " + each + " (" + unit + ")").number("a number (" + unit + ")");
+    x = Eigen::Vector3d(h, h, u);
+  } else {
+    x = vec3(v, expected);
+  }
+  if (strictly_positive ? !(x.array() > 0).all() : (x.array() < 0).any()) v.fail_expected(expected);
+  return x;
+}
+
+// gnss.gauss_markov: {"sd_m": …, "tau_s": …}, both required (docs/simulator.md "PPK error model").
+void parse_gauss_markov(const JsonView& v, PpkCorrelatedError* e) {
+  v.require_object("an object {\"sd_m\", \"tau_s\"}");
+  v.check_keys({"sd_m", "tau_s"});
+  e->gm_sd_m = enu_or_horizontal_vertical(v.at("sd_m", "the process 1σ (m)"), "m", false);
+  e->gm_tau_s = enu_or_horizontal_vertical(v.at("tau_s", "the correlation time (s)"), "s", true);
+}
+
 void parse_gnss(const JsonView& v, ScenarioGnss* g) {
   v.require_object("an object {\"rate_hz\", \"noise_sd_m\", …}");
-  v.check_keys({"rate_hz", "noise_sd_m", "float_fraction", "float_intervals", "float_noise_factor", "gaps",
-                "satellites"});
+  v.check_keys({"rate_hz", "noise_sd_m", "gauss_markov", "flight_bias_sd_m", "float_fraction",
+                "float_intervals", "float_noise_factor", "gaps", "satellites"});
   if (auto x = v.find("rate_hz")) g->rate_hz = positive(*x, "Hz");
   if (auto x = v.find("noise_sd_m")) {
     g->noise_sd_m = vec3(*x, "1σ of E, N, U noise in metres, each ≥ 0");
     if ((g->noise_sd_m.array() < 0).any()) x->fail_expected("an array of 3 numbers ≥ 0 (m)");
   }
+  if (auto x = v.find("gauss_markov")) parse_gauss_markov(*x, &g->correlated_error);
+  if (auto x = v.find("flight_bias_sd_m"))
+    g->correlated_error.flight_bias_sd_m = enu_or_horizontal_vertical(*x, "m", false);
   if (auto x = v.find("float_fraction")) {
     g->float_fraction = x->number("a fraction in [0, 1]");
     if (g->float_fraction < 0 || g->float_fraction > 1) x->fail_expected("a fraction in [0, 1]");

@@ -13,6 +13,7 @@
 
 #include "gnss/time/utc_time.hpp"
 #include "pipeline/config/mission_config.hpp"
+#include "pipeline/simulate/ppk_error.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
 
@@ -26,8 +27,10 @@ struct TimeInterval {
 };
 
 struct ScenarioGnss {
-  double rate_hz = 10;                                              ///< epoch rate (Hz)
-  Eigen::Vector3d noise_sd_m = Eigen::Vector3d(0.01, 0.01, 0.015);  ///< 1σ of E, N, U noise (m), fix epochs
+  double rate_hz = 10;  ///< epoch rate (Hz)
+  Eigen::Vector3d noise_sd_m =
+      Eigen::Vector3d(0.01, 0.01, 0.015);     ///< 1σ of E, N, U WHITE noise (m), fix epochs
+  PpkCorrelatedError correlated_error;        ///< Gauss–Markov + per-flight bias (none by default)
   double float_fraction = 0;                  ///< probability that an epoch is float (Q=2), [0, 1]
   std::vector<TimeInterval> float_intervals;  ///< every epoch inside is float
   double float_noise_factor = 10;             ///< float epochs: noise (and the sd columns) × this (≥ 1)
