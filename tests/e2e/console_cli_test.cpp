@@ -17,7 +17,7 @@ namespace rangecal {
 namespace {
 namespace fs = std::filesystem;
 
-// The real Galway kinematic solution (../shared/external/gnss), gnss stage only.
+// The real Galway kinematic solution (tests/data/external/gnss), gnss stage only.
 fs::path galway_config(const std::string& name, const std::string& accept) {
   const fs::path dir = test::scratch_dir(name);
   test::write_text(dir / "mission.json",

@@ -19,7 +19,7 @@
 namespace rangecal {
 namespace {
 
-// Near Galway (../shared/external/gnss), an ellipsoidal height typical of the site.
+// Near Galway (tests/data/external/gnss), an ellipsoidal height typical of the site.
 const GeodeticOrigin kOrigin{53.2744213, -9.0490137, 64.318};
 const Eigen::Vector3d kAim(0, 0, 4);
 

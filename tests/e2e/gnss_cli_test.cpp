@@ -1,7 +1,7 @@
 // Bad input to the gnss stage through the real CLI (docs/accuracy_analysis.md, Quality bars): each bad input
 // to `rangecal gnss CONFIG` gives exit code 2 (usage/config) or 3 (input) and a message naming the file, the
 // line and the field, and writes no lamp track. The .pos content is the head of a real RTKLIB file
-// (../shared/external/gnss/pos/rover20181009_kin_llh_gpst.pos), edited per case.
+// (tests/data/external/gnss/pos/rover20181009_kin_llh_gpst.pos), edited per case.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,5 +1,5 @@
 // `rangecal inspect` through the binary: the table and --json on the real files of
-// ../shared/external, several files side by side with their overlap, and exit 3 naming a file of no
+// tests/data/external, several files side by side with their overlap, and exit 3 naming a file of no
 // known kind while the readable files are still shown.
 #include <gtest/gtest.h>
 

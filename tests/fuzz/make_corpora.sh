@@ -3,11 +3,11 @@
 #   tests/fuzz/seeds/<format>/   tiny checked-in seeds and crash reproducers (regression seeds),
 #   fuzz_make_seeds              tiny .cine, .mraw/.cihx, .cih and DataFlash files it writes,
 #   config/examples/*.json       mission configs and scenarios,
-#   ../shared/external           the real samples (RTKLIB .pos, PX4 .ulg, .cine, .cihx/.mraw),
+#   tests/data/external/         the real samples (RTKLIB .pos, PX4 .ulg, .cine, .cihx/.mraw),
 #                                cut to their first lines or bytes so that runs stay fast.
-# Usage: make_corpora.sh OUT MAKE_SEEDS SOURCE_DIR SHARED_DIR
+# Usage: make_corpora.sh OUT MAKE_SEEDS SOURCE_DIR
 set -euo pipefail
-out="$1" make_seeds="$2" src="$3" ext="$4/external"
+out="$1" make_seeds="$2" src="$3" ext="$3/tests/data/external"
 rm -rf "$out"
 mkdir -p "$out"
 cp -r "$src/tests/fuzz/seeds/." "$out/"
@@ -17,10 +17,6 @@ for f in "$src"/config/examples/*.json; do
   cp "$f" "$out/mission_config/"
   cp "$f" "$out/scenario/"
 done
-if [ ! -d "$ext" ]; then
-  echo "make_corpora: $ext not found; real samples left out" >&2
-  exit 0
-fi
 sep=$'\n--rangecal-fuzz-mraw--\n'  # as in fuzz_photron_mraw.cpp
 mkdir -p "$out/rtklib_pos" "$out/px4_ulog" "$out/cine" "$out/photron_header" "$out/photron_mraw"
 for f in "$ext"/gnss/pos/*.pos; do head -n 40 "$f" >"$out/rtklib_pos/$(basename "$f")"; done

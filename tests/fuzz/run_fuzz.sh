@@ -18,7 +18,7 @@ if [ ${#formats[@]} -eq 0 ]; then
     formats+=("${n#fuzz_}")
   done
 fi
-[ -d "$dir/corpus" ] || bash tests/fuzz/make_corpora.sh "$dir/corpus" "$build/tests/fuzz/fuzz_make_seeds" . ../shared
+[ -d "$dir/corpus" ] || bash tests/fuzz/make_corpora.sh "$dir/corpus" "$build/tests/fuzz/fuzz_make_seeds" .
 export ASAN_OPTIONS="${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1}"
 export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$PWD/tests/sanitizer/lsan.supp}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"

@@ -1,17 +1,14 @@
 #pragma once
-// Paths the tests need: the shared real data, the source tree, the built CLI, scratch dirs.
+// Paths the tests need: the real data samples, the source tree, the built CLI, scratch dirs.
 #include <filesystem>
 #include <string>
 
 namespace rangecal::test {
 
-/// ../shared (holds external/ and seeds/), absolute.
-inline std::filesystem::path shared_dir() {
-  return RANGECAL_SHARED_DIR;
-}
-/// ../shared/external/<rel>
+/// tests/data/external/<rel>: the real samples the tests read, kept in the repository so that a
+/// clone needs nothing beside it (tests/data/external/README.md gives origins and licences).
 inline std::filesystem::path external(const std::string& rel) {
-  return shared_dir() / "external" / rel;
+  return std::filesystem::path(RANGECAL_EXTERNAL_DIR) / rel;
 }
 /// The repository root (for config/examples/ and the like).
 inline std::filesystem::path source_dir() {

@@ -53,7 +53,7 @@ TEST(UtcTime, LeapSecondTable) {
 }
 
 TEST(UtcTime, GpsToUtcMatchesRtklibSample) {
-  // From ../shared/external/gnss/SOURCE.md: 12:22:11.000 GPST = 12:21:53.000 UTC = week 2022 TOW 217331.
+  // From tests/data/external/gnss/SOURCE.md: 12:22:11.000 GPST = 12:21:53.000 UTC = week 2022 TOW 217331.
   const GpsTime g = gps_from_week_tow(2022, *parse_decimal_seconds_ns("217331.000"));
   EXPECT_EQ(g, gps_from_civil(2018, 10, 9, 12, 22, 11, 0));
   EXPECT_EQ(format_iso8601_utc(gps_to_utc(g), 3), "2018-10-09T12:21:53.000Z");

@@ -1,5 +1,5 @@
 // `rangecal inspect`'s facts (pipeline/steps/file_inspection.hpp), one test per kind: the real
-// files of ../shared/external (.pos, .ulg, .cine, .mraw + .cihx) against what their SOURCE.md
+// files of tests/data/external (.pos, .ulg, .cine, .mraw + .cihx) against what their SOURCE.md
 // states and against an independent reading written here (Q counted per .pos line, the .cine's
 // TIME64 block decoded from its bytes, the Photron clock from the header text); the kinds without a
 // real sample (.bin, the CSVs, video, image) on small files written by the test with known content.
