@@ -124,5 +124,60 @@ TEST(TotalStation, BadInput) {
       parse_total_station_csv("session,target,E,N,U\r\ns1,antenna,0,0,10.5\r\ns1,lamp,0,0,0.6\r\n", "l.csv"));
 }
 
+std::string message_of(const std::string& body) {
+  try {
+    parse_total_station_csv("session,target,E,N,U\n" + body, "lever.csv");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The whole 3-D separation of a session's marks is held to the 10 m of the lever arm, not only its
+// height: a lamp mark 500 m away horizontally is another object's mark, whatever its U says.
+TEST(TotalStation, ASessionWhoseMarksLieFarApartHorizontallyIsNamed) {
+  const std::string ok = "s1,antenna,10,20,1.25\ns1,lamp,10,20,1.00\ns2,antenna,0,0,1.25\ns2,lamp,0,0,1.00\n";
+  // Session s3's lamp mark 500 m east of its antenna mark: line 7 (the lamp row), field E.
+  const std::string far = ok + "s3,antenna,0,0,1.25\ns3,lamp,500,0,1.00\n";
+  expect_bad(far, 7, "E");
+  EXPECT_NE(message_of(far).find("session 's3'"), std::string::npos) << message_of(far);
+  EXPECT_NE(message_of(far).find("500.000 m from the antenna mark (E 500.000, N 0.000, U -0.250 m)"),
+            std::string::npos)
+      << message_of(far);
+  // North and diagonal: the field is the axis that carries most of it; 7.1 m diagonal is within 10 m.
+  expect_bad("s1,antenna,0,0,1.25\ns1,lamp,3,-12,1.00\n", 3, "N");
+  EXPECT_NO_THROW(
+      parse_total_station_csv("session,target,E,N,U\ns1,antenna,0,0,1\ns1,lamp,5,5,0.5\n", "l.csv"));
+}
+
+// Sessions measure one lever: a session further than 2 cm from the median of the others is named
+// with its value; two sessions that disagree are both named, since which is wrong cannot be told.
+TEST(TotalStation, ASessionThatDisagreesWithTheOthersIsNamed) {
+  const std::string three =
+      "a,antenna,0,0,1.250\na,lamp,0,0,1.000\n"    // 0.250
+      "b,antenna,0,0,2.251\nb,lamp,0,0,2.000\n"    // 0.251
+      "c,antenna,0,0,0.3305\nc,lamp,0,0,0.000\n";  // 0.3305: 8.0 cm off
+  expect_bad(three, 7, "U");
+  const std::string m = message_of(three);
+  EXPECT_NE(m.find("session 'c' gives 0.3305 m"), std::string::npos) << m;
+  EXPECT_NE(m.find("8.0 cm from the median of the other sessions (0.2505 m"), std::string::npos) << m;
+  // The bad session first in the file, among four.
+  const std::string four = "x,antenna,0,0,1.10\nx,lamp,0,0,1.00\n" +
+                           std::string("a,antenna,0,0,1.250\na,lamp,0,0,1.000\n") +
+                           "b,antenna,0,0,2.251\nb,lamp,0,0,2.000\nc,antenna,0,0,0.249\nc,lamp,0,0,0.000\n";
+  expect_bad(four, 3, "U");
+  EXPECT_NE(message_of(four).find("session 'x'"), std::string::npos) << message_of(four);
+  const std::string two = "a,antenna,0,0,1.25\na,lamp,0,0,1.00\nb,antenna,0,0,1.30\nb,lamp,0,0,1.00\n";
+  expect_bad(two, 5, "U");
+  EXPECT_NE(message_of(two).find("sessions 'a' (0.2500 m) and 'b' (0.3000 m) disagree by 5.0 cm"),
+            std::string::npos)
+      << message_of(two);
+  // Within 2 cm: accepted, and the sd says how well they agree (1.9 cm apart).
+  const TotalStationOffset t = parse_total_station_csv(
+      "session,target,E,N,U\na,antenna,0,0,1.250\na,lamp,0,0,1.000\nb,antenna,0,0,1.269\nb,lamp,0,0,1.000\n",
+      "l.csv");
+  EXPECT_NEAR(t.vertical_m, 0.2595, 1e-12);
+}
+
 }  // namespace
 }  // namespace rangecal
