@@ -25,6 +25,16 @@ double vertical_form_error_m(const Eigen::Matrix3d& R_nb, double vertical_m) {
   return std::abs(vertical_m) * (R_nb.col(2) - Eigen::Vector3d::UnitZ()).norm();
 }
 
+std::optional<double> lever_motion_mps(const AttitudeSeries& att, UtcTime t,
+                                       const Eigen::Vector3d& lever_frd_m, double max_gap_s) {
+  constexpr std::int64_t kHalfStepNs = 20'000'000;
+  const auto before = interpolate_attitude(att, UtcTime{t.ns - kHalfStepNs}, max_gap_s);
+  const auto after = interpolate_attitude(att, UtcTime{t.ns + kHalfStepNs}, max_gap_s);
+  if (!before || !after) return std::nullopt;
+  return (rotation_nb(*after) * lever_frd_m - rotation_nb(*before) * lever_frd_m).norm() /
+         (2 * static_cast<double>(kHalfStepNs) * 1e-9);
+}
+
 namespace {
 
 /// The lamp hangs from the UAV that carries the antenna: the whole 3-D separation of the two marks,
