@@ -99,6 +99,16 @@ void check_keys_and_numbers(std::string_view text, const std::string& file, Erro
     bool object = false;
     bool expect_key = false;
     std::map<std::string, long> key_lines;
+    std::string path;       // the container's own key path, as JsonView names it ("" at the top)
+    std::string last_key;   // object: the key whose value comes next
+    std::size_t index = 0;  // array: the element now being read
+  };
+  // The key path of the value being read, as JsonView's errors name it: "a.b[2].c".
+  const auto value_path = [](const std::vector<Container>& stack) -> std::string {
+    if (stack.empty()) return "";
+    const Container& c = stack.back();
+    if (!c.object) return c.path + "[" + std::to_string(c.index) + "]";
+    return c.path.empty() ? c.last_key : c.path + "." + c.last_key;
   };
   std::vector<Container> stack;
   long line = 1;
@@ -108,13 +118,14 @@ void check_keys_and_numbers(std::string_view text, const std::string& file, Erro
       ++line;
       ++i;
     } else if (c == '{' || c == '[') {
-      stack.push_back({c == '{', c == '{', {}});
+      stack.push_back({c == '{', c == '{', {}, value_path(stack), "", 0});
       ++i;
     } else if (c == '}' || c == ']') {
       if (!stack.empty()) stack.pop_back();
       ++i;
     } else if (c == ',') {
       if (!stack.empty() && stack.back().object) stack.back().expect_key = true;
+      if (!stack.empty() && !stack.back().object) ++stack.back().index;
       ++i;
     } else if (c == '"') {
       std::size_t j = i + 1;
@@ -133,6 +144,7 @@ void check_keys_and_numbers(std::string_view text, const std::string& file, Erro
                       "key given twice in the same object (lines " + std::to_string(it->second) + " and " +
                           std::to_string(line) + "); keep one");
         stack.back().expect_key = false;
+        stack.back().last_key = key;
       }
       i = j + 1;
     } else if (c == '-' || (c >= '0' && c <= '9')) {
@@ -142,7 +154,7 @@ void check_keys_and_numbers(std::string_view text, const std::string& file, Erro
         ++j;
       const std::string token(text.substr(i, j - i));
       if (!std::isfinite(std::strtod(token.c_str(), nullptr)))
-        throw Error(kind, file, line, "",
+        throw Error(kind, file, line, value_path(stack),
                     "number " + token.substr(0, 40) + " is beyond the range of a double (about ±1.8e308)");
       i = j;
     } else {

@@ -25,6 +25,10 @@ constexpr double kMaxPositionSigmaM = 10000;
 constexpr double kMaxSpeedMps = 1000;
 /// Largest lamp–antenna distance (m): the lamp hangs from the UAV that carries the antenna.
 constexpr double kMaxLeverArmM = 10;
+/// Largest difference between the total-station sessions' vertical lever arms (m): a total station
+/// measures the two marks to a few mm, so sessions further apart than this measured different
+/// things (a wrong mark, a misread target height).
+constexpr double kTotalStationAgreementM = 0.02;
 /// Largest image side a camera may have (px) and largest |u|, |v| a pixel coordinate may take
 /// when the image size is not known where it is read.
 constexpr int kMaxImageSidePx = 32768;

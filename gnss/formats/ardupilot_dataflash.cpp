@@ -276,7 +276,7 @@ std::optional<double> dataflash_number(const DataflashFormat& f, std::size_t col
 }
 
 AttitudeSeries dataflash_attitude(std::string_view bytes, const std::string& path,
-                                  AutopilotAttitudeReport* report) {
+                                  AutopilotAttitudeReport* report, std::optional<double> gnss_lag_ms) {
   AutopilotAttitudeReport rep;
   rep.format = "ardupilot_dataflash";
   rep.file_bytes = bytes.size();
@@ -343,7 +343,9 @@ AttitudeSeries dataflash_attitude(std::string_view bytes, const std::string& pat
   if (!defined("GPS"))
     throw_input_error(path, 0, "FMT GPS",
                       "the log defines no GPS message type: its boot time cannot be mapped to UTC");
-  rep.fit = fit_boot_time(std::move(pairs), path, "GPS.GMS");
+  rep.gnss_lag_ms = gnss_lag_ms.value_or(kDataflashDefaultGnssLagMs);
+  rep.gnss_lag_given = gnss_lag_ms.has_value();
+  rep.fit = fit_boot_time(std::move(pairs), path, "GPS.GMS", boot_time_options_for_lag(rep.gnss_lag_ms));
 
   AttitudeSeries s;
   s.path = path;

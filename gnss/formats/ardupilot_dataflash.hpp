@@ -92,7 +92,8 @@ std::optional<std::int64_t> dataflash_integer(const DataflashFormat& f, std::siz
 /// their columns (or has it of a non-numeric type), when the GNSS time does not determine the
 /// boot-time offset (boot_time_fit.hpp), or when fewer than 2 attitude samples remain.
 AttitudeSeries dataflash_attitude(std::string_view bytes, const std::string& path,
-                                  AutopilotAttitudeReport* report = nullptr);
+                                  AutopilotAttitudeReport* report = nullptr,
+                                  std::optional<double> gnss_lag_ms = std::nullopt);
 /// Reads the file, then dataflash_attitude.
 AttitudeSeries read_dataflash_attitude(const std::string& path, AutopilotAttitudeReport* report = nullptr);
 

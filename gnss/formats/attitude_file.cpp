@@ -33,7 +33,8 @@ AttitudeFileKind attitude_file_kind(std::string_view head) {
   return AttitudeFileKind::csv;
 }
 
-AttitudeSeries read_attitude_file(const std::string& path, AttitudeFileReport* report) {
+AttitudeSeries read_attitude_file(const std::string& path, AttitudeFileReport* report,
+                                  std::optional<double> gnss_lag_ms) {
   std::string bytes = read_file_text(path);
   AttitudeFileReport rep;
   rep.kind = attitude_file_kind(bytes);
@@ -41,13 +42,13 @@ AttitudeSeries read_attitude_file(const std::string& path, AttitudeFileReport* r
   switch (rep.kind) {
     case AttitudeFileKind::px4_ulog: {
       AutopilotAttitudeReport r;
-      s = ulog_attitude(parse_ulog(std::move(bytes), path), &r);
+      s = ulog_attitude(parse_ulog(std::move(bytes), path), &r, gnss_lag_ms);
       rep.log = r;
       break;
     }
     case AttitudeFileKind::ardupilot_dataflash: {
       AutopilotAttitudeReport r;
-      s = dataflash_attitude(bytes, path, &r);
+      s = dataflash_attitude(bytes, path, &r, gnss_lag_ms);
       rep.log = r;
       break;
     }

@@ -34,6 +34,9 @@ struct AttitudeFileReport {
 
 /// Reads the attitude file at `path` with the reader its content calls for, filling `report` when
 /// given. Throws rangecal::Error (input) as each reader does, and for a missing or unreadable file.
-AttitudeSeries read_attitude_file(const std::string& path, AttitudeFileReport* report = nullptr);
+/// `gnss_lag_ms`: an autopilot log's GNSS receiver lag (ms; none: the log type's default,
+/// autopilot_attitude_report.hpp); a CSV is on UTC already and takes none.
+AttitudeSeries read_attitude_file(const std::string& path, AttitudeFileReport* report = nullptr,
+                                  std::optional<double> gnss_lag_ms = std::nullopt);
 
 }  // namespace rangecal

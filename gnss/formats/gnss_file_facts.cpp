@@ -93,8 +93,13 @@ void add_attitude_report(FileFacts* f, const AutopilotAttitudeReport& r, const A
   f->counts.emplace_back("attitude samples (" + r.attitude_message + ")", r.attitude_samples);
   f->counts.emplace_back("GNSS messages (" + r.gps_message + ")", r.gps_messages);
   if (r.gps_skipped > 0) f->counts.emplace_back("GNSS messages without fix or time", r.gps_skipped);
-  if (r.truncated_bytes > 0)
-    f->notes.push_back(std::to_string(r.truncated_bytes) + " bytes of an incomplete last message not read");
+}
+
+/// The one note of a log cut off mid-message (from the walk over the whole file, which is there
+/// whether or not the attitude could be put on UTC).
+void add_truncation_note(FileFacts* f, std::uint64_t truncated_bytes) {
+  if (truncated_bytes > 0)
+    f->notes.push_back(std::to_string(truncated_bytes) + " bytes of an incomplete last message not read");
 }
 
 }  // namespace
@@ -155,8 +160,7 @@ FileFacts ulog_file_facts(const std::string& path) {
   f.counts.emplace_back("logged strings", s.logged_strings);
   f.counts.emplace_back("parameters", s.parameters);
   if (s.dropouts > 0) f.counts.emplace_back("dropouts", s.dropouts);
-  if (s.truncated_bytes > 0)
-    f.notes.push_back(std::to_string(s.truncated_bytes) + " bytes of an incomplete last message not read");
+  add_truncation_note(&f, s.truncated_bytes);
   return f;
 }
 
@@ -181,8 +185,7 @@ FileFacts dataflash_file_facts(const std::string& path) {
   for (const DataflashFormat& d : s.formats)
     if (d.messages > 0) f.counts.emplace_back("messages " + d.name, d.messages);
   f.counts.emplace_back("message types defined", s.formats.size());
-  if (s.truncated_bytes > 0)
-    f.notes.push_back(std::to_string(s.truncated_bytes) + " bytes of an incomplete last message not read");
+  add_truncation_note(&f, s.truncated_bytes);
   return f;
 }
 

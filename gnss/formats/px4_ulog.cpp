@@ -671,7 +671,8 @@ double ulog_number(const UlogLog& log, const UlogDataMessage& m, const UlogField
   return 0;
 }
 
-AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report) {
+AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report,
+                             std::optional<double> gnss_lag_ms) {
   const std::string& path = log.summary.path;
   AutopilotAttitudeReport rep;
   rep.format = "px4_ulog";
@@ -708,7 +709,10 @@ AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report
     }
     pairs.push_back({static_cast<std::int64_t>(ts) + rel, UtcTime{static_cast<std::int64_t>(utc) * 1000}});
   }
-  rep.fit = fit_boot_time(std::move(pairs), path, "D " + rep.gps_message + ".time_utc_usec");
+  rep.gnss_lag_ms = gnss_lag_ms.value_or(kUlogDefaultGnssLagMs);
+  rep.gnss_lag_given = gnss_lag_ms.has_value();
+  rep.fit = fit_boot_time(std::move(pairs), path, "D " + rep.gps_message + ".time_utc_usec",
+                          boot_time_options_for_lag(rep.gnss_lag_ms));
 
   const std::vector<std::size_t> att = subscriptions_of(log, "vehicle_attitude");
   rep.attitude_message = "vehicle_attitude";

@@ -176,7 +176,9 @@ double ulog_number(const UlogLog& log, const UlogDataMessage& m, const UlogField
 /// given. Throws rangecal::Error (input) when the log has no vehicle_attitude or GNSS topic, when
 /// their fields are missing or of the wrong type, when the GNSS time does not determine the
 /// boot-time offset (boot_time_fit.hpp), or when fewer than 2 attitude samples remain.
-AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report = nullptr);
+/// `gnss_lag_ms`: the receiver lag (ms) the GNSS stamps are moved back by; none: kUlogDefaultGnssLagMs.
+AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report = nullptr,
+                             std::optional<double> gnss_lag_ms = std::nullopt);
 /// read_ulog then ulog_attitude.
 AttitudeSeries read_ulog_attitude(const std::string& path, AutopilotAttitudeReport* report = nullptr);
 

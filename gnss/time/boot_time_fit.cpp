@@ -11,6 +11,8 @@ namespace {
 // Bounds that keep every product below in int64: 4e15 µs is 127 years of boot time (PX4's SITL
 // stamps boot time as Unix µs, 1.7e15 in 2024); 4e18 ns of UTC is the year 2096.
 constexpr std::int64_t kMaxAbsBootUs = 4'000'000'000'000'000;
+/// The largest receiver lag taken (µs): receivers answer within a few hundred ms; a second is a unit mistake.
+constexpr std::int64_t kMaxGnssLagUs = 1'000'000;
 constexpr std::int64_t kMaxAbsUtcNs = 4'000'000'000'000'000'000;
 // Normal-distribution scale of the median absolute deviation (σ = 1.4826·MAD).
 constexpr double kMadToSigma = 1.4826;
@@ -85,6 +87,11 @@ BootTimeFit fit_boot_time(std::vector<BootUtcPair> pairs, const std::string& fil
       throw_input_error(file, 0, field,
                         "a GNSS message's boot time (" + std::to_string(p.boot_us) + " µs) or UTC (" +
                             std::to_string(p.utc.ns) + " ns) is outside any plausible range");
+  if (o.gnss_lag_us < 0 || o.gnss_lag_us > kMaxGnssLagUs)
+    throw_input_error(file, 0, field,
+                      "a GNSS receiver lag of " + std::to_string(o.gnss_lag_us) + " µs is outside [0, 1 s]");
+  f.gnss_lag_us = o.gnss_lag_us;
+  for (BootUtcPair& p : pairs) p.boot_us -= o.gnss_lag_us;  // the boot time of the fix itself
   std::stable_sort(pairs.begin(), pairs.end(),
                    [](const BootUtcPair& a, const BootUtcPair& b) { return a.boot_us < b.boot_us; });
   const std::size_t n = pairs.size();

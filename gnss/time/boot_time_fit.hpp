@@ -9,8 +9,10 @@
 // with `drift` the boot clock's rate error. The pairs are noisy: the boot stamp is the time the
 // autopilot *read* the GNSS message, so it lags the fix by the receiver's output latency plus a
 // few ms of serial-link and scheduling jitter (±5 ms, one stamp 13 ms off, in the real PX4 sample
-// `sample_log_small.ulg`). The constant part of that lag is indistinguishable from the offset and
-// stays in it (typically tens of ms); only the jitter shows in the residuals.
+// `sample_log_small.ulg`). The constant part of that lag cannot be told from the offset by the
+// pairs themselves, so it is given (BootTimeFitOptions::gnss_lag_us, docs/gnss.md "Receiver lag":
+// 110–220 ms for the receivers autopilots carry, not a few ms) and each boot stamp is moved back
+// by it before the fit; only the jitter shows in the residuals.
 //
 // The fit (fit_boot_time):
 //  1. A robust first model: offset only, the median of UTC − boot; with the drift term, Tukey's
@@ -50,6 +52,9 @@ struct BootTimeFitOptions {
   double reject_floor_us = 5000;     ///< residual always accepted up to this (µs)
   double reject_sigmas = 5;          ///< … and up to this many MAD-based σ
   double reject_cap_us = 100000;     ///< … but never beyond this (µs)
+  /// The receiver's output latency (µs): a GNSS message is stamped when it reaches the autopilot,
+  /// this long after the instant its UTC names, so the pair's boot time is its stamp minus this.
+  std::int64_t gnss_lag_us = 0;
 };
 
 /// The fitted mapping and how well the pairs agree with it.
@@ -64,7 +69,8 @@ struct BootTimeFit {
   double reject_threshold_us = 0;
   double residual_rms_us = 0;                        ///< of the kept pairs
   double residual_max_us = 0;                        ///< largest |residual| of the kept pairs
-  std::int64_t first_boot_us = 0, last_boot_us = 0;  ///< span of the kept pairs
+  std::int64_t first_boot_us = 0, last_boot_us = 0;  ///< span of the kept pairs (stamps − lag)
+  std::int64_t gnss_lag_us = 0;                      ///< the lag the stamps were moved back by (µs)
 
   /// UTC of a boot-time stamp (rounded to the ns).
   UtcTime to_utc(std::int64_t boot_us) const;

@@ -9,8 +9,11 @@
 //    of the two centres, seed 002 §2.3): vertical_m = mean over sessions of U(antenna) − U(lamp),
 //    with its sample sd.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "gnss/track/attitude.hpp"
 
 namespace rangecal {
 
@@ -33,6 +36,13 @@ Eigen::Vector3d lamp_enu_vertical(const Eigen::Vector3d& antenna_enu, double ver
 /// How far the vertical form is from the full form with lever (0, 0, vertical_m) at attitude
 /// R_nb: |R_nb·(0,0,d) − (0,0,d)| = |d|·√(2 − 2·cos(tilt)), metres.
 double vertical_form_error_m(const Eigen::Matrix3d& R_nb, double vertical_m);
+
+/// How fast a body-frame lever arm turns with the UAV at `t`: |d/dt (R_nb·lever)| (m/s, i.e. mm of
+/// lamp displacement per ms of attitude time error; docs/gnss.md "Receiver lag"), by a central
+/// difference over ±20 ms of the interpolated attitude. None where the attitude does not cover
+/// t ± 20 ms (gaps over `max_gap_s` are not bridged, as interpolate_attitude).
+std::optional<double> lever_motion_mps(const AttitudeSeries& att, UtcTime t,
+                                       const Eigen::Vector3d& lever_frd_m, double max_gap_s);
 
 /// The vertical offset measured with a total station (docs/formats.md).
 struct TotalStationOffset {

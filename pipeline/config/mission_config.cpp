@@ -350,10 +350,13 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
   cfg.gnss = parse_gnss(L, root.at("gnss", "an object {\"pos_files\": [...], ...}"));
   if (auto a = root.find("attitude")) {
     a->require_object("an object {\"file\": \"attitude.csv\"}");
-    a->check_keys({"file"});
+    a->check_keys({"file", "gnss_lag_ms"});
     const char* expected =
         "an attitude file path (CSV utc,roll_deg,pitch_deg,yaw_deg, PX4 ULog or ArduPilot DataFlash)";
     cfg.attitude_file = L.input_file(a->at("file", expected), expected);
+    if (auto lag = a->find("gnss_lag_ms"))
+      cfg.attitude_gnss_lag_ms =
+          Loader::in_range(*lag, 0, 1000, "the GNSS receiver's lag in ms, in [0, 1000]");
   }
   cfg.lever_arm = parse_lever_arm(
       L,

@@ -95,6 +95,9 @@ struct MissionConfig {
   GeodeticOrigin origin;
   GnssConfig gnss;
   std::string attitude_file;  ///< empty when absent
+  /// attitude.gnss_lag_ms: an autopilot log's GNSS receiver lag (ms, [0, 1000]); none: the log
+  /// type's documented default (gnss/formats/autopilot_attitude_report.hpp, docs/gnss.md).
+  std::optional<double> attitude_gnss_lag_ms;
   LeverArmConfig lever_arm;
   std::string poles_file;  ///< empty when absent
   std::vector<CameraConfig> cameras;

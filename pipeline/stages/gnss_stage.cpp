@@ -78,6 +78,8 @@ nlohmann::json gnss_stage_counts(const LampTrackReport& rep, const std::vector<P
   json la = {{"source", lever.source}};
   if (lever.form == ResolvedLeverArm::Form::body_frd) {
     la["body_frd_m"] = {lever.body_frd_m[0], lever.body_frd_m[1], lever.body_frd_m[2]};
+    la["motion_max_mm_per_ms"] = rep.lever_motion_max_mm_per_ms;
+    la["motion_rms_mm_per_ms"] = rep.lever_motion_rms_mm_per_ms;
   } else {
     la["vertical_m"] = lever.vertical_m;
     if (lever.source == "total_station") {
@@ -122,6 +124,8 @@ nlohmann::json attitude_file_counts(const AttitudeFileReport& rep, const std::st
   j["residual_rms_us"] = f.residual_rms_us;
   j["residual_max_us"] = f.residual_max_us;
   j["reject_threshold_us"] = f.reject_threshold_us;
+  j["gnss_lag_ms"] = r.gnss_lag_ms;
+  j["gnss_lag_source"] = r.gnss_lag_given ? "attitude.gnss_lag_ms" : "default for " + r.format;
   return j;
 }
 
@@ -131,7 +135,13 @@ StageLog run_gnss_stage(const MissionConfig& cfg) {
     throw_config_error(cfg.config_path, "gnss.pos_files", "at least one .pos file is needed");
   for (const std::string& p : cfg.gnss.pos_files) in.pos_files.push_back(read_rtklib_pos(p));
   AttitudeFileReport attitude_report;
-  if (!cfg.attitude_file.empty()) in.attitude = read_attitude_file(cfg.attitude_file, &attitude_report);
+  if (!cfg.attitude_file.empty()) {
+    in.attitude = read_attitude_file(cfg.attitude_file, &attitude_report, cfg.attitude_gnss_lag_ms);
+    if (cfg.attitude_gnss_lag_ms && !attitude_report.log)
+      throw_config_error(cfg.config_path, "attitude.gnss_lag_ms",
+                         "the attitude file is a CSV, whose times are UTC already: the GNSS receiver lag "
+                         "applies to autopilot logs (PX4 ULog, ArduPilot DataFlash) only; remove the key");
+  }
   if (cfg.lever_arm.kind == LeverArmConfig::Kind::body_frd && !in.attitude)
     throw_config_error(cfg.config_path, "lever_arm.body_frd_m",
                        "a body-frame lever arm needs attitude.file (or use lever_arm.vertical_m)");

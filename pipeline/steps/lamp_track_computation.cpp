@@ -83,6 +83,8 @@ LampTrackResult compute_lamp_track(const LampTrackInputs& in) {
 
   res.track.epochs.reserve(kept.size());
   double max_tilt_deg = 0;
+  double lever_motion_ss = 0;
+  std::size_t lever_motion_n = 0;
   for (const AntennaEpoch& a : kept) {
     std::optional<Attitude> att;
     if (in.attitude) att = interpolate_attitude(*in.attitude, a.utc, in.max_attitude_gap_s);
@@ -98,6 +100,12 @@ LampTrackResult compute_lamp_track(const LampTrackInputs& in) {
         continue;
       }
       e.enu = lamp_enu_full(a.enu, rotation_nb(*att), in.lever.body_frd_m);
+      if (const auto rate =
+              lever_motion_mps(*in.attitude, a.utc, in.lever.body_frd_m, in.max_attitude_gap_s)) {
+        rep.lever_motion_max_mm_per_ms = std::max(rep.lever_motion_max_mm_per_ms, *rate);
+        lever_motion_ss += *rate * *rate;
+        ++lever_motion_n;
+      }
     } else {
       e.enu = lamp_enu_vertical(a.enu, in.lever.vertical_m);
       var[2] += in.lever.vertical_sd_m * in.lever.vertical_sd_m;
@@ -118,6 +126,7 @@ LampTrackResult compute_lamp_track(const LampTrackInputs& in) {
     e.cov_enu.diagonal() = var;
     res.track.epochs.push_back(e);
   }
+  if (lever_motion_n > 0) rep.lever_motion_rms_mm_per_ms = std::sqrt(lever_motion_ss / lever_motion_n);
   rep.track_epochs = res.track.epochs.size();
   warn_when_most_epochs_dropped(rep.filter, in.filter, &rep.warnings);
   if (res.track.epochs.empty()) {

@@ -49,6 +49,11 @@ struct LampTrackReport {
   /// with attitude, and how many epochs exceed 5 mm.
   double vertical_form_max_error_m = 0;
   std::size_t vertical_form_epochs_over_5mm = 0;
+  /// Body-frame form: how fast the lever arm turns with the UAV, |d/dt (R_nb·lever)| — the lamp's
+  /// displacement per ms of attitude time error (mm/ms, = m/s), largest and rms over the track's
+  /// epochs (docs/gnss.md "Receiver lag"); 0 in the vertical form.
+  double lever_motion_max_mm_per_ms = 0;
+  double lever_motion_rms_mm_per_ms = 0;
   std::vector<std::string> warnings;
 };
 

@@ -107,12 +107,24 @@ TEST(JsonText, KeyGivenTwiceNamesTheKeyAndBothLines) {
                                   ErrorKind::usage));
 }
 
-TEST(JsonText, NumberBeyondADoubleNamesItsLine) {
-  for (const auto& [text, line] : std::vector<std::pair<std::string, long>>{
-           {"{\"x\": 1e999}", 1}, {"{\n\"a\": [1,\n -2e400]\n}", 3}, {"[0.5,\n\n1E+309]", 3}}) {
-    const Error e = json_error(text);
+TEST(JsonText, NumberBeyondADoubleNamesItsLineAndKeyPath) {
+  struct Case {
+    std::string text;
+    long line;
+    std::string field;  // the key path, spelled as JsonView's other errors spell it
+  };
+  for (const Case& c : std::vector<Case>{
+           {"{\"x\": 1e999}", 1, "x"},
+           {"{\n\"a\": [1,\n -2e400]\n}", 3, "a[1]"},
+           {"[0.5,\n\n1E+309]", 3, "[1]"},
+           {"{\"cameras\": [{\"id\": \"c1\"}, {\"id\": \"c2\", \"priors\": {\"w\": [[1, 2], [3]],\n"
+            "\"center_enu_m\": [1, 2, 1e999]}}]}",
+            2, "cameras[1].priors.center_enu_m[2]"},
+           {"{\"a\": {\"b\": 1}, \"c\": 2, \"d\": -1e400}", 1, "d"}}) {
+    const Error e = json_error(c.text);
     EXPECT_EQ(e.kind(), ErrorKind::usage);
-    EXPECT_EQ(e.line(), line) << text;
+    EXPECT_EQ(e.line(), c.line) << c.text;
+    EXPECT_EQ(e.field(), c.field) << c.text;
     EXPECT_NE(std::string(e.what()).find("beyond the range of a double"), std::string::npos) << e.what();
   }
 }

@@ -6,6 +6,7 @@
 #include "pipeline/steps/file_inspection.hpp"
 
 #include <gtest/gtest.h>
+#include <algorithm>
 
 #include <cstring>
 #include <filesystem>
@@ -190,6 +191,38 @@ TEST(InspectDataflash, BuiltLogGivesMessagesPerTypeAndUtcFromGpsWeek) {
   ASSERT_TRUE(f.rate_hz.has_value());
   EXPECT_NEAR(*f.rate_hz, 25.0, 1e-9);
   EXPECT_NE(f.time_system.find("18 leap seconds"), std::string::npos) << f.time_system;
+}
+
+// A log cut off mid-message is noted once, with the bytes left unread, whether or not its attitude
+// could be put on UTC (the note came twice: once from the attitude, once from the file walk).
+TEST(InspectDataflash, LogCutOffMidMessageIsNotedOnce) {
+  test::DataflashWriter w;
+  w.define_att_and_gps();
+  for (int i = 0; i < 50; ++i) {
+    const std::uint64_t t = 10'000'000 + 200'000ULL * static_cast<std::uint64_t>(i);
+    w.gps(t, 3, 2414, static_cast<std::uint32_t>(12'000'000 + t / 1000));
+    w.att(t, 1, 2, 3);
+  }
+  const std::string whole = w.bytes();
+  w.att(30'000'000, 1, 2, 3);
+  const std::size_t att_bytes = w.bytes().size() - whole.size();
+  const std::string cut = w.bytes().substr(0, whole.size() + att_bytes - 7);  // 7 bytes short
+  for (const bool with_gps : {true, false}) {  // without GPS the attitude cannot be put on UTC
+    std::string bytes = cut;
+    if (!with_gps) {
+      test::DataflashWriter a;
+      a.define_att_and_gps();
+      for (int i = 0; i < 20; ++i) a.att(10'000'000 + 40'000ULL * static_cast<std::uint64_t>(i), 1, 2, 3);
+      a.att(20'000'000, 1, 2, 3);
+      bytes = a.bytes().substr(0, a.bytes().size() - 7);
+    }
+    const fs::path p = test::scratch_dir("inspect_dataflash_cut") / "cut.bin";
+    test::write_text(p, bytes);
+    const FileFacts f = inspect_input_file(p.string());
+    const std::string note = std::to_string(att_bytes - 7) + " bytes of an incomplete last message not read";
+    EXPECT_EQ(std::count(f.notes.begin(), f.notes.end(), note), 1) << "with GPS " << with_gps;
+    EXPECT_EQ(f.notes.size(), with_gps ? 1u : 2u);  // without GPS: also "no attitude on UTC"
+  }
 }
 
 // ---- Phantom .cine ----------------------------------------------------------------------------

@@ -342,7 +342,8 @@ TEST(GnssStage, AttitudeNotOverlappingTheEpochsIsAnInputErrorNamingBothSpans) {
       EXPECT_EQ(e.exit_code(), 3);
       EXPECT_EQ(e.file(), ulg);
       const std::string m = e.what();
-      EXPECT_NE(m.find("2021-04-21T06:30:58.467Z … 2021-04-21T06:31:04.963Z"), std::string::npos) << m;
+      // The log's span on UTC with PX4's default receiver lag of 110 ms (docs/gnss.md "Receiver lag").
+      EXPECT_NE(m.find("2021-04-21T06:30:58.577Z … 2021-04-21T06:31:05.073Z"), std::string::npos) << m;
       EXPECT_NE(m.find("2018-10-09T12:21:53.000Z … 2018-10-09T12:54:26.000Z"), std::string::npos) << m;
       EXPECT_NE(m.find(pos_path("rover20181009_kin_llh_gpst.pos")), std::string::npos) << m;
       EXPECT_NE(m.find("does not overlap"), std::string::npos) << m;
@@ -387,6 +388,7 @@ TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
   cfg.lever_arm.body_frd_m = Eigen::Vector3d(0.1, 0, 0.25);
   cfg.attitude_file = (dir / "flight.bin").string();
   cfg.output_dir = (dir / "out").string();
+  cfg.attitude_gnss_lag_ms = 0;  // the built log's GPS stamps are the fixes' own instants
   const StageLog log = run_gnss_stage(cfg);
   const nlohmann::json& a = log.counts.at("attitude");
   EXPECT_EQ(a.at("format"), "ardupilot_dataflash");
@@ -403,6 +405,8 @@ TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
   EXPECT_EQ(a.at("residual_rms_us"), 0.0);
   EXPECT_EQ(a.at("boot_zero_utc"), "2018-10-09T12:28:20.000000000Z");
   EXPECT_EQ(a.at("truncated_bytes"), 0);
+  EXPECT_EQ(a.at("gnss_lag_ms"), 0.0);
+  EXPECT_EQ(a.at("gnss_lag_source"), "attitude.gnss_lag_ms");
   // The same track as the body-frame lever arm on the epochs inside 12:30–12:40 (yaw 90°).
   LampTrackInputs in = base_inputs({1, 2});
   in.lever.form = ResolvedLeverArm::Form::body_frd;
@@ -415,10 +419,49 @@ TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
       dir / "att.csv",
       "utc,roll_deg,pitch_deg,yaw_deg\n2018-10-09T12:30:00Z,0,0,90\n2018-10-09T12:40:00Z,0,0,90\n");
   cfg.attitude_file = (dir / "att.csv").string();
+  cfg.attitude_gnss_lag_ms.reset();
   const nlohmann::json c = run_gnss_stage(cfg).counts.at("attitude");
   EXPECT_EQ(c.at("format"), "csv");
   EXPECT_EQ(c.at("samples"), 2);
   EXPECT_FALSE(c.contains("gps_used"));
+  // ... and takes no receiver lag: its times are UTC already.
+  cfg.attitude_gnss_lag_ms = 120;
+  try {
+    run_gnss_stage(cfg);
+    ADD_FAILURE() << "a receiver lag for a CSV attitude was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::usage);
+    EXPECT_EQ(e.file(), cfg.config_path);
+    EXPECT_EQ(e.field(), "attitude.gnss_lag_ms");
+  }
+}
+
+// Without attitude.gnss_lag_ms a DataFlash log takes ArduPilot's 120 ms (autopilot_attitude_report.hpp):
+// every GPS stamp moves back by it, so the whole attitude lands 120 ms later on UTC than with no lag.
+TEST(GnssStage, AutopilotLogTakesItsTypesDefaultReceiverLag) {
+  const auto dir = test::scratch_dir("gnss_stage_autopilot_lag");
+  test::write_text(dir / "flight.bin", dataflash_over_the_real_flight());
+  MissionConfig cfg;
+  cfg.config_path = (dir / "mission.json").string();
+  cfg.config_dir = dir.string();
+  cfg.origin = kOrigin;
+  cfg.gnss.pos_files = {pos_path("rover20181009_kin_llh_gpst.pos")};
+  cfg.gnss.accept_quality = {1, 2};
+  cfg.gnss.max_sd_m = 1e9;
+  cfg.gnss.max_gap_s = 1.5;
+  cfg.lever_arm.kind = LeverArmConfig::Kind::body_frd;
+  cfg.lever_arm.body_frd_m = Eigen::Vector3d(0.1, 0, 0.25);
+  cfg.attitude_file = (dir / "flight.bin").string();
+  cfg.output_dir = (dir / "out").string();
+  const nlohmann::json a = run_gnss_stage(cfg).counts.at("attitude");
+  EXPECT_EQ(a.at("gnss_lag_ms"), 120.0);
+  EXPECT_EQ(a.at("gnss_lag_source"), "default for ardupilot_dataflash");
+  EXPECT_EQ(a.at("utc_start"), "2018-10-09T12:30:00.120000000Z");
+  EXPECT_EQ(a.at("utc_end"), "2018-10-09T12:40:00.120000000Z");
+  EXPECT_EQ(a.at("boot_zero_utc"), "2018-10-09T12:28:20.120000000Z");
+  EXPECT_EQ(a.at("residual_rms_us"), 0.0);  // a constant lag leaves the pairs' agreement as it was
+  cfg.attitude_gnss_lag_ms = 220;           // an older u-blox: the same log, 100 ms later again
+  EXPECT_EQ(run_gnss_stage(cfg).counts.at("attitude").at("utc_start"), "2018-10-09T12:30:00.220000000Z");
 }
 
 }  // namespace

@@ -169,6 +169,7 @@ TEST(MissionConfigErrors, NumberOutOfDoubleRangeNamesLine) {
     EXPECT_EQ(e.line(), 3);
     EXPECT_NE(std::string(e.what()).find(kPath + ":3"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("11e308"), std::string::npos) << e.what();
+    EXPECT_EQ(e.field(), "site");  // the key path, as the other config errors name it
   }
 }
 
