@@ -449,16 +449,16 @@ TEST(BadInputCli, DuplicateJsonKeyNamesBothLines) {
 // A camera named as one of the mission's own outputs or records ("gnss" is the track's folder,
 // "network" and "method_choice" the calibrate stage's mission-level records) is refused at load,
 // before any stage writes.
-TEST(BadInputCli, ReservedCameraIdIsRefusedWithItsLine) {
+TEST(BadInputCli, ReservedCameraIdIsRefusedNamingFileAndField) {
   const fs::path m = mission_copy("reserved_id");
   std::string text = test::read_text(m / "mission.json");
   const auto at = text.find("\"c1\"");
   ASSERT_NE(at, std::string::npos);
-  const long line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n');
   text.replace(at, 4, "\"network\"");
   test::write_text(m / "mission.json", text);
   const Outcome o = run("run " + q(m / "mission.json"));
-  expect_refused(o, 2, "mission.json:" + std::to_string(line), "cameras[0].id");
+  // A value the schema refuses is named by its JSON path (as every config check), not a line.
+  expect_refused(o, 2, (m / "mission.json").string() + ": field 'cameras[0].id'", "cameras[0].id");
   EXPECT_NE(o.cli.err.find("'network' is reserved"), std::string::npos) << o.cli.err;
   EXPECT_TRUE(no_mission_outputs(m));
 }
