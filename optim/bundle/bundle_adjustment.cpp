@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "config/error.hpp"
 #include "optim/bundle/bundle_covariance.hpp"
@@ -13,20 +14,11 @@
 #include "optim/bundle/bundle_parameters.hpp"
 #include "optim/bundle/reprojection_cost.hpp"
 #include "optim/bundle/reprojection_cost_function.hpp"
+#include "optim/estimation/center_covariance.hpp"
+#include "optim/estimation/reprojection_stats.hpp"
+#include "optim/estimation/robust_scale.hpp"
 
 namespace rangecal {
-
-const char* to_string(RobustLoss loss) {
-  switch (loss) {
-    case RobustLoss::none:
-      return "none";
-    case RobustLoss::huber:
-      return "huber";
-    case RobustLoss::cauchy:
-      return "cauchy";
-  }
-  return "none";
-}
 
 namespace {
 
@@ -40,15 +32,6 @@ using CenterCost = ceres::AutoDiffCostFunction<CenterPrior, 3, kPoseBlockSize>;
 
 // ---------------------------------------------------------------------------------------------
 // Set-up.
-
-std::vector<Matrix2d> whitening_matrices(const Camera& c, const std::vector<BundleObservation>& obs,
-                                         const BundleOptions& opt) {
-  std::vector<Matrix2d> W(obs.size());
-  for (std::size_t i = 0; i < obs.size(); ++i)
-    W[i] =
-        whitening_matrix(c, obs[i], obs[i].pixel_sigma_px > 0 ? obs[i].pixel_sigma_px : opt.pixel_sigma_px);
-  return W;
-}
 
 ceres::Manifold* subset_manifold(const bool* free, int size) {
   std::vector<int> constant;
@@ -66,9 +49,7 @@ ceres::Manifold* subset_manifold(const bool* free, int size) {
 void build_problem(BundleParameterBlocks& st, const Camera& base, const std::vector<BundleObservation>& obs,
                    const std::vector<char>& used, const std::vector<Matrix2d>& W, const BundleSetup& setup,
                    const BundleOptions& opt, RobustLoss loss, ceres::Problem* problem) {
-  ceres::LossFunction* lf = nullptr;
-  if (loss == RobustLoss::huber) lf = new ceres::HuberLoss(opt.loss_scale);
-  if (loss == RobustLoss::cauchy) lf = new ceres::CauchyLoss(opt.loss_scale);
+  ceres::LossFunction* lf = new_robust_loss(loss, opt.loss_scale);
   bool lf_used = false;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!used[i]) continue;
@@ -131,7 +112,7 @@ BundleSolve solve(BundleParameterBlocks& st, const Camera& base, const std::vect
 // Outliers.
 
 /// Residuals of every observation at `c` (clock offset δ), their whitened norms, and the outlier
-/// flags: ‖W·e‖ > outlier_threshold·max(1, s), s = median over the used points / √(2 ln 2).
+/// flags: ‖W·e‖ above the robust threshold over the used points (optim/estimation/robust_scale.hpp).
 /// Returns the threshold.
 double flag_outliers(const Camera& c, double clock_offset_s, const std::vector<BundleObservation>& obs,
                      const std::vector<char>& used, const std::vector<Matrix2d>& W, const BundleOptions& opt,
@@ -148,45 +129,10 @@ double flag_outliers(const Camera& c, double clock_offset_s, const std::vector<B
     out->whitened_norm[i] = (W[i] * out->residual_px[i]).norm();
     if (used[i]) norms.push_back(out->whitened_norm[i]);
   }
-  std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
-  const double s = norms.empty() ? 1.0 : norms[norms.size() / 2] / std::sqrt(2 * std::log(2.0));
-  const double thr = opt.outlier_threshold * std::max(1.0, s);
+  const double thr = robust_outlier_threshold(opt.outlier_threshold, std::move(norms));
   out->outlier.assign(n, false);
   for (std::size_t i = 0; i < n; ++i) out->outlier[i] = !(out->whitened_norm[i] <= thr);
   return thr;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Result.
-
-ReprojectionStats reprojection_over_used(const BundleResult& out, const std::vector<char>& used) {
-  ReprojectionStats st;
-  double s2 = 0, s1 = 0, mx = 0;
-  int nu = 0;
-  for (std::size_t i = 0; i < used.size(); ++i) {
-    if (!used[i]) continue;
-    const double e = out.residual_px[i].norm();
-    s2 += e * e, s1 += e, mx = std::max(mx, e), ++nu;
-  }
-  st.n_used = nu;
-  st.n_rejected = static_cast<int>(used.size()) - nu;
-  if (nu > 0) st.rms_px = std::sqrt(s2 / nu), st.mean_px = s1 / nu, st.max_px = mx;
-  return st;
-}
-
-/// The camera centre's covariance: its own block when the centre is free; zero when it is held;
-/// NaN without a covariance.
-Eigen::Matrix3d center_covariance(const CalibrationResult& cal) {
-  Eigen::Matrix3d cc = Eigen::Matrix3d::Zero();
-  if (cal.covariance.rows() != static_cast<Eigen::Index>(cal.parameters.size()))
-    return Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) {
-      const int ia = cal.parameter_index(kCenterParameters[a]),
-                ib = cal.parameter_index(kCenterParameters[b]);
-      if (ia >= 0 && ib >= 0) cc(a, b) = cal.covariance(ia, ib);
-    }
-  return cc;
 }
 
 }  // namespace
@@ -206,12 +152,12 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   std::vector<char> used(n, 1);
 
   // 1. Robust solve with weights at the starting camera.
-  std::vector<Matrix2d> W = whitening_matrices(start, obs, opt);
+  std::vector<Matrix2d> W = whitening_matrices(start, obs, opt.pixel_sigma_px);
   d.solves.push_back(solve(st, start, obs, used, W, setup, opt, opt.loss));
 
   // 2. Outliers at that solution (weights refreshed there).
   Camera cam = st.to_camera(start);
-  W = whitening_matrices(cam, obs, opt);
+  W = whitening_matrices(cam, obs, opt.pixel_sigma_px);
   d.outlier_threshold_sigma = flag_outliers(cam, st.clock[0], obs, used, W, opt, &out);
 
   // 3. Plain least squares on the inliers, weights refreshed (iterated effective variance).
@@ -226,7 +172,7 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
     d.solves.push_back(solve(st, start, obs, used, W, setup, opt, RobustLoss::none));
     d.solves.back().rejected = n - static_cast<std::size_t>(n_used);
     cam = st.to_camera(start);
-    W = whitening_matrices(cam, obs, opt);
+    W = whitening_matrices(cam, obs, opt.pixel_sigma_px);
     const std::vector<bool> dropped = out.outlier;
     d.outlier_threshold_sigma = flag_outliers(cam, st.clock[0], obs, used, W, opt, &out);
     out.outlier = dropped;  // the listed outliers are the ones dropped
@@ -243,7 +189,7 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   Vector3d mean = Vector3d::Zero();
   for (const auto& ob : obs) mean += ob.world / static_cast<double>(n);
   const double scene_distance = std::max(1.0, (cam.pose.center() - mean).norm());
-  const CovarianceEstimate cov =
+  const RankTestedInverse cov =
       estimate_covariance(sys.J, d.free, cam, scene_distance, max_speed, opt.rank_tolerance);
 
   CalibrationResult& cal = out.calibration;
@@ -262,7 +208,7 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
     d.sigma_scaled = out.covariance_scaled.diagonal().cwiseSqrt();
   }
   cal.center_covariance_m2 = center_covariance(cal);
-  cal.reprojection = reprojection_over_used(out, used);
+  cal.reprojection = reprojection_stats(out.residual_px, used);
 
   // 5. Diagnostics.
   d.covariance_scaled = opt.scale_covariance;
@@ -270,16 +216,21 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   if (setup.is_free(CameraParameter::clock_offset)) d.clock_offset_s = cal.clock_offset_s;
   for (std::size_t i = 0; i < n; ++i)
     if (out.outlier[i]) d.outliers.push_back(i);
-  for (std::string& w : poorly_determined_warnings(cal, max_speed, opt.correlation_warning))
-    cal.warnings.push_back(std::move(w));
-  for (std::string& w : fit_warnings(d)) cal.warnings.push_back(std::move(w));
-
-  out.chi2 = d.chi2;
-  out.dof = d.dof;
-  out.variance_factor = d.variance_factor;
-  out.rank_deficient = d.rank_deficient;
-  out.iterations = d.iterations;
+  finish_bundle_result(max_speed, opt.correlation_warning, &out);
   return out;
+}
+
+void finish_bundle_result(double max_speed_mps, double correlation_warning, BundleResult* result) {
+  CalibrationResult& cal = result->calibration;
+  const BundleDetails& details = result->details;
+  for (std::string& warning : poorly_determined_warnings(cal, max_speed_mps, correlation_warning))
+    cal.warnings.push_back(std::move(warning));
+  for (std::string& warning : fit_warnings(details)) cal.warnings.push_back(std::move(warning));
+  result->chi2 = details.chi2;
+  result->dof = details.dof;
+  result->variance_factor = details.variance_factor;
+  result->rank_deficient = details.rank_deficient;
+  result->iterations = details.iterations;
 }
 
 }  // namespace rangecal

@@ -25,6 +25,7 @@
 
 #include "optim/bundle/bundle_observation.hpp"
 #include "optim/bundle/whitening.hpp"
+#include "optim/estimation/robust_loss.hpp"
 #include "vision/camera/calibration_result.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
@@ -40,9 +41,6 @@ struct BundlePriors {
   Eigen::Vector3d center_sigma_m = Eigen::Vector3d::Zero();  ///< per axis E, N, U
 };
 
-enum class RobustLoss { none, huber, cauchy };
-const char* to_string(RobustLoss loss);
-
 struct BundleOptions {
   /// Free parameters, as calibrate.free names them (expand_free_parameters,
   /// vision/camera/camera_parameters.hpp); the rest are held at the initial camera's values.
@@ -52,8 +50,7 @@ struct BundleOptions {
   RobustLoss loss = RobustLoss::huber;
   double loss_scale = 3.0;  ///< in whitened units (σ): Huber quadratic below, linear above
   /// Outlier if the final whitened residual ‖W·e‖ > outlier_threshold·max(1, s), s the robust
-  /// scale median‖W·e‖/√(2 ln 2) (the median of a χ₂ variable), so an over-optimistic σ_px does
-  /// not flag everything. 3.5 → 0.22 % false flags for Gaussian noise.
+  /// scale (optim/estimation/robust_scale.hpp). 3.5 → 0.22 % false flags for Gaussian noise.
   double outlier_threshold = 3.5;
   bool resolve_without_outliers = true;  ///< final plain least squares on the inliers
   int max_iterations = 200;
@@ -120,5 +117,11 @@ struct BundleResult {
 /// is not an error: it is reported (rank_deficient, warnings, empty covariance).
 BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObservation>& observations,
                            const BundleOptions& options = {});
+
+/// The last step of a camera's result, the per-camera bundle's and each network camera's: the
+/// warnings on poorly determined parameters and on the fit (optim/bundle/bundle_diagnostics.hpp)
+/// appended to its calibration's, and the details' summary copied to the result's own fields.
+/// `max_speed_mps` is the camera's fastest lamp point (m/s).
+void finish_bundle_result(double max_speed_mps, double correlation_warning, BundleResult* result);
 
 }  // namespace rangecal

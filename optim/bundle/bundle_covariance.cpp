@@ -2,11 +2,9 @@
 
 #include <ceres/ceres.h>
 
-#include <Eigen/Eigenvalues>
-#include <cmath>
-
 #include "config/error.hpp"
 #include "optim/bundle/reprojection_cost_function.hpp"
+#include "optim/estimation/rank_tested_inverse.hpp"
 
 namespace rangecal {
 
@@ -67,49 +65,18 @@ WhitenedSystem whitened_system(const BundleParameterBlocks& st, const Camera& ba
   return sys;
 }
 
-CovarianceEstimate estimate_covariance(const MatrixXd& J, const std::vector<CameraParameter>& free,
-                                       const Camera& cam, double scene_distance_m, double max_speed_mps,
-                                       double rank_tolerance) {
-  CovarianceEstimate out;
-  const int p = static_cast<int>(free.size());
-  const MatrixXd N = J.transpose() * J;
-  VectorXd scale(p);
-  std::string undetermined;
-  for (int k = 0; k < p; ++k) {
-    scale[k] = N(k, k) > 0 ? 1 / std::sqrt(N(k, k)) : 0;
-    if (!(N(k, k) > 0))
-      undetermined += (undetermined.empty() ? "" : ", ") + std::string(parameter_name(free[k]));
+RankTestedInverse estimate_covariance(const MatrixXd& J, const std::vector<CameraParameter>& free,
+                                      const Camera& cam, double scene_distance_m, double max_speed_mps,
+                                      double rank_tolerance) {
+  const auto p = static_cast<Eigen::Index>(free.size());
+  VectorXd range(p);
+  std::vector<std::string> names;
+  for (Eigen::Index k = 0; k < p; ++k) {
+    const CameraParameter parameter = free[static_cast<std::size_t>(k)];
+    range[k] = parameter_range(parameter, cam.intr, scene_distance_m, max_speed_mps);
+    names.emplace_back(parameter_name(parameter));
   }
-  if (!undetermined.empty()) {
-    out.rank_deficient = true;
-    out.warnings.push_back("covariance is rank-deficient: the data do not depend on " + undetermined +
-                           " at all (fix it or add observations that do)");
-    return out;
-  }
-  // Rank test on columns scaled by each parameter's physical range, so a parameter whose column is
-  // only rounding noise is not rescued by Jacobi scaling; and on the Jacobi-scaled matrix itself.
-  VectorXd tscale(p);
-  for (int k = 0; k < p; ++k) tscale[k] = parameter_range(free[k], cam.intr, scene_distance_m, max_speed_mps);
-  Eigen::SelfAdjointEigenSolver<MatrixXd> et(tscale.asDiagonal() * N * tscale.asDiagonal());
-  const VectorXd lt = et.eigenvalues();
-  const MatrixXd Ns = scale.asDiagonal() * N * scale.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<MatrixXd> es(Ns);
-  const VectorXd lam = es.eigenvalues();
-  const bool physical_ok = lt[0] > rank_tolerance * lt[p - 1];
-  if (!physical_ok || !(lam[0] > rank_tolerance * lam[p - 1])) {
-    out.rank_deficient = true;
-    const VectorXd nullv =
-        !physical_ok ? VectorXd(et.eigenvectors().col(0)) : VectorXd(es.eigenvectors().col(0));
-    std::string list;
-    for (int k = 0; k < p; ++k)
-      if (std::abs(nullv[k]) > 0.2) list += (list.empty() ? "" : ", ") + std::string(parameter_name(free[k]));
-    out.warnings.push_back("covariance is rank-deficient: " + list +
-                           " cannot be determined from these data; fix some of them or add a prior");
-    return out;
-  }
-  const MatrixXd Nsi = es.eigenvectors() * lam.cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
-  out.covariance = scale.asDiagonal() * Nsi * scale.asDiagonal();
-  return out;
+  return rank_tested_inverse(J.transpose() * J, range, names, rank_tolerance);
 }
 
 }  // namespace rangecal

@@ -1,19 +1,16 @@
 #pragma once
 // The bundle's covariance (docs/optimisation.md "Covariance"): from the whitened Jacobian J of
 // every used residual and prior at the solution (columns: the free parameters), N = JᵀJ and
-// Σ = N⁻¹, computed on Jacobi-scaled columns. Before inverting, two rank tests:
-//   - a parameter whose column is zero is not in the data at all;
-//   - the smallest eigenvalue of N with columns scaled by each parameter's full physical range
-//     (parameter_range, vision/camera/camera_parameters.hpp) or by Jacobi scaling is below
-//     rank_tolerance × the largest: the parameters with a large share in that eigenvector cannot be
-//     determined from these data.
-// Either way the covariance is left empty and a warning names the parameters.
+// Σ = N⁻¹, computed on Jacobi-scaled columns after the two-scale rank test the network shares
+// (optim/estimation/rank_tested_inverse.hpp, the ranges of vision/camera/camera_parameters.hpp's
+// parameter_range): when it fails the covariance is left empty and a warning names the parameters.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/bundle/bundle_parameters.hpp"
+#include "optim/estimation/rank_tested_inverse.hpp"
 
 namespace rangecal {
 
@@ -28,16 +25,10 @@ WhitenedSystem whitened_system(const BundleParameterBlocks& blocks, const Camera
                                const std::vector<char>& used, const std::vector<Eigen::Matrix2d>& W,
                                const BundleSetup& setup, const BundleOptions& options);
 
-struct CovarianceEstimate {
-  Eigen::MatrixXd covariance;  ///< a-priori (unscaled); empty when rank-deficient
-  bool rank_deficient = false;
-  std::vector<std::string> warnings;  ///< the rank-deficiency message, naming the parameters
-};
-
 /// Σ = (JᵀJ)⁻¹ for the free parameters `free` of `cam`, with the rank tests above. `scene_distance_m`
 /// and `max_speed_mps` set the physical ranges of the pose and the clock offset.
-CovarianceEstimate estimate_covariance(const Eigen::MatrixXd& J, const std::vector<CameraParameter>& free,
-                                       const Camera& cam, double scene_distance_m, double max_speed_mps,
-                                       double rank_tolerance);
+RankTestedInverse estimate_covariance(const Eigen::MatrixXd& J, const std::vector<CameraParameter>& free,
+                                      const Camera& cam, double scene_distance_m, double max_speed_mps,
+                                      double rank_tolerance);
 
 }  // namespace rangecal

@@ -62,16 +62,10 @@ bool project_with_jacobian(const double* intr, const double* dist, const PoseRot
   if (!jacobian) return true;
   jacobian->uv = *uv;
 
-  // J_F = I + ∂Δ/∂(xd, yd) and ∂Δ/∂k (seed 000 eq. 7 differentiated).
-  const double* k = dist;
+  // J_F = I + ∂Δ/∂(xd, yd) (vision/camera/camera_model.hpp) and ∂Δ/∂k (seed 000 eq. 7 differentiated).
+  Eigen::Matrix<double, 2, 2, Eigen::RowMajor> JF;
+  distortion_jacobian(dist, xd, yd, JF.data());
   const double r2 = xd * xd + yd * yd, r4 = r2 * r2, r6 = r4 * r2;
-  const double radial = k[0] * r2 + k[1] * r4 + k[2] * r6;
-  const double dradial = k[0] + 2 * k[1] * r2 + 3 * k[2] * r4;  // ∂radial/∂r²
-  Matrix2d JF;
-  JF << 1 + radial + 2 * xd * xd * dradial + 6 * k[3] * xd + 2 * k[4] * yd,
-      2 * xd * yd * dradial + 2 * k[3] * yd + 2 * k[4] * xd,
-      2 * xd * yd * dradial + 2 * k[4] * xd + 2 * k[3] * yd + k[5],
-      1 + radial + 2 * yd * yd * dradial + 6 * k[4] * yd + 2 * k[3] * xd + k[6];
   Eigen::Matrix<double, 2, kDistortionBlockSize> dDelta;
   dDelta << xd * r2, xd * r4, xd * r6, r2 + 2 * xd * xd, 2 * xd * yd, 0, 0,  //
       yd * r2, yd * r4, yd * r6, 2 * xd * yd, r2 + 2 * yd * yd, xd, yd;

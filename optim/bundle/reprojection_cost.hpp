@@ -28,12 +28,16 @@ static_assert(index_of(CameraParameter::k1) == kIntrinsicsBlockSize &&
                       kIntrinsicsBlockSize + kDistortionBlockSize + kPoseBlockSize,
               "the blocks follow the canonical order");
 
-/// Whitened reprojection residual of one point:
+/// Whitened reprojection residual of one point, the definition the per-camera bundle and the
+/// network share:
 ///   X  = Xw − v·δ                                   (the lamp at the true exposure time, δ the clock
 ///                                                    offset; optim/bundle/bundle_observation.hpp)
 ///   Xc = exp([w]×)·R0·(X − C)                       (docs/conventions.md, T = −R·C)
 ///   (u, v) = project_camera_point(intr, dist, Xc)   (seed 002 eqs. 6–7 + seed 000 eq. 7)
 ///   r = W·((u, v) − (u_obs, v_obs)),  W = L⁻¹, C_eff = L·Lᵀ  (optim/bundle/whitening.hpp)
+/// With a fifth block, the network's point X_k (ENU m, docs/optimisation.md "Network bundle"), Xw
+/// is X_k + Xw: `Xw` is then the offset of camera c's frame time from the epoch, and W = I/σ_px
+/// (the point's PPK noise is its own prior, not folded into the weight).
 struct ReprojectionResidual {
   Eigen::Vector3d Xw;
   Eigen::Vector3d vel;
@@ -44,8 +48,22 @@ struct ReprojectionResidual {
 
   template <typename T>
   bool operator()(const T* intr, const T* dist, const T* pose, const T* clock, T* residual) const {
-    const T d[3] = {T(Xw.x()) - T(vel.x()) * clock[0] - pose[3], T(Xw.y()) - T(vel.y()) * clock[0] - pose[4],
-                    T(Xw.z()) - T(vel.z()) * clock[0] - pose[5]};
+    const T X[3] = {T(Xw.x()), T(Xw.y()), T(Xw.z())};
+    return at(intr, dist, pose, clock, X, residual);
+  }
+
+  template <typename T>
+  bool operator()(const T* intr, const T* dist, const T* pose, const T* clock, const T* point,
+                  T* residual) const {
+    const T X[3] = {point[0] + T(Xw.x()), point[1] + T(Xw.y()), point[2] + T(Xw.z())};
+    return at(intr, dist, pose, clock, X, residual);
+  }
+
+  /// The residual of the lamp at world point X (before the clock-offset motion).
+  template <typename T>
+  bool at(const T* intr, const T* dist, const T* pose, const T* clock, const T* X, T* residual) const {
+    T d[3];
+    for (int i = 0; i < 3; ++i) d[i] = X[i] - T(vel[i]) * clock[0] - pose[3 + i];
     T q[3];
     for (int i = 0; i < 3; ++i) q[i] = T(R0(i, 0)) * d[0] + T(R0(i, 1)) * d[1] + T(R0(i, 2)) * d[2];
     T xc[3];

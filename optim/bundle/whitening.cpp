@@ -33,4 +33,13 @@ Eigen::Matrix2d whitening_matrix(const Camera& cam, const BundleObservation& o, 
   return L.inverse();
 }
 
+std::vector<Eigen::Matrix2d> whitening_matrices(const Camera& cam, const std::vector<BundleObservation>& obs,
+                                                double default_sigma_px) {
+  std::vector<Eigen::Matrix2d> W;
+  W.reserve(obs.size());
+  for (const BundleObservation& o : obs)
+    W.push_back(whitening_matrix(cam, o, o.pixel_sigma_px > 0 ? o.pixel_sigma_px : default_sigma_px));
+  return W;
+}
+
 }  // namespace rangecal

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "config/error.hpp"
 #include "optim/bundle/whitening.hpp"
+#include "optim/estimation/robust_scale.hpp"
 #include "vision/calibration/linear_distortion.hpp"
 
 namespace rangecal {
@@ -39,33 +41,22 @@ Camera starting_camera(const DltResult& dlt, const std::vector<PointCorresponden
   return base;
 }
 
-/// The bundle's weighting (optim/bundle/whitening.hpp) of every observation at `cam`.
-std::vector<Eigen::Matrix2d> whitening(const Camera& cam, const std::vector<BundleObservation>& obs,
-                                       double default_sigma_px) {
-  std::vector<Eigen::Matrix2d> W;
-  W.reserve(obs.size());
-  for (const auto& o : obs)
-    W.push_back(whitening_matrix(cam, o, o.pixel_sigma_px > 0 ? o.pixel_sigma_px : default_sigma_px));
-  return W;
-}
-
-/// Indices whose whitened residual at `cam` is within outlier_sigma × the robust scale
-/// max(1, median/√(2 ln 2)) of the `used` points (the median of a χ₂ variable).
+/// Indices whose whitened residual at `cam` is within the robust threshold outlier_sigma·max(1, s)
+/// of the `used` points (optim/estimation/robust_scale.hpp).
 std::vector<std::size_t> inliers_at(const Camera& cam, const std::vector<BundleObservation>& obs,
                                     const std::vector<Eigen::Matrix2d>& W,
                                     const std::vector<std::size_t>& used, double outlier_sigma) {
   std::vector<double> wn(obs.size(), std::numeric_limits<double>::infinity());
-  std::vector<double> sorted;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     Eigen::Vector2d uv;
     if (project(cam, obs[i].world, &uv)) wn[i] = (W[i] * (uv - obs[i].pixel)).norm();
   }
-  for (std::size_t i : used) sorted.push_back(wn[i]);
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double robust = std::max(1.0, sorted[sorted.size() / 2] / std::sqrt(2 * std::log(2.0)));
+  std::vector<double> used_norms;
+  for (std::size_t i : used) used_norms.push_back(wn[i]);
+  const double threshold = robust_outlier_threshold(outlier_sigma, std::move(used_norms));
   std::vector<std::size_t> next;
   for (std::size_t i = 0; i < wn.size(); ++i)
-    if (wn[i] <= outlier_sigma * robust) next.push_back(i);
+    if (wn[i] <= threshold) next.push_back(i);
   return next;
 }
 
@@ -80,7 +71,7 @@ DltLmqnResult dlt_lmqn_calibrate(const std::vector<BundleObservation>& obs, cons
   dopt.inlier_threshold_px = o.ransac_threshold_px;
   res.dlt = dlt_calibrate(pts, sensor, dopt);
   const Camera base = starting_camera(res.dlt, pts, sensor, o);
-  const std::vector<Eigen::Matrix2d> W = whitening(base, obs, o.pixel_sigma_px);
+  const std::vector<Eigen::Matrix2d> W = whitening_matrices(base, obs, o.pixel_sigma_px);
 
   for (CameraParameter p : o.free)
     if (p != CameraParameter::clock_offset) res.parameters.push_back(p);

@@ -31,8 +31,9 @@
 namespace rangecal {
 
 /// One camera of the network: its starting values (and fixed values of what is not free) and its
-/// per-camera options — free set, pixel σ, priors, initial clock offset, covariance scaling,
-/// warnings. The robust loss and outlier thresholds are the network's (NetworkOptions).
+/// per-camera options — free set, pixel σ, priors, initial clock offset, correlation warning. The
+/// robust loss, outlier thresholds, iterations, covariance scaling and rank tolerance are the
+/// network's (NetworkOptions); those fields of `options` are not read.
 struct NetworkCamera {
   Camera initial;
   BundleOptions options;
@@ -53,6 +54,11 @@ struct NetworkOptions {
   double datum_floor_image_factor = 0;
   int max_iterations = 200;
   int num_threads = 1;  ///< Ceres threads (1: deterministic)
+  /// The joint covariance and every camera's: false, from the a-priori noise model; true, scaled by
+  /// the network's variance factor χ²/dof (BundleOptions::scale_covariance for the network).
+  bool scale_covariance = false;
+  /// The joint covariance's rank test (BundleOptions::rank_tolerance for the network).
+  double rank_tolerance = 1e-14;
 };
 
 /// The network's datum floor (docs/accuracy_analysis.md, "Datum floor"): its joint covariance with
@@ -107,8 +113,8 @@ struct NetworkResult {
   std::vector<BundleResult> cameras;
   std::vector<std::vector<std::size_t>> camera_observations;  ///< network observation indices
   /// Joint covariance of every camera's free parameters (cameras in order, each in its
-  /// calibration.parameters order, from joint_offset[c]); a-priori or scaled as the first
-  /// camera's BundleOptions::scale_covariance; empty when rank-deficient.
+  /// calibration.parameters order, from joint_offset[c]); a-priori or scaled as
+  /// NetworkOptions::scale_covariance; empty when rank-deficient.
   Eigen::MatrixXd joint_covariance;
   std::vector<int> joint_offset;
   std::vector<NetworkPointResult> points;

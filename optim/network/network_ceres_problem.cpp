@@ -33,13 +33,6 @@ std::vector<ParameterPriorCost::Term> camera_prior_terms(const CameraBlock& came
   return terms;
 }
 
-/// The robust loss of a solve (null: plain least squares).
-ceres::LossFunction* new_loss(RobustLoss loss, double scale) {
-  if (loss == RobustLoss::huber) return new ceres::HuberLoss(scale);
-  if (loss == RobustLoss::cauchy) return new ceres::CauchyLoss(scale);
-  return nullptr;
-}
-
 ceres::Problem::Options problem_options(ceres::EvaluationCallback* callback) {
   ceres::Problem::Options po;
   po.disable_all_safety_checks = true;                        // the blocks are ours, each added once
@@ -141,7 +134,7 @@ void NetworkCeresProblem::select(const NetworkSelection& sel) {
 
 int NetworkCeresProblem::solve(RobustLoss loss, double loss_scale, double tolerance, int max_iterations,
                                int num_threads) {
-  loss_.Reset(new_loss(loss, loss_scale), ceres::TAKE_OWNERSHIP);
+  loss_.Reset(new_robust_loss(loss, loss_scale), ceres::TAKE_OWNERSHIP);
   // Points first (eliminated), then the cameras; Ceres prunes the held points from the ordering it
   // is given, so each solve gets its own.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
@@ -159,10 +152,9 @@ int NetworkCeresProblem::solve(RobustLoss loss, double loss_scale, double tolera
   so.linear_solver_ordering = ordering;
   so.max_num_iterations = max_iterations;
   // The cameras start at the per-camera bundle's solution and the points at their PPK fixes, so the
-  // Gauss–Newton step is good from the first iteration. Ceres' default initial radius (1e4, i.e.
-  // damping 1e-4 of the diagonal) held back the weakly determined f–distance direction for ~10
-  // iterations per solve, and tolerances of 1e-14 added ~8 rejected steps at the end: 37 iterations
-  // on 2 cameras × 1,000 epochs where 9 reach the same solution (docs/performance.md, network).
+  // Gauss–Newton step is good from the first iteration; Ceres' default initial radius (1e4, damping
+  // 1e-4 of the diagonal) holds back the weakly determined f–distance direction (measured in
+  // docs/performance.md, "Network bundle — solver settings").
   so.initial_trust_region_radius = 1e12;
   so.function_tolerance = tolerance;
   so.gradient_tolerance = 1e-2 * tolerance;

@@ -1,12 +1,11 @@
 #pragma once
 // The network's Ceres problem, built once and solved twice: the robust solve that separates the
 // outliers and the least-squares solve without them (network_adjustment.cpp). Building a problem
-// of 8 cameras × 20,000 epochs (200,000 residual blocks) and freeing it cost ~0.25 s, as much as
-// an iteration; between the solves only the loss, the weights of the single-view observations and
-// the set of observations and priors change, and those are changed in place: a residual that
-// leaves the solve is switched off (r = 0, J = 0), a point left with one camera's ray becomes that
-// camera's single-view residual (network_parameters.hpp), and a point left with nothing is held
-// constant (docs/performance.md, network bundle).
+// and freeing it cost as much as an iteration (docs/performance.md, network bundle); between the solves only
+// the loss, the weights of the single-view observations and the set of observations and priors change, and
+// those are changed in place: a residual that leaves the solve is switched off (r = 0, J = 0), a point left
+// with one camera's ray becomes that camera's single-view residual (network_parameters.hpp), and a point left
+// with nothing is held constant (docs/performance.md, network bundle).
 #include <ceres/evaluation_callback.h>
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>

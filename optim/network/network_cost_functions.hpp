@@ -1,10 +1,11 @@
 #pragma once
-// The Ceres cost functions the network solves with: the residuals of network_cost.hpp (image
-// residual with the point as a parameter, the single-view residual with the point eliminated) and
-// the camera priors, over one block per camera (camera_block.hpp), with the derivatives written
-// out (optim/bundle/projection_jacobian.hpp) instead of automatic differentiation of the 21-
-// parameter functor, which took ~40 % of a solve (docs/performance.md, network bundle). The
-// functors stay the definition; tests/unit/optim/projection_jacobian_test.cpp holds the two equal.
+// The Ceres cost functions the network solves with: the image residual of
+// optim/bundle/reprojection_cost.hpp's ReprojectionResidual (with the point as a fifth block, or
+// the single-view residual with the point eliminated), the point priors and the camera priors, over
+// one block per camera (camera_block.hpp), with the derivatives written out
+// (optim/bundle/projection_jacobian.hpp) instead of automatic differentiation of the 21-parameter
+// functor (docs/performance.md, network bundle). The functor stays the definition;
+// tests/unit/optim/projection_jacobian_test.cpp holds the two equal.
 #include <ceres/cost_function.h>
 #include <ceres/sized_cost_function.h>
 
@@ -40,10 +41,10 @@ class ImageResidualCost final : public ceres::CostFunction {
   Eigen::Matrix2d whitening_;
 };
 
-/// Prior of a point, r = L⁻¹·(X − X̄) (network_cost.hpp's NetworkPointPrior), as two 2-row
-/// residual blocks: half 0 is (r0, r1), half 1 is (r2, 0). With every residual block on a point
+/// Prior of a point (PPK fix or pole survey), r = L⁻¹·(X − X̄) with L·Lᵀ = Σ_prior (full 3 × 3), as
+/// two 2-row residual blocks: half 0 is (r0, r1), half 1 is (r2, 0). With every residual block on a point
 /// two rows high, Ceres eliminates the points with its fixed-size ⟨2, 3, ·⟩ Schur eliminator
-/// (~15 % of a solve at 8 cameras); under the robust loss each half is weighed on its own (the
+/// (docs/performance.md, network bundle); under the robust loss each half is weighed on its own (the
 /// whitened horizontal pair and the vertical).
 class PointPriorCost final : public ceres::SizedCostFunction<2, 3> {
  public:

@@ -1,13 +1,15 @@
 #include "optim/network/network_covariance.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-#include <cmath>
+#include <algorithm>
+#include <utility>
 
 #include "config/error.hpp"
 #include "optim/bundle/projection_jacobian.hpp"
 #include "optim/bundle/whitening.hpp"
+#include "optim/estimation/rank_tested_inverse.hpp"
+#include "optim/estimation/symmetric_part.hpp"
 
 namespace rangecal {
 namespace {
@@ -103,11 +105,147 @@ void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, 
   }
 }
 
-std::string joint_name(const NetworkLayout& l, int j) {
+/// The camera whose columns hold joint column j.
+std::size_t camera_of_column(const NetworkLayout& l, int j) {
   std::size_t c = 0;
   while (c + 1 < l.offset.size() && l.offset[c + 1] <= j) ++c;
+  return c;
+}
+
+std::string joint_name(const NetworkLayout& l, int j) {
+  const std::size_t c = camera_of_column(l, j);
   return (*l.cameras)[c].initial.id + " " +
          parameter_name(l.free[c][static_cast<std::size_t>(j - l.offset[c])]);
+}
+
+/// Points per chunk of the blocked products below: a chunk's W_k side by side make one
+/// n × 3·kChunk matrix, and one product serves the whole chunk.
+constexpr int kChunk = 256;
+
+/// The points eliminated from the normal equations: their linearisations and V_k⁻¹ (zero for a
+/// point not in the solve).
+struct EliminatedPoints {
+  std::vector<PointLinearisation> lin;
+  std::vector<Eigen::Matrix3d> Vinv;
+  int count = 0;
+};
+
+/// The reduced camera system S = U − Σ_k W_k·V_k⁻¹·W_kᵀ (both triangles) into out->S, with the
+/// images' and point priors' χ² and residual count.
+EliminatedPoints reduce_camera_system(const NetworkLayout& l, const NetworkParameterBlocks& b,
+                                      const NetworkSelection& sel, NetworkCovariance* out) {
+  const int n = l.n_camera_parameters;
+  out->S = MatrixXd::Zero(n, n);
+  const std::size_t np = l.by_point.size();
+  EliminatedPoints points;
+  points.lin.resize(np);
+  points.Vinv.assign(np, Eigen::Matrix3d::Zero());
+  MatrixXd H = MatrixXd::Zero(n, 3 * kChunk);
+  int filled = 0;
+  auto flush = [&]() {
+    if (filled == 0) return;
+    out->S.selfadjointView<Eigen::Lower>().rankUpdate(H.leftCols(3 * filled), -1.0);
+    H.leftCols(3 * filled).setZero();
+    filled = 0;
+  };
+  for (std::size_t k = 0; k < np; ++k) {
+    points.lin[k] = linearise_point(l, b, sel, k, &out->S, &out->chi2, &out->residuals);
+    if (points.lin[k].V.isZero(0)) continue;  // not in the solve
+    ++points.count;
+    points.Vinv[k] = points.lin[k].V.inverse();
+    // S −= W_k·V_k⁻¹·W_kᵀ = (W_k·L_k)(W_k·L_k)ᵀ, V_k⁻¹ = L_k·L_kᵀ: the columns W_k·L_k of a chunk
+    // of points side by side (zero where a camera did not see the point), one product per chunk.
+    const Eigen::Matrix3d L = points.Vinv[k].llt().matrixL();
+    for (const auto& [c, W] : points.lin[k].W)
+      H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * L;
+    if (++filled == kChunk) flush();
+  }
+  flush();
+  out->S = out->S.selfadjointView<Eigen::Lower>();
+  return points;
+}
+
+/// Σ_cc = S⁻¹ with the per-camera bundle's rank tests, each column ranged by its parameter.
+void invert_camera_system(const NetworkLayout& l, double scene_distance_m, double max_speed_mps,
+                          double rank_tolerance, NetworkCovariance* out) {
+  const int n = l.n_camera_parameters;
+  VectorXd range(n);
+  std::vector<std::string> names;
+  for (int j = 0; j < n; ++j) {
+    const std::size_t c = camera_of_column(l, j);
+    range[j] = parameter_range(l.free[c][static_cast<std::size_t>(j - l.offset[c])], l.starts[c].intr,
+                               scene_distance_m, max_speed_mps);
+    names.push_back(joint_name(l, j));
+  }
+  RankTestedInverse inverse = rank_tested_inverse(out->S, range, names, rank_tolerance);
+  out->joint = std::move(inverse.covariance);
+  out->rank_deficient = inverse.rank_deficient;
+  out->warnings = std::move(inverse.warnings);
+}
+
+/// A single-view point's posterior given its camera: X̄ − K·e, Σ − K·J_X·Σ + K·J_θ·Σ_cc·J_θᵀ·Kᵀ
+/// with K = Σ·J_Xᵀ·C⁻¹ (network_covariance.hpp).
+void single_view_point_covariances(const NetworkLayout& l, const NetworkParameterBlocks& b,
+                                   const NetworkSelection& sel, NetworkCovariance* out) {
+  for (std::size_t k = 0; k < l.by_point.size(); ++k) {
+    if (sel.single_view.empty() || !sel.single_view[k]) continue;
+    for (std::size_t i : l.by_point[k]) {
+      if (!sel.observation[i]) continue;
+      const NetworkObservation& o = (*l.observations)[i];
+      const NetworkPoint& p = (*l.points)[k];
+      const Camera cam = b.cameras[o.camera].to_camera(l.starts[o.camera]);
+      const Eigen::Vector3d X = network_seen_point(p.prior_enu, o, b.cameras[o.camera].clock[0]);
+      Eigen::Vector2d uv;
+      if (!project(cam, X, &uv)) continue;
+      const Eigen::Matrix<double, 2, 3> JX = pixel_jacobian_wrt_world(cam, X);
+      const double sp = l.pixel_sigma(i);
+      const Eigen::Matrix2d C = sp * sp * Eigen::Matrix2d::Identity() + JX * p.prior_cov * JX.transpose();
+      const Eigen::Matrix<double, 3, 2> K = p.prior_cov * JX.transpose() * C.inverse();
+      out->point_enu[k] = p.prior_enu - K * (uv - o.pixel);
+      out->point_cov[k] = p.prior_cov - K * JX * p.prior_cov;
+      if (out->joint.size() > 0) {
+        Eigen::Vector2d r;
+        CameraJacobian Jc;
+        single_view_jacobian(l, b, sel, i, &r, &Jc);
+        const MatrixXd KJ = K * sel.whitening[i].inverse() * Jc;  // ∂X/∂θ through the raw pixel Jacobian
+        const int nf = static_cast<int>(Jc.cols());
+        out->point_cov[k] +=
+            KJ * out->joint.block(l.offset[o.camera], l.offset[o.camera], nf, nf) * KJ.transpose();
+      }
+    }
+  }
+}
+
+/// Each eliminated point's Σ_kk = V⁻¹ + V⁻¹·Wᵀ·Σ_cc·W·V⁻¹ (cameras taken as exact when
+/// rank-deficient), W_kᵀ·Σ_cc·W_k for a chunk of points at once: Σ_cc times their W_k side by side.
+void eliminated_point_covariances(const NetworkLayout& l, const EliminatedPoints& points,
+                                  NetworkCovariance* out) {
+  MatrixXd H = MatrixXd::Zero(l.n_camera_parameters, 3 * kChunk);
+  int filled = 0;
+  std::vector<std::size_t> chunk;
+  MatrixXd SW;
+  auto finish_chunk = [&]() {
+    if (out->joint.size() > 0 && !chunk.empty()) SW.noalias() = out->joint * H.leftCols(3 * filled);
+    for (std::size_t j = 0; j < chunk.size(); ++j) {
+      const std::size_t k = chunk[j];
+      Eigen::Matrix3d add = Eigen::Matrix3d::Zero();
+      if (out->joint.size() > 0)
+        for (const auto& [c, W] : points.lin[k].W)
+          add.noalias() +=
+              W.transpose() * SW.block(l.offset[c], 3 * static_cast<Eigen::Index>(j), W.rows(), 3);
+      out->point_cov[k] = points.Vinv[k] + points.Vinv[k] * add * points.Vinv[k];
+    }
+    H.leftCols(3 * filled).setZero();
+    filled = 0;
+    chunk.clear();
+  };
+  for (std::size_t k = 0; k < points.Vinv.size(); ++k) {
+    if (points.Vinv[k].isZero(0)) continue;
+    for (const auto& [c, W] : points.lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3) = W;
+    chunk.push_back(k);
+    if (++filled == kChunk) finish_chunk();
+  }
+  finish_chunk();
 }
 
 }  // namespace
@@ -165,131 +303,19 @@ NetworkCovariance network_covariance(const NetworkLayout& l, const NetworkParame
                                      const NetworkSelection& sel, double scene_distance_m,
                                      double max_speed_mps, double rank_tolerance) {
   NetworkCovariance out;
-  const int n = l.n_camera_parameters;
-  out.S = MatrixXd::Zero(n, n);
-  const std::size_t np = l.by_point.size();
-  std::vector<PointLinearisation> lin(np);
-  std::vector<Eigen::Matrix3d> Vinv(np, Eigen::Matrix3d::Zero());
-  int n_points = 0;
-  constexpr int kChunk = 256;
-  MatrixXd H = MatrixXd::Zero(n, 3 * kChunk);
-  int filled = 0;
-  auto flush = [&]() {
-    if (filled == 0) return;
-    out.S.selfadjointView<Eigen::Lower>().rankUpdate(H.leftCols(3 * filled), -1.0);
-    H.leftCols(3 * filled).setZero();
-    filled = 0;
-  };
-  for (std::size_t k = 0; k < np; ++k) {
-    lin[k] = linearise_point(l, b, sel, k, &out.S, &out.chi2, &out.residuals);
-    if (lin[k].V.isZero(0)) continue;  // not in the solve
-    ++n_points;
-    Vinv[k] = lin[k].V.inverse();
-    // S −= W_k·V_k⁻¹·W_kᵀ = (W_k·L_k)(W_k·L_k)ᵀ, V_k⁻¹ = L_k·L_kᵀ: the columns W_k·L_k of a chunk
-    // of points side by side (zero where a camera did not see the point), one product per chunk.
-    const Eigen::Matrix3d L = Vinv[k].llt().matrixL();
-    for (const auto& [c, W] : lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * L;
-    if (++filled == kChunk) flush();
-  }
-  flush();
-  out.S = out.S.selfadjointView<Eigen::Lower>();
+  const EliminatedPoints points = reduce_camera_system(l, b, sel, &out);
   add_camera_priors(l, b, &out.S, &out.chi2, &out.residuals);
-  out.S = 0.5 * (out.S + out.S.transpose()).eval();
-  out.parameters = n + 3 * n_points;
+  out.S = symmetric_part(out.S);
+  out.parameters = l.n_camera_parameters + 3 * points.count;
+  invert_camera_system(l, scene_distance_m, max_speed_mps, rank_tolerance, &out);
 
-  // Rank tests (as the per-camera bundle): Jacobi-scaled, and scaled by each parameter's range.
-  VectorXd js(n), ps(n);
-  std::string undetermined;
-  for (int j = 0; j < n; ++j) {
-    js[j] = out.S(j, j) > 0 ? 1 / std::sqrt(out.S(j, j)) : 0;
-    if (!(out.S(j, j) > 0)) undetermined += (undetermined.empty() ? "" : ", ") + joint_name(l, j);
-    std::size_t c = 0;
-    while (c + 1 < l.offset.size() && l.offset[c + 1] <= j) ++c;
-    ps[j] = parameter_range(l.free[c][static_cast<std::size_t>(j - l.offset[c])], l.starts[c].intr,
-                            scene_distance_m, max_speed_mps);
-  }
-  if (!undetermined.empty()) {
-    out.rank_deficient = true;
-    out.warnings.push_back("covariance is rank-deficient: the data do not depend on " + undetermined +
-                           " at all (fix it or add observations that do)");
-  } else if (n > 0) {
-    const Eigen::SelfAdjointEigenSolver<MatrixXd> et(ps.asDiagonal() * out.S * ps.asDiagonal());
-    const Eigen::SelfAdjointEigenSolver<MatrixXd> es(js.asDiagonal() * out.S * js.asDiagonal());
-    const VectorXd lt = et.eigenvalues(), lam = es.eigenvalues();
-    const bool physical_ok = lt[0] > rank_tolerance * lt[n - 1];
-    if (!physical_ok || !(lam[0] > rank_tolerance * lam[n - 1])) {
-      out.rank_deficient = true;
-      const VectorXd nullv =
-          !physical_ok ? VectorXd(et.eigenvectors().col(0)) : VectorXd(es.eigenvectors().col(0));
-      std::string list;
-      for (int j = 0; j < n; ++j)
-        if (std::abs(nullv[j]) > 0.2) list += (list.empty() ? "" : ", ") + joint_name(l, j);
-      out.warnings.push_back("covariance is rank-deficient: " + list +
-                             " cannot be determined from these data; fix some of them or add a prior");
-    } else {
-      const MatrixXd inv =
-          es.eigenvectors() * lam.cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
-      out.joint = js.asDiagonal() * inv * js.asDiagonal();
-    }
-  }
-
-  // Each point: Σ_kk = V⁻¹ + V⁻¹·Wᵀ·Σ_cc·W·V⁻¹ (cameras taken as exact when rank-deficient).
+  const std::size_t np = l.by_point.size();
   out.point_cov.assign(np, Eigen::Matrix3d::Zero());
   out.point_enu.resize(np);
   for (std::size_t k = 0; k < np; ++k)
     out.point_enu[k] = Eigen::Map<const Eigen::Vector3d>(b.points[k].data());
-  for (std::size_t k = 0; k < np; ++k) {
-    if (sel.single_view.empty() || !sel.single_view[k]) continue;
-    for (std::size_t i : l.by_point[k]) {
-      if (!sel.observation[i]) continue;
-      const NetworkObservation& o = (*l.observations)[i];
-      const NetworkPoint& p = (*l.points)[k];
-      const Camera cam = b.cameras[o.camera].to_camera(l.starts[o.camera]);
-      const Eigen::Vector3d X = network_seen_point(p.prior_enu, o, b.cameras[o.camera].clock[0]);
-      Eigen::Vector2d uv;
-      if (!project(cam, X, &uv)) continue;
-      const Eigen::Matrix<double, 2, 3> JX = pixel_jacobian_wrt_world(cam, X);
-      const double sp = l.pixel_sigma(i);
-      const Eigen::Matrix2d C = sp * sp * Eigen::Matrix2d::Identity() + JX * p.prior_cov * JX.transpose();
-      const Eigen::Matrix<double, 3, 2> K = p.prior_cov * JX.transpose() * C.inverse();
-      out.point_enu[k] = p.prior_enu - K * (uv - o.pixel);
-      out.point_cov[k] = p.prior_cov - K * JX * p.prior_cov;
-      if (out.joint.size() > 0) {
-        Eigen::Vector2d r;
-        CameraJacobian Jc;
-        single_view_jacobian(l, b, sel, i, &r, &Jc);
-        const MatrixXd KJ = K * sel.whitening[i].inverse() * Jc;  // ∂X/∂θ through the raw pixel Jacobian
-        const int nf = static_cast<int>(Jc.cols());
-        out.point_cov[k] +=
-            KJ * out.joint.block(l.offset[o.camera], l.offset[o.camera], nf, nf) * KJ.transpose();
-      }
-    }
-  }
-  // W_kᵀ·Σ_cc·W_k for a chunk of points at once: Σ_cc times their W_k side by side.
-  std::vector<std::size_t> chunk;
-  MatrixXd SW;
-  auto finish_chunk = [&]() {
-    if (out.joint.size() > 0 && !chunk.empty()) SW.noalias() = out.joint * H.leftCols(3 * filled);
-    for (std::size_t j = 0; j < chunk.size(); ++j) {
-      const std::size_t k = chunk[j];
-      Eigen::Matrix3d add = Eigen::Matrix3d::Zero();
-      if (out.joint.size() > 0)
-        for (const auto& [c, W] : lin[k].W)
-          add.noalias() +=
-              W.transpose() * SW.block(l.offset[c], 3 * static_cast<Eigen::Index>(j), W.rows(), 3);
-      out.point_cov[k] = Vinv[k] + Vinv[k] * add * Vinv[k];
-    }
-    H.leftCols(3 * filled).setZero();
-    filled = 0;
-    chunk.clear();
-  };
-  for (std::size_t k = 0; k < np; ++k) {
-    if (Vinv[k].isZero(0)) continue;
-    for (const auto& [c, W] : lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3) = W;
-    chunk.push_back(k);
-    if (++filled == kChunk) finish_chunk();
-  }
-  finish_chunk();
+  single_view_point_covariances(l, b, sel, &out);
+  eliminated_point_covariances(l, points, &out);
   return out;
 }
 

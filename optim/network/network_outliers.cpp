@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "optim/bundle/whitening.hpp"
+#include "optim/estimation/robust_scale.hpp"
+#include "optim/estimation/symmetric_part.hpp"
 #include "optim/network/network_covariance.hpp"
 
 namespace rangecal {
@@ -45,7 +47,7 @@ std::vector<std::size_t> flag_ppk_outliers(const NetworkLayout& l, const Network
     const PointLinearisation lin = linearise_point(l, b, *sel, k, nullptr, nullptr, nullptr);
     if (lin.cameras < 2) continue;
     const Eigen::Matrix3d Sr = p.prior_cov - lin.V.inverse();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (Sr + Sr.transpose()));
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(symmetric_part(Sr));
     const Eigen::Vector3d r = Eigen::Map<const Eigen::Vector3d>(b.points[k].data()) - p.prior_enu;
     const double top = es.eigenvalues().maxCoeff();
     double d2 = 0;
@@ -75,7 +77,7 @@ ImageOutlierTest test_image_observations(const NetworkLayout& l, const NetworkPa
   t.residual_px.assign(n, Eigen::Vector2d::Zero());
   t.whitened_norm.assign(n, 0);
   t.outlier.assign(n, false);
-  t.threshold.assign(nc, outlier_threshold);
+  t.threshold.assign(nc, 0);
   std::vector<Camera> cams(nc);
   for (std::size_t c = 0; c < nc; ++c) cams[c] = b.cameras[c].to_camera(l.starts[c]);
   // A point whose prior was dropped is referred to its rays: covariance V⁻¹ of the images alone.
@@ -101,13 +103,7 @@ ImageOutlierTest test_image_observations(const NetworkLayout& l, const NetworkPa
     t.whitened_norm[i] = (whitening_matrix(cams[o.camera], bo, l.pixel_sigma(i)) * t.residual_px[i]).norm();
     if (sel.observation[i]) norms[o.camera].push_back(t.whitened_norm[i]);
   }
-  for (std::size_t c = 0; c < nc; ++c) {
-    auto& v = norms[c];
-    if (v.empty()) continue;
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    const double s = v[v.size() / 2] / std::sqrt(2 * std::log(2.0));
-    t.threshold[c] = outlier_threshold * std::max(1.0, s);
-  }
+  for (std::size_t c = 0; c < nc; ++c) t.threshold[c] = robust_outlier_threshold(outlier_threshold, norms[c]);
   for (std::size_t i = 0; i < n; ++i) t.outlier[i] = !(t.whitened_norm[i] <= t.threshold[obs[i].camera]);
   return t;
 }

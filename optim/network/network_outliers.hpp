@@ -13,8 +13,9 @@
 // Image outliers: the per-camera bundle's rule, per camera, on the bundle's own statistic —
 // ‖C_i^(−1/2)·e_i‖, e_i the pixel residual of the camera at the point's prior position (at the
 // adjusted point, with its covariance from the rays, when the prior was dropped), C_i = σ_px²·I +
-// J_X·Σ·J_Xᵀ — flagged above outlier_threshold·max(1, s), s = median / √(2 ln 2). With one camera
-// this is exactly the per-camera bundle's rule.
+// J_X·Σ·J_Xᵀ — flagged above outlier_threshold·max(1, s), s the robust scale of the camera's used
+// observations (optim/estimation/robust_scale.hpp). With one camera this is exactly the per-camera
+// bundle's rule.
 #include <Eigen/Core>
 #include <vector>
 

@@ -7,18 +7,23 @@
 #include "optim/bundle/whitening.hpp"
 
 namespace rangecal {
+namespace {
 
+/// L⁻¹ with L·Lᵀ = Σ (Σ positive definite; m⁻¹).
 Eigen::Matrix3d prior_whitening(const Eigen::Matrix3d& cov) {
   const Eigen::Matrix3d L = cov.llt().matrixL();
   return L.inverse();
 }
 
+/// Indices of the observations of each point (in observation order).
 std::vector<std::vector<std::size_t>> observations_by_point(std::size_t n_points,
                                                             const std::vector<NetworkObservation>& obs) {
   std::vector<std::vector<std::size_t>> by(n_points);
   for (std::size_t i = 0; i < obs.size(); ++i) by[obs[i].point].push_back(i);
   return by;
 }
+
+}  // namespace
 
 double NetworkLayout::pixel_sigma(std::size_t i) const {
   const NetworkObservation& o = (*observations)[i];

@@ -7,9 +7,11 @@
 
 #include "optim/bundle/bundle_parameters.hpp"
 #include "optim/network/network_adjustment.hpp"
-#include "optim/network/network_cost.hpp"
 
 namespace rangecal {
+
+/// A point's block: X_k (ENU m), eliminated first by the Schur solver.
+inline constexpr int kPointBlockSize = 3;
 
 struct NetworkParameterBlocks {
   std::vector<BundleParameterBlocks> cameras;
@@ -62,12 +64,5 @@ struct NetworkSelection {
 /// computes their observations' W at the cameras of `blocks`.
 void refresh_single_view(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
                          NetworkSelection* selection);
-
-/// L⁻¹ with L·Lᵀ = Σ (Σ positive definite; m⁻¹).
-Eigen::Matrix3d prior_whitening(const Eigen::Matrix3d& cov);
-
-/// Indices of the observations of each point (in observation order).
-std::vector<std::vector<std::size_t>> observations_by_point(std::size_t n_points,
-                                                            const std::vector<NetworkObservation>& obs);
 
 }  // namespace rangecal

@@ -10,6 +10,7 @@
 
 #include "config/error.hpp"
 #include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/estimation/reprojection_stats.hpp"
 #include "optim/methods/dlt_lmqn.hpp"
 #include "optim/methods/tsai_sassa.hpp"
 #include "optim/network/network_adjustment.hpp"
@@ -222,27 +223,11 @@ std::vector<Eigen::Vector2d> reprojection_residuals(const Camera& cam,
 
 ReprojectionStats reprojection_stats(const std::vector<Eigen::Vector2d>& residuals,
                                      const std::vector<std::size_t>& rejected) {
-  std::vector<bool> skip(residuals.size(), false);
+  std::vector<char> used(residuals.size(), 1);
   for (std::size_t i : rejected)
-    if (i < skip.size()) skip[i] = true;
-  ReprojectionStats s;
-  double sum = 0, sum2 = 0, mx = 0;
-  int n = 0;
-  for (std::size_t i = 0; i < residuals.size(); ++i) {
-    if (skip[i]) continue;
-    const double d = residuals[i].norm();
-    sum += d;
-    sum2 += d * d;
-    mx = std::max(mx, d);
-    ++n;
-  }
-  s.n_used = n;
+    if (i < used.size()) used[i] = 0;
+  ReprojectionStats s = reprojection_stats(residuals, used);
   s.n_rejected = static_cast<int>(rejected.size());
-  if (n > 0) {
-    s.rms_px = std::sqrt(sum2 / n);
-    s.mean_px = sum / n;
-    s.max_px = mx;
-  }
   return s;
 }
 

@@ -33,7 +33,8 @@ CalibrationResult calibrate_camera(const std::string& method, const CalibrationP
 std::vector<Eigen::Vector2d> reprojection_residuals(const Camera& cam,
                                                     const std::vector<BundleObservation>& obs,
                                                     double clock_offset_s = 0);
-/// rms/mean/max of |residual| over the observations not in `rejected`.
+/// rms/mean/max of |residual| over the observations not in `rejected`
+/// (optim/estimation/reprojection_stats.hpp), n_rejected the size of `rejected`.
 ReprojectionStats reprojection_stats(const std::vector<Eigen::Vector2d>& residuals,
                                      const std::vector<std::size_t>& rejected);
 

@@ -84,6 +84,35 @@ inline void undistort_sensor(const T* d, const T& xd, const T& yd, T* xu, T* yu)
   *yu = yd + ddy;
 }
 
+/// J_F = ∂(xd + Δ(xd))/∂xd, the Jacobian of the distorted → undistorted map at the distorted
+/// sensor point (x, y) (seed 000 eq. 7 differentiated), row-major in j = {j11, j12, j21, j22}.
+template <typename T>
+inline void distortion_jacobian(const T* d, const T& x, const T& y, T* j) {
+  const T r2 = x * x + y * y;
+  const T radial = d[0] * r2 + d[1] * r2 * r2 + d[2] * r2 * r2 * r2;
+  const T dradial_dr2 = d[0] + T(2) * d[1] * r2 + T(3) * d[2] * r2 * r2;
+  j[0] = T(1) + radial + T(2) * x * x * dradial_dr2 + T(6) * d[3] * x + T(2) * d[4] * y;
+  j[1] = T(2) * x * y * dradial_dr2 + T(2) * d[3] * y + T(2) * d[4] * x;
+  j[2] = T(2) * x * y * dradial_dr2 + T(2) * d[4] * x + T(2) * d[3] * y + d[5];
+  j[3] = T(1) + radial + T(2) * y * y * dradial_dr2 + T(6) * d[4] * y + T(2) * d[3] * x + d[6];
+}
+
+/// The Newton step J_F⁻¹·F of F(xd) = xd + Δ(xd) − xu at (x, y), F in the scalar type T with the
+/// coefficients `d`, and J_F in the scalar type S at (xj, yj) with the coefficients `dj` (the same
+/// point and coefficients, or their values alone; see distort_sensor).
+template <typename T, typename S>
+inline void distortion_newton_step(const T* d, const S* dj, const T& x, const T& y, const S& xj, const S& yj,
+                                   const T& xu, const T& yu, T* sx, T* sy) {
+  T ddx, ddy;
+  distortion_delta(d, x, y, &ddx, &ddy);
+  const T fx = x + ddx - xu, fy = y + ddy - yu;
+  S j[4];
+  distortion_jacobian(dj, xj, yj, j);
+  const S det = j[0] * j[3] - j[1] * j[2];
+  *sx = (j[3] * fx - j[1] * fy) / det;
+  *sy = (j[0] * fy - j[2] * fx) / det;
+}
+
 /// Undistorted → distorted sensor mm by Newton's method on F(xd) = xd + Δ(xd) − xu, in the
 /// scalar type T throughout (see distort_sensor).
 template <typename T>
@@ -91,20 +120,8 @@ inline bool distort_sensor_newton(const T* d, const T& xu, const T& yu, T* xd, T
   using std::abs;
   T x = xu, y = yu;
   for (int it = 0; it < 30; ++it) {
-    T ddx, ddy;
-    distortion_delta(d, x, y, &ddx, &ddy);
-    const T fx = x + ddx - xu, fy = y + ddy - yu;
-    // Jacobian of x + Δ(x) (analytic, seed 000 eq. 7 differentiated).
-    const T r2 = x * x + y * y;
-    const T radial = d[0] * r2 + d[1] * r2 * r2 + d[2] * r2 * r2 * r2;
-    const T dradial_dr2 = d[0] + T(2) * d[1] * r2 + T(3) * d[2] * r2 * r2;
-    const T j11 = T(1) + radial + T(2) * x * x * dradial_dr2 + T(6) * d[3] * x + T(2) * d[4] * y;
-    const T j12 = T(2) * x * y * dradial_dr2 + T(2) * d[3] * y + T(2) * d[4] * x;
-    const T j21 = T(2) * x * y * dradial_dr2 + T(2) * d[4] * x + T(2) * d[3] * y + d[5];
-    const T j22 = T(1) + radial + T(2) * y * y * dradial_dr2 + T(6) * d[4] * y + T(2) * d[3] * x + d[6];
-    const T det = j11 * j22 - j12 * j21;
-    const T sx = (j22 * fx - j12 * fy) / det;
-    const T sy = (j11 * fy - j21 * fx) / det;
+    T sx, sy;
+    distortion_newton_step(d, d, x, y, x, y, xu, yu, &sx, &sy);
     x -= sx;
     y -= sy;
     if (abs(sx) + abs(sy) < T(1e-13)) {
@@ -144,20 +161,11 @@ inline bool distort_sensor(const T* d, const T& xu, const T& yu, T* xd, T* yd) {
     double x0 = 0, y0 = 0;
     const bool ok = distort_sensor_newton(dv, scalar_value(xu), scalar_value(yu), &x0, &y0);
     const T x(x0), y(y0);
-    T ddx, ddy;
-    distortion_delta(d, x, y, &ddx, &ddy);
-    const T fx = x + ddx - xu, fy = y + ddy - yu;
-    // Jacobian of x + Δ(x) at the converged point, values only (its derivative multiplies F = 0).
-    const double r2 = x0 * x0 + y0 * y0;
-    const double radial = dv[0] * r2 + dv[1] * r2 * r2 + dv[2] * r2 * r2 * r2;
-    const double dradial_dr2 = dv[0] + 2 * dv[1] * r2 + 3 * dv[2] * r2 * r2;
-    const double j11 = 1 + radial + 2 * x0 * x0 * dradial_dr2 + 6 * dv[3] * x0 + 2 * dv[4] * y0;
-    const double j12 = 2 * x0 * y0 * dradial_dr2 + 2 * dv[3] * y0 + 2 * dv[4] * x0;
-    const double j21 = 2 * x0 * y0 * dradial_dr2 + 2 * dv[4] * x0 + 2 * dv[3] * y0 + dv[5];
-    const double j22 = 1 + radial + 2 * y0 * y0 * dradial_dr2 + 6 * dv[4] * y0 + 2 * dv[3] * x0 + dv[6];
-    const double det = j11 * j22 - j12 * j21;
-    *xd = x - (j22 * fx - j12 * fy) / det;
-    *yd = y - (j11 * fy - j21 * fx) / det;
+    // J_F at the converged point, values only (its derivative multiplies F = 0).
+    T sx, sy;
+    distortion_newton_step(d, dv, x, y, x0, y0, xu, yu, &sx, &sy);
+    *xd = x - sx;
+    *yd = y - sy;
     return ok;
   }
 }

@@ -481,9 +481,9 @@ TEST(NetworkAdjustment, DatumFloorIsTheNetworkWithImagesAHundredTimesSharper) {
 
   EXPECT_EQ(network_adjust(network_cameras(n), n.points, n.observations).datum_floor_covariance.size(), 0);
   // Scaled by the variance factor exactly as the network's own covariance is.
-  std::vector<NetworkCamera> scaled = network_cameras(n);
-  for (NetworkCamera& c : scaled) c.options.scale_covariance = true;
-  const NetworkResult rs = network_adjust(scaled, n.points, n.observations, o);
+  NetworkOptions scaled = o;
+  scaled.scale_covariance = true;
+  const NetworkResult rs = network_adjust(network_cameras(n), n.points, n.observations, scaled);
   ASSERT_EQ(rs.datum_floor_covariance.rows(), r.datum_floor_covariance.rows());
   EXPECT_NE(rs.statistics.variance_factor, 1.0);
   for (Eigen::Index i = 0; i < floor.size(); ++i)

@@ -1,6 +1,7 @@
 // The written-out projection derivatives (optim/bundle/projection_jacobian) against Ceres' automatic
-// differentiation of the network's cost functor, which is the projection written like the
-// equations (optim/network/network_cost.hpp), and the pixel against vision's project(): every
+// differentiation of the cost functor with the network's point block, which is the projection
+// written like the equations (optim/bundle/reprojection_cost.hpp), and the pixel against vision's
+// project(): every
 // column of ∂(u, v)/∂(camera, world point), for rotations about R0 from zero to 0.4 rad, all seven
 // distortion terms, sx ≠ 1, a clock offset and a moving lamp.
 #include <gtest/gtest.h>
@@ -13,7 +14,6 @@
 #include "optim/bundle/bundle_parameters.hpp"
 #include "optim/bundle/projection_jacobian.hpp"
 #include "optim/bundle/reprojection_cost_function.hpp"
-#include "optim/network/network_cost.hpp"
 #include "support/synthetic_camera.hpp"
 
 namespace rangecal {
@@ -21,7 +21,7 @@ namespace {
 
 using Eigen::Vector2d;
 using Eigen::Vector3d;
-using AutoDiffCost = ceres::AutoDiffCostFunction<NetworkReprojectionResidual, 2, kIntrinsicsBlockSize,
+using AutoDiffCost = ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsicsBlockSize,
                                                  kDistortionBlockSize, kPoseBlockSize, kClockBlockSize, 3>;
 
 struct Case {
@@ -50,8 +50,8 @@ TEST_P(ProjectionJacobianTest, EqualsAutomaticDifferentiationOfTheCostFunctor) {
     const Vector3d X(0.5 + 4 * U(rng), 64 + 4 * U(rng), 7.5 + 3 * U(rng));
     const Vector3d offset(0.1 * U(rng), 0.1 * U(rng), 0.1 * U(rng));
     const Vector3d vel(3 * U(rng), 3 * U(rng), 5 * U(rng));
-    AutoDiffCost ad(new NetworkReprojectionResidual{offset, vel, Vector2d::Zero(), 1.0, b.R0, cam.intr.dx_mm,
-                                                    cam.intr.dy_mm});
+    AutoDiffCost ad(new ReprojectionResidual{offset, vel, Vector2d::Zero(), Eigen::Matrix2d::Identity(), b.R0,
+                                             cam.intr.dx_mm, cam.intr.dy_mm});
     Eigen::Matrix<double, 2, kIntrinsicsBlockSize, Eigen::RowMajor> j0;
     Eigen::Matrix<double, 2, kDistortionBlockSize, Eigen::RowMajor> j1;
     Eigen::Matrix<double, 2, kPoseBlockSize, Eigen::RowMajor> j2;
