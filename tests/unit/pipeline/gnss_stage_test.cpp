@@ -373,8 +373,9 @@ std::string dataflash_over_the_real_flight() {
   return w.bytes();
 }
 
-TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
-  const auto dir = test::scratch_dir("gnss_stage_autopilot");
+// The real PPK flight with the built DataFlash log of dataflash_over_the_real_flight in `dir` as its
+// attitude, and a body-frame lever arm.
+MissionConfig autopilot_mission(const std::filesystem::path& dir) {
   test::write_text(dir / "flight.bin", dataflash_over_the_real_flight());
   MissionConfig cfg;
   cfg.config_path = (dir / "mission.json").string();
@@ -388,6 +389,12 @@ TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
   cfg.lever_arm.body_frd_m = Eigen::Vector3d(0.1, 0, 0.25);
   cfg.attitude_file = (dir / "flight.bin").string();
   cfg.output_dir = (dir / "out").string();
+  return cfg;
+}
+
+TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
+  const auto dir = test::scratch_dir("gnss_stage_autopilot");
+  MissionConfig cfg = autopilot_mission(dir);
   cfg.attitude_gnss_lag_ms = 0;  // the built log's GPS stamps are the fixes' own instants
   const StageLog log = run_gnss_stage(cfg);
   const nlohmann::json& a = log.counts.at("attitude");
@@ -440,19 +447,7 @@ TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
 // every GPS stamp moves back by it, so the whole attitude lands 120 ms later on UTC than with no lag.
 TEST(GnssStage, AutopilotLogTakesItsTypesDefaultReceiverLag) {
   const auto dir = test::scratch_dir("gnss_stage_autopilot_lag");
-  test::write_text(dir / "flight.bin", dataflash_over_the_real_flight());
-  MissionConfig cfg;
-  cfg.config_path = (dir / "mission.json").string();
-  cfg.config_dir = dir.string();
-  cfg.origin = kOrigin;
-  cfg.gnss.pos_files = {pos_path("rover20181009_kin_llh_gpst.pos")};
-  cfg.gnss.accept_quality = {1, 2};
-  cfg.gnss.max_sd_m = 1e9;
-  cfg.gnss.max_gap_s = 1.5;
-  cfg.lever_arm.kind = LeverArmConfig::Kind::body_frd;
-  cfg.lever_arm.body_frd_m = Eigen::Vector3d(0.1, 0, 0.25);
-  cfg.attitude_file = (dir / "flight.bin").string();
-  cfg.output_dir = (dir / "out").string();
+  MissionConfig cfg = autopilot_mission(dir);
   const nlohmann::json a = run_gnss_stage(cfg).counts.at("attitude");
   EXPECT_EQ(a.at("gnss_lag_ms"), 120.0);
   EXPECT_EQ(a.at("gnss_lag_source"), "default for ardupilot_dataflash");
