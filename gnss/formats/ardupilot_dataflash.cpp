@@ -376,9 +376,10 @@ AttitudeSeries dataflash_attitude(std::string_view bytes, const std::string& pat
   return s;
 }
 
-AttitudeSeries read_dataflash_attitude(const std::string& path, AutopilotAttitudeReport* report) {
+AttitudeSeries read_dataflash_attitude(const std::string& path, AutopilotAttitudeReport* report,
+                                       std::optional<double> gnss_lag_ms) {
   const std::string bytes = read_file_text(path);
-  return dataflash_attitude(bytes, path, report);
+  return dataflash_attitude(bytes, path, report, gnss_lag_ms);
 }
 
 }  // namespace rangecal

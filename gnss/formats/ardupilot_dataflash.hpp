@@ -95,6 +95,7 @@ AttitudeSeries dataflash_attitude(std::string_view bytes, const std::string& pat
                                   AutopilotAttitudeReport* report = nullptr,
                                   std::optional<double> gnss_lag_ms = std::nullopt);
 /// Reads the file, then dataflash_attitude.
-AttitudeSeries read_dataflash_attitude(const std::string& path, AutopilotAttitudeReport* report = nullptr);
+AttitudeSeries read_dataflash_attitude(const std::string& path, AutopilotAttitudeReport* report = nullptr,
+                                       std::optional<double> gnss_lag_ms = std::nullopt);
 
 }  // namespace rangecal

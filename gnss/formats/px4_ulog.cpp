@@ -769,8 +769,9 @@ AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report
   return s;
 }
 
-AttitudeSeries read_ulog_attitude(const std::string& path, AutopilotAttitudeReport* report) {
-  return ulog_attitude(read_ulog(path), report);
+AttitudeSeries read_ulog_attitude(const std::string& path, AutopilotAttitudeReport* report,
+                                  std::optional<double> gnss_lag_ms) {
+  return ulog_attitude(read_ulog(path), report, gnss_lag_ms);
 }
 
 }  // namespace rangecal

@@ -180,6 +180,7 @@ double ulog_number(const UlogLog& log, const UlogDataMessage& m, const UlogField
 AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report = nullptr,
                              std::optional<double> gnss_lag_ms = std::nullopt);
 /// read_ulog then ulog_attitude.
-AttitudeSeries read_ulog_attitude(const std::string& path, AutopilotAttitudeReport* report = nullptr);
+AttitudeSeries read_ulog_attitude(const std::string& path, AutopilotAttitudeReport* report = nullptr,
+                                  std::optional<double> gnss_lag_ms = std::nullopt);
 
 }  // namespace rangecal

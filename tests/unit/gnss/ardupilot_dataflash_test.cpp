@@ -15,6 +15,10 @@
 namespace rangecal {
 namespace {
 
+// These logs stamp each GNSS message at its fix's own instant: no receiver lag (its default is
+// tested with the gnss stage, tests/unit/pipeline/gnss_stage_test.cpp).
+constexpr double kNoLag = 0;
+
 using test::DataflashWriter;
 
 // GPS week 2414 starts on Sunday 2026-04-12 00:00 GPST (1980-01-06 + 2414·7 days), which is
@@ -46,7 +50,7 @@ DataflashWriter flight() {
 
 TEST(DataflashAttitude, KnownAttitudeAndWeekMsGiveExactUtcAndWrappedYaw) {
   AutopilotAttitudeReport r;
-  const AttitudeSeries s = dataflash_attitude(flight().bytes(), "flight.bin", &r);
+  const AttitudeSeries s = dataflash_attitude(flight().bytes(), "flight.bin", &r, kNoLag);
   EXPECT_EQ(r.format, "ardupilot_dataflash");
   EXPECT_EQ(r.attitude_messages, 500u);
   EXPECT_EQ(r.attitude_samples, 500u);
@@ -90,7 +94,7 @@ TEST(DataflashAttitude, OlderIntegerCentidegreeFormatAndGpsInstancesAndSkips) {
   for (int i = 0; i < 50; ++i)
     w.message(35, {10'000'000.0 + 100'000.0 * i, 0, -12.34, 0, 5.67, 0, 359.99, 0, 0});
   AutopilotAttitudeReport r;
-  const AttitudeSeries s = dataflash_attitude(w.bytes(), "old.bin", &r);
+  const AttitudeSeries s = dataflash_attitude(w.bytes(), "old.bin", &r, kNoLag);
   EXPECT_EQ(r.gps_messages, 30u);
   EXPECT_EQ(r.gps_skipped, 5u);
   EXPECT_EQ(r.fit.rejected, 1u);
@@ -108,7 +112,7 @@ TEST(DataflashAttitude, OlderIntegerCentidegreeFormatAndGpsInstancesAndSkips) {
     two.gps(t, 6, kWeek, ms_of_week(t) + 1000, 1);
   }
   AutopilotAttitudeReport r2;
-  dataflash_attitude(two.bytes(), "two.bin", &r2);
+  dataflash_attitude(two.bytes(), "two.bin", &r2, kNoLag);
   EXPECT_EQ(r2.gps_messages, 100u);
   EXPECT_EQ(r2.fit.rejected, 0u);
   EXPECT_EQ(r2.fit.to_utc(0), utc_of_boot(0));
@@ -136,7 +140,7 @@ TEST(DataflashAttitude, LongLogFitsTheBootClockDrift) {
   }
   for (int i = 0; i < 1000; ++i) w.att(5'000'000 + 600'000ULL * static_cast<std::uint64_t>(i), 0, 0, 90);
   AutopilotAttitudeReport r;
-  const AttitudeSeries s = dataflash_attitude(w.bytes(), "long.bin", &r);
+  const AttitudeSeries s = dataflash_attitude(w.bytes(), "long.bin", &r, kNoLag);
   EXPECT_TRUE(r.fit.drift_fitted);
   // 1σ of the fitted slope: 1.15 ms / (√3000 · 173 s) = 0.12 ppm.
   EXPECT_NEAR(r.fit.drift_ppm, -25, 0.4);
@@ -156,7 +160,7 @@ TEST(DataflashAttitude, TruncatedFilesKeepTheWholeMessages) {
   const std::size_t att_len = 3 + 8 + 8 * 4 + 1;  // QffffffffB
   for (std::size_t cut = 1; cut < att_len; ++cut) {
     AutopilotAttitudeReport r;
-    const AttitudeSeries s = dataflash_attitude(full.substr(0, full.size() - cut), "cut.bin", &r);
+    const AttitudeSeries s = dataflash_attitude(full.substr(0, full.size() - cut), "cut.bin", &r, kNoLag);
     EXPECT_EQ(r.truncated_bytes, att_len - cut);
     EXPECT_EQ(s.samples.size(), 499u);
   }

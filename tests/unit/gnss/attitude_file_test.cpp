@@ -11,6 +11,10 @@
 namespace rangecal {
 namespace {
 
+// These logs stamp each GNSS message at its fix's own instant: no receiver lag (its default is
+// tested with the gnss stage, tests/unit/pipeline/gnss_stage_test.cpp).
+constexpr double kNoLag = 0;
+
 std::string dataflash_bytes() {
   test::DataflashWriter w;
   w.define_att_and_gps();
@@ -48,7 +52,7 @@ TEST(AttitudeFile, EachReaderWhateverTheName) {
   EXPECT_EQ(r.samples, 2u);
   EXPECT_EQ(format_iso8601_utc(r.utc_start, 0), "2018-10-09T12:00:00Z");
 
-  s = read_attitude_file((dir / "attitude.csv").string(), &r);
+  s = read_attitude_file((dir / "attitude.csv").string(), &r, kNoLag);
   EXPECT_EQ(r.kind, AttitudeFileKind::ardupilot_dataflash);
   ASSERT_TRUE(r.log);
   EXPECT_EQ(r.log->format, "ardupilot_dataflash");
@@ -57,7 +61,7 @@ TEST(AttitudeFile, EachReaderWhateverTheName) {
   // GPS week 2022, 217,818 s into it, is 2018-10-09T12:30:18 GPST = 12:30:00 UTC; boot 1 s later.
   EXPECT_EQ(format_iso8601_utc(r.utc_start, 3), "2018-10-09T12:30:01.000Z");
 
-  s = read_attitude_file((dir / "log.bin").string(), &r);
+  s = read_attitude_file((dir / "log.bin").string(), &r, kNoLag);
   EXPECT_EQ(r.kind, AttitudeFileKind::px4_ulog);
   ASSERT_TRUE(r.log);
   EXPECT_EQ(r.log->attitude_samples, 1298u);

@@ -17,6 +17,10 @@
 namespace rangecal {
 namespace {
 
+// These logs stamp each GNSS message at its fix's own instant: no receiver lag (its default is
+// tested with the gnss stage, tests/unit/pipeline/gnss_stage_test.cpp).
+constexpr double kNoLag = 0;
+
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 std::string sample(const std::string& name) {
@@ -199,7 +203,7 @@ TEST(Px4UlogReal, SampleLogSmallSummary) {
 
 TEST(Px4UlogReal, SampleLogSmallAttitudeOnUtc) {
   AutopilotAttitudeReport r;
-  const AttitudeSeries s = read_ulog_attitude(sample("sample_log_small.ulg"), &r);
+  const AttitudeSeries s = read_ulog_attitude(sample("sample_log_small.ulg"), &r, kNoLag);
   EXPECT_EQ(r.format, "px4_ulog");
   EXPECT_EQ(r.attitude_messages, 1298u);
   EXPECT_EQ(r.attitude_samples, 1298u);
@@ -226,7 +230,7 @@ TEST(Px4UlogReal, SampleLogSmallAttitudeOnUtc) {
 TEST(Px4UlogReal, EventsLogUsesTimestampSampleAndSkipsNoFix) {
   const std::string path = sample("sample_px4_events.ulg");
   AutopilotAttitudeReport r;
-  const AttitudeSeries s = read_ulog_attitude(path, &r);
+  const AttitudeSeries s = read_ulog_attitude(path, &r, kNoLag);
   const Truth t = independent(path);
   EXPECT_EQ(r.attitude_messages, 622u);
   EXPECT_EQ(r.attitude_samples, 622u);
@@ -259,7 +263,7 @@ TEST(Px4UlogReal, TruncatedRealLogStopsAtTheLastWholeMessage) {
     EXPECT_EQ(log.summary.truncated_bytes, b.size() - last_end) << cut;
     EXPECT_GT(log.summary.truncated_bytes, 0u);
     AutopilotAttitudeReport r;
-    const AttitudeSeries s = ulog_attitude(log, &r);
+    const AttitudeSeries s = ulog_attitude(log, &r, kNoLag);
     EXPECT_EQ(s.samples.size(), w.data.at("vehicle_attitude").size());
     EXPECT_EQ(r.truncated_bytes, log.summary.truncated_bytes);
   }
@@ -372,7 +376,7 @@ TEST(Px4UlogSynthetic, AttitudeGpsSkipsRejectsAndYawWrap) {
   u.data(3, zero_q);                                  // not a quaternion
   u.data(3, attitude_payload(5'000'000, {0, 0, 0}));  // time going back
   AutopilotAttitudeReport r;
-  const AttitudeSeries s = ulog_attitude(parse_ulog(u.b, "synthetic.ulg"), &r);
+  const AttitudeSeries s = ulog_attitude(parse_ulog(u.b, "synthetic.ulg"), &r, kNoLag);
   EXPECT_EQ(r.gps_message, "sensor_gps");
   EXPECT_EQ(r.gps_messages, 50u);
   EXPECT_EQ(r.gps_skipped, 2u);

@@ -45,34 +45,6 @@ Scene scene() {
   return s;
 }
 
-TEST(BundleCovariance, WhitenedResidualsAreTheWhitenedReprojectionErrors) {
-  const Scene s = scene();
-  ASSERT_TRUE(s.setup.principal_point_prior);
-  const double clock = 0.004;
-  const BundleParameterBlocks b = BundleParameterBlocks::from_camera(s.cam, clock);
-  std::vector<char> used(s.obs.size(), 1);
-  used[5] = 0;
-  const WhitenedSystem sys = whitened_system(b, s.cam, s.obs, used, s.W, s.setup, s.opt);
-  ASSERT_EQ(sys.r.size(), 2 * 11 + 2);
-  ASSERT_EQ(sys.J.cols(), 10);  // f, u0, v0, k1, wx wy wz, CE CN CU
-  int row = 0;
-  for (std::size_t i = 0; i < s.obs.size(); ++i) {
-    if (!used[i]) continue;
-    Vector2d uv;
-    ASSERT_TRUE(project(s.cam, s.obs[i].world - s.obs[i].velocity * clock, &uv));
-    const Vector2d expected = s.W[i] * (uv - s.obs[i].pixel);
-    EXPECT_NEAR(sys.r[row], expected.x(), 1e-6);
-    EXPECT_NEAR(sys.r[row + 1], expected.y(), 1e-6);
-    row += 2;
-  }
-  // The principal-point prior: (u0 − 640)/5, (v0 − 400)/5 with ∂/∂u0 = 1/5.
-  EXPECT_NEAR(sys.r[row], (s.cam.intr.u0_px - 640) / 5, 1e-12);
-  EXPECT_NEAR(sys.r[row + 1], (s.cam.intr.v0_px - 400) / 5, 1e-12);
-  EXPECT_EQ(sys.J(row, 1), 0.2);
-  EXPECT_EQ(sys.J(row + 1, 2), 0.2);
-  EXPECT_EQ(sys.J(row, 0), 0.0);
-}
-
 TEST(BundleCovariance, JacobianMatchesFiniteDifferences) {
   const Scene s = scene();
   const BundleParameterBlocks b = BundleParameterBlocks::from_camera(s.cam);
@@ -95,21 +67,6 @@ TEST(BundleCovariance, JacobianMatchesFiniteDifferences) {
                               (2 * c.h);
     EXPECT_LT((sys.J.col(c.k) - d).norm(), 1e-5 * d.norm()) << "column " << c.k;
   }
-}
-
-TEST(BundleCovariance, CovarianceIsTheInverseNormalMatrix) {
-  const Scene s = scene();
-  const BundleParameterBlocks b = BundleParameterBlocks::from_camera(s.cam);
-  const WhitenedSystem sys =
-      whitened_system(b, s.cam, s.obs, std::vector<char>(s.obs.size(), 1), s.W, s.setup, s.opt);
-  const std::vector<CameraParameter> free = s.setup.free_parameters();
-  const RankTestedInverse cov = estimate_covariance(sys.J, free, s.cam, 64, 3, 1e-14);
-  ASSERT_FALSE(cov.rank_deficient);
-  const MatrixXd expected = (sys.J.transpose() * sys.J).fullPivLu().inverse();
-  for (int a = 0; a < expected.rows(); ++a)
-    for (int c = 0; c < expected.cols(); ++c)
-      EXPECT_NEAR(cov.covariance(a, c), expected(a, c), 1e-8 * std::sqrt(expected(a, a) * expected(c, c)))
-          << parameter_name(free[a]) << ", " << parameter_name(free[c]);
 }
 
 TEST(BundleCovariance, TwoParametersMovingTheImageAlikeAreNamed) {

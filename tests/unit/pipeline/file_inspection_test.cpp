@@ -166,8 +166,10 @@ TEST(InspectUlog, RealLogsGiveTheirTopicsAndAttitudeOnUtc) {
 TEST(InspectDataflash, BuiltLogGivesMessagesPerTypeAndUtcFromGpsWeek) {
   // GPS week 2414 starts 2026-04-11 23:59:42 UTC (GPS − UTC = 18 s); boot 0 at 12,000,000 ms of week.
   const UtcTime week_start = utc_from_civil(2026, 4, 11, 23, 59, 42, 0);
+  // inspect puts the log on UTC with ArduPilot's default receiver lag, 120 ms (docs/gnss.md "Receiver
+  // lag"): each GPS stamp names the fix 120 ms before it.
   const auto utc_of_boot = [&](std::int64_t us) {
-    return UtcTime{week_start.ns + 12'000'000'000'000LL + us * 1000};
+    return UtcTime{week_start.ns + 12'000'000'000'000LL + us * 1000 + 120'000'000};
   };
   test::DataflashWriter w;
   w.define_att_and_gps();
