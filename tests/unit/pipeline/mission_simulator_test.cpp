@@ -17,6 +17,7 @@
 
 #include "pipeline/config/mission_config.hpp"
 #include "support/paths.hpp"
+#include "support/pos_rows.hpp"
 #include "support/tiny_scenario.hpp"
 
 namespace rangecal {
@@ -47,22 +48,6 @@ json read_json(const fs::path& p) {
 
 Eigen::Vector3d vec(const json& a) {
   return {a[0].get<double>(), a[1].get<double>(), a[2].get<double>()};
-}
-
-// Data lines of a .pos file, split on whitespace (independent of the writer's code).
-std::vector<std::vector<std::string>> pos_rows(const fs::path& p) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(test::read_text(p));
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '%') continue;
-    std::istringstream ls(line);
-    std::vector<std::string> f;
-    std::string w;
-    while (ls >> w) f.push_back(w);
-    rows.push_back(f);
-  }
-  return rows;
 }
 
 // Converts geodetic rows to ENU about the site origin with GeographicLib's CartConvert tool.
@@ -108,7 +93,7 @@ std::string calendar_plus(const std::string& iso, int add_s) {
 TEST(MissionSimulator, PosReproducesTruthThroughCartConvert) {
   const fs::path dir = simulate_to(tiny(), "sim_pos_cartconvert");
   const json truth = read_json(dir / "truth.json");
-  const auto rows = pos_rows(dir / "gnss" / "rover.pos");
+  const auto rows = test::pos_rows(dir / "gnss" / "rover.pos");
   ASSERT_EQ(rows.size(), truth["epochs"].size());
   ASSERT_GT(rows.size(), 30u);
   std::vector<Eigen::Vector3d> llh;
@@ -131,7 +116,7 @@ TEST(MissionSimulator, NoiseFreePosIsTheTrueAntennaTrack) {
   j["gnss"]["noise_sd_m"] = {0, 0, 0};
   const fs::path dir = simulate_to(j, "sim_pos_noise_free");
   const json truth = read_json(dir / "truth.json");
-  const auto rows = pos_rows(dir / "gnss" / "rover.pos");
+  const auto rows = test::pos_rows(dir / "gnss" / "rover.pos");
   std::vector<Eigen::Vector3d> llh;
   for (const auto& r : rows) llh.emplace_back(std::stod(r[2]), std::stod(r[3]), std::stod(r[4]));
   const auto enu = cartconvert(llh, dir);
@@ -148,7 +133,7 @@ TEST(MissionSimulator, NoiseFreePosIsTheTrueAntennaTrack) {
 TEST(MissionSimulator, PosTimesAreGpstUtcPlus18) {
   const fs::path dir = simulate_to(tiny(), "sim_pos_gpst");
   const json truth = read_json(dir / "truth.json");
-  const auto rows = pos_rows(dir / "gnss" / "rover.pos");
+  const auto rows = test::pos_rows(dir / "gnss" / "rover.pos");
   ASSERT_EQ(rows.size(), truth["epochs"].size());
   for (std::size_t i = 0; i < rows.size(); ++i)
     EXPECT_EQ(rows[i][0] + " " + rows[i][1], calendar_plus(truth["epochs"][i]["utc"].get<std::string>(), 18));
@@ -293,7 +278,7 @@ TEST(MissionSimulator, GapsAndFloatEpochs) {
   j["gnss"]["float_intervals"] = {{2.0, 2.25}};
   j["gnss"]["float_noise_factor"] = 10;
   const fs::path dir = simulate_to(j, "sim_gaps");
-  const auto rows = pos_rows(dir / "gnss" / "rover.pos");
+  const auto rows = test::pos_rows(dir / "gnss" / "rover.pos");
   int floats = 0;
   for (const auto& r : rows) {
     const double sec = std::stod(r[1].substr(6));  // seconds within the minute (GPST 02:30:18 + t)

@@ -18,6 +18,7 @@
 #include "config/error.hpp"
 #include "pipeline/simulate/mission_simulator.hpp"
 #include "support/paths.hpp"
+#include "support/pos_rows.hpp"
 #include "support/tiny_scenario.hpp"
 
 namespace rangecal {
@@ -186,21 +187,6 @@ Scenario scenario_of(const json& j) {
   return parse_scenario(j.dump(), "tiny.json");
 }
 
-std::vector<std::vector<std::string>> pos_rows(const fs::path& p) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(test::read_text(p));
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '%') continue;
-    std::istringstream ls(line);
-    std::vector<std::string> f;
-    std::string w;
-    while (ls >> w) f.push_back(w);
-    rows.push_back(f);
-  }
-  return rows;
-}
-
 TEST(PpkErrorSimulation, PosSdColumnsAreTheTotalSigma) {
   json j = test::tiny_scenario();
   j["gnss"]["noise_sd_m"] = {0.003, 0.003, 0.005};
@@ -211,7 +197,7 @@ TEST(PpkErrorSimulation, PosSdColumnsAreTheTotalSigma) {
   const fs::path dir = test::scratch_dir("ppk_error_sd");
   write_mission(simulate_mission(scenario_of(j)), dir.string());
   int floats = 0;
-  for (const auto& r : pos_rows(dir / "gnss" / "rover.pos")) {
+  for (const auto& r : test::pos_rows(dir / "gnss" / "rover.pos")) {
     const bool is_float = r[5] == "2";
     // fix: √(0.3² + 0.4²) = 0.5 cm, √(0.5² + 1.2²) = 1.3 cm; float: the white part × 10 only:
     // √(3² + 0.4²) = 3.0265 cm, √(5² + 1.2²) = 5.142 cm.
