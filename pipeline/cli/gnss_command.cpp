@@ -6,9 +6,9 @@
 
 #include "config/number_format.hpp"
 #include "pipeline/cli/commands.hpp"
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "pipeline/stages/mission_runner.hpp"
 
 namespace rangecal {

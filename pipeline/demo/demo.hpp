@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/demo/demo_tables.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "pipeline/simulate/mission_simulator.hpp"
 
 namespace rangecal {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "config/error.hpp"
-#include "pipeline/config/mission_config.hpp"
+#include "pipeline/mission/mission_config.hpp"
 
 namespace rangecal {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/config/mission_config.hpp"
+#include "pipeline/mission/mission_config.hpp"
 
 namespace rangecal {
 

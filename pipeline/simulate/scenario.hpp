@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "gnss/time/utc_time.hpp"
-#include "pipeline/config/mission_config.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "pipeline/simulate/ppk_error.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"

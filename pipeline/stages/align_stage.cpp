@@ -2,9 +2,9 @@
 
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
-#include "pipeline/config/stage_options.hpp"
 #include "pipeline/io/aligned_csv.hpp"
 #include "pipeline/io/output_paths.hpp"
+#include "pipeline/mission/stage_options.hpp"
 #include "pipeline/stages/stage_inputs.hpp"
 #include "pipeline/steps/align_frames.hpp"
 

@@ -3,8 +3,8 @@
 // use and the lamp at each one's exact UTC (pipeline/steps/align_frames.hpp) → <cam>/aligned.csv.
 // A camera that aligns no frame is reported with a warning and the others go on; the stage fails
 // (input error) only when no camera aligns anything.
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/mission/mission_config.hpp"
 
 namespace rangecal {
 

@@ -6,8 +6,8 @@
 // and whether it was used), and with `compare` `<cam>/methods.csv` and
 // `<cam>/calibration_<method>.json`. A camera whose calibration fails is reported and the others go
 // on; the stage fails only when no camera is calibrated.
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/mission/mission_config.hpp"
 
 namespace rangecal {
 

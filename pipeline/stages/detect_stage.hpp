@@ -5,8 +5,8 @@
 // whole-second errors in the frame time stamps (pipeline/steps/timestamp_check.hpp). A camera without a lamp
 // is reported with a warning and the others go on; the stage fails (input error) only when no camera yields a
 // pair.
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/mission/mission_config.hpp"
 
 namespace rangecal {
 

@@ -14,8 +14,8 @@
 #include "gnss/track/attitude.hpp"
 #include "gnss/track/epoch_filter.hpp"
 #include "gnss/track/lamp_track.hpp"
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "pipeline/steps/lamp_track_computation.hpp"
 
 namespace rangecal {

@@ -2,8 +2,8 @@
 // The intersect stage (docs/intersection.md, docs/outputs.md): each camera's `<out>/<cam>/calibration.json`
 // and its `pole_observations` picks, with the pole survey, → `<out>/intersection.csv` (check poles; seed 002
 // Table 4) and counts in run.json. Behaviour and warnings: docs/intersection.md.
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/mission/mission_config.hpp"
 
 namespace rangecal {
 

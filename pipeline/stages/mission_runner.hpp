@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/mission/mission_config.hpp"
 
 namespace rangecal {
 

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "pipeline/report/flight_volume_sigma.hpp"
 #include "pipeline/report/report_data.hpp"
 

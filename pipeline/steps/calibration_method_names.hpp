@@ -1,7 +1,7 @@
 #pragma once
 // The names of the calibrate stage's methods (docs/optimisation.md), in the order of the method
 // table of pipeline/steps/calibration_methods.cpp, which runs them. Header-only: the mission config
-// (pipeline/config, a library below the steps) checks calibrate.method and compare against it
+// (pipeline/mission, a library below the steps) checks calibrate.method and compare against it
 // without linking the methods.
 #include <array>
 #include <string>

@@ -9,8 +9,8 @@
 
 #include "gnss/formats/pole_survey_csv.hpp"
 #include "optim/bundle/bundle_observation.hpp"
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "vision/camera/sensor_geometry.hpp"
 
 namespace rangecal {

@@ -6,9 +6,9 @@
 
 #include <filesystem>
 
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/demo/demo.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "pipeline/stages/align_stage.hpp"
 #include "pipeline/stages/detect_stage.hpp"

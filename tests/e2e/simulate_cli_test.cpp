@@ -14,7 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "pipeline/config/mission_config.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "support/paths.hpp"
 #include "support/tiny_scenario.hpp"
 

@@ -1,7 +1,7 @@
 // libFuzzer target: the mission config JSON (parse_mission_config, files not checked)
 // (tests/fuzz/fuzz_common.hpp; docs/reliability.md "Fuzzing").
 #include "fuzz_common.hpp"
-#include "pipeline/config/mission_config.hpp"
+#include "pipeline/mission/mission_config.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text = rangecal::fuzz::as_string(data, size);

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "pipeline/config/mission_config.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "vision/camera/calibration_result.hpp"
 
 namespace rangecal::test {

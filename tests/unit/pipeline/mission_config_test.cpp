@@ -7,7 +7,7 @@
 
 #include "config/error.hpp"
 #include "config/sha256.hpp"
-#include "pipeline/config/mission_config.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {

@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/analysis/route_plan.hpp"
-#include "pipeline/config/mission_config.hpp"
 #include "pipeline/demo/demo.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "pipeline/stages/mission_runner.hpp"
 #include "support/paths.hpp"

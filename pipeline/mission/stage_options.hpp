@@ -2,7 +2,7 @@
 // The mission config mapped onto the option structs of the layers below (gnss, vision, optim take
 // their own options and never the config): the one place that knows which config key feeds which
 // option. Defaults of keys the config leaves out are the options' own.
-#include "pipeline/config/mission_config.hpp"
+#include "pipeline/mission/mission_config.hpp"
 #include "vision/detection/lamp_detector.hpp"
 #include "vision/frames/frame_source.hpp"
 

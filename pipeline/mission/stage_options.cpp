@@ -1,4 +1,4 @@
-#include "pipeline/config/stage_options.hpp"
+#include "pipeline/mission/stage_options.hpp"
 
 #include "config/error.hpp"
 

@@ -1,4 +1,4 @@
-#include "pipeline/config/mission_config.hpp"
+#include "pipeline/mission/mission_config.hpp"
 
 #include <algorithm>
 #include <cctype>
