@@ -105,9 +105,16 @@ std::string intersect_lines(const json& c) {
   s += "\n";
   if (c.contains("check") && c["check"].is_object()) {
     const json& k = c["check"];
+    // No check pole, no figure: the line says so rather than printing an undefined mean.
+    if (!k.value("mean_dR_m", json()).is_number())
+      return s +
+             "  no check pole triangulated: no mean dR (a check pole must be picked in two calibrated "
+             "cameras)\n";
+    const json sigma = k.value("mean_sigma_m", json());
     s += "  " + count(k.value("n", json())) + " check poles: mean dR " +
          millimetres(k.value("mean_dR_m", json())) + ", max " + millimetres(k.value("max_dR_m", json())) +
-         " (predicted sigma " + millimetres(k.value("mean_sigma_m", json())) + ")\n";
+         (sigma.is_number() ? " (predicted sigma " + millimetres(sigma) + ")" : " (no predicted sigma)") +
+         "\n";
   }
   return s;
 }
