@@ -12,6 +12,7 @@
 #include "config/error.hpp"
 #include "config/number_format.hpp"
 #include "pipeline/cli/commands.hpp"
+#include "pipeline/cli/stage_command.hpp"
 #include "pipeline/cli/stage_summary.hpp"
 #include "pipeline/demo/demo.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
@@ -74,6 +75,8 @@ void add_demo_command(CLI::App& app, const CliContext& ctx) {
                 << "/mission.json   (how far to trust these σ: bias and sd per parameter)\n"
                 << "         rangecal plan config/examples/demo_scenario.json "
                    "config/examples/plan_mixed_routes.json   (routes compared before flying)\n";
+    std::cout << std::flush;
+    require_complete_outcome(run.config);  // a partial mission is exit 4 here as for `rangecal run`
     if (!ok)
       throw_calibration_error(
           "demo", "an accuracy bar of docs/accuracy_analysis.md, Quality bars failed (see above)");

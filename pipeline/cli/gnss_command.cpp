@@ -6,6 +6,7 @@
 
 #include "config/number_format.hpp"
 #include "pipeline/cli/commands.hpp"
+#include "pipeline/cli/stage_command.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/run_log.hpp"
 #include "pipeline/mission/mission_config.hpp"
@@ -73,9 +74,11 @@ void add_gnss_command(CLI::App& app, const CliContext& ctx) {
   sub->callback([config_path, &ctx]() {
     const MissionConfig cfg = load_mission_config(*config_path);
     const StageLog log = run_stage("gnss", cfg);
-    if (ctx.quiet) return;
-    std::cout << gnss_summary(cfg, log, ctx.verbose);
-    for (const std::string& w : log.warnings) std::cerr << "warning: " << w << "\n";
+    if (!ctx.quiet) {
+      std::cout << gnss_summary(cfg, log, ctx.verbose) << std::flush;
+      for (const std::string& w : log.warnings) std::cerr << "warning: " << w << "\n";
+    }
+    require_complete_outcome(cfg);
   });
 }
 

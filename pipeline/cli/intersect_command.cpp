@@ -159,7 +159,8 @@ void add_intersect_command(CLI::App& app, const CliContext& ctx) {
     const MissionConfig cfg = load_mission_config(args->config);
     require_intersect_inputs(cfg);  // asked for this stage alone: nothing to do is an error
     const StageLog log = run_stage("intersect", cfg);
-    if (!ctx.quiet) std::cout << stage_summary(log, ctx.verbose);
+    if (!ctx.quiet) std::cout << stage_summary(log, ctx.verbose) << std::flush;
+    require_complete_outcome(cfg);
   });
 }
 

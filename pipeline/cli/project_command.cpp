@@ -32,11 +32,11 @@ void add_project_command(CLI::App& app, const CliContext& /*ctx*/) {
     const CalibrationResult cal = read_calibration_json(args->calibration);
     const std::string text = read_file_text(args->points);
     if (!args->geodetic) {
-      std::cout << project_points_csv(cal.camera, text, args->points) << std::flush;
+      std::cout << project_points_csv(cal.camera, text, args->points, args->calibration) << std::flush;
       return;
     }
     std::cout << project_geodetic_points_csv(cal.camera, require_site_origin(cal, args->calibration), text,
-                                             args->points)
+                                             args->points, args->calibration)
               << std::flush;
   });
 }

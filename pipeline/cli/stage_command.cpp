@@ -5,11 +5,28 @@
 #include <iostream>
 #include <memory>
 
+#include "config/error.hpp"
 #include "pipeline/cli/stage_summary.hpp"
+#include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/progress_bar.hpp"
+#include "pipeline/io/run_outcome.hpp"
 #include "pipeline/stages/mission_runner.hpp"
 
 namespace rangecal {
+
+void require_complete_outcome(const MissionConfig& cfg) {
+  const RunOutcome outcome = read_run_outcome(cfg);
+  if (outcome.status == "complete") return;
+  const ErrorKind kind = outcome.exit_code == 2 || outcome.exit_code == 3
+                             ? static_cast<ErrorKind>(outcome.exit_code)
+                             : ErrorKind::calibration;
+  throw Error(kind, mission_output(cfg, kRunJson), 0, "outcome",
+              outcome.status == "partial"
+                  ? "the mission is partial (its outputs are kept and marked so in run.json and "
+                    "summary.json): " +
+                        outcome_reasons_text(outcome)
+                  : "an earlier stage's failure is still recorded: " + outcome_reasons_text(outcome));
+}
 
 void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& stage,
                        const std::string& description) {
@@ -20,7 +37,8 @@ void add_stage_command(CLI::App& app, const CliContext& ctx, const std::string& 
     const MissionConfig cfg = load_mission_config(*config);
     set_progress_bars(!ctx.quiet && ::isatty(2));
     const StageLog log = run_stage(stage, cfg);
-    if (!ctx.quiet) std::cout << stage_summary(log, ctx.verbose);
+    if (!ctx.quiet) std::cout << stage_summary(log, ctx.verbose) << std::flush;
+    require_complete_outcome(cfg);
   });
 }
 
@@ -60,6 +78,8 @@ void add_run_command(CLI::App& app, const CliContext& ctx) {
       if (progress) std::cerr << "[" << done << "/" << n << "] " << log.stage << " done\n";
       if (!ctx.quiet) std::cout << stage_summary(log, ctx.verbose);
     });
+    std::cout << std::flush;
+    require_complete_outcome(cfg);
   });
 }
 

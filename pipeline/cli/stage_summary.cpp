@@ -1,5 +1,6 @@
 #include "pipeline/cli/stage_summary.hpp"
 
+#include <cmath>
 #include <string>
 
 #include "config/number_format.hpp"
@@ -21,12 +22,18 @@ std::string count(const json& v) {
   return s;
 }
 
+// A figure that was not computed is "-" or says so, never "nan" (docs/reliability.md "Run outcome").
+bool finite_number(const json& v) {
+  return v.is_number() && std::isfinite(v.get<double>());
+}
+
 std::string fixed(const json& v, const char* fmt) {
-  return v.is_number() ? format_number(fmt, v.get<double>()) : std::string("-");
+  return finite_number(v) ? format_number(fmt, v.get<double>()) : std::string("-");
 }
 
 std::string millimetres(const json& metres) {
-  return metres.is_number() ? format_number("%.1f", metres.get<double>() * 1e3) + " mm" : std::string("-");
+  return finite_number(metres) ? format_number("%.1f", metres.get<double>() * 1e3) + " mm"
+                               : std::string("not computed");
 }
 
 std::string seconds(double s) {
@@ -105,9 +112,16 @@ std::string intersect_lines(const json& c) {
   s += "\n";
   if (c.contains("check") && c["check"].is_object()) {
     const json& k = c["check"];
+    // No check pole, no figure: the line says so rather than printing an undefined mean.
+    if (!finite_number(k.value("mean_dR_m", json())))
+      return s +
+             "  no check pole triangulated: no mean dR (a check pole must be picked in two calibrated "
+             "cameras)\n";
+    const json sigma = k.value("mean_sigma_m", json());
     s += "  " + count(k.value("n", json())) + " check poles: mean dR " +
          millimetres(k.value("mean_dR_m", json())) + ", max " + millimetres(k.value("max_dR_m", json())) +
-         " (predicted sigma " + millimetres(k.value("mean_sigma_m", json())) + ")\n";
+         (finite_number(sigma) ? " (predicted sigma " + millimetres(sigma) + ")" : " (no predicted sigma)") +
+         "\n";
   }
   return s;
 }
@@ -124,11 +138,11 @@ std::string per_camera(const json& counts, std::string (*line)(const std::string
 std::string flight_volume_line(const json& c) {
   if (!c.contains("prediction") || !c["prediction"].is_object()) return "";
   const json& p = c["prediction"];
-  if (!p.value("median_sigma_m", json()).is_number()) return "";
+  if (!finite_number(p.value("median_sigma_m", json()))) return "";
   std::string s = "  flight volume: intersection sigma " + millimetres(p["median_sigma_m"]) +
                   " median (max " + millimetres(p.value("max_sigma_m", json())) + ")";
   const json ratio = p.value("over_datum_floor", json());
-  if (ratio.is_number())
+  if (finite_number(ratio))
     s += "; datum floor " + millimetres(p.value("datum_floor_median_sigma_m", json())) + " (" +
          fixed(ratio, "%.2f") + "x): " +
          (ratio.get<double>() <= kDatumLimitedRatio ? "the PPK fixes and control limit it, not the images"

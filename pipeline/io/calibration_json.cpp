@@ -17,6 +17,7 @@
 #include "config/json_view.hpp"
 #include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
+#include "vision/camera/distortion_validity.hpp"
 
 namespace rangecal {
 namespace {
@@ -377,6 +378,18 @@ Distortion read_distortion(const JsonView& root) {
   return d;
 }
 
+/// A distortion no lens can have over this image (vision/camera/distortion_validity.hpp) is refused
+/// naming the coefficient that dominates where it fails.
+void check_distortion(const JsonView& root, const CameraIntrinsics& in) {
+  DistortionFault fault;
+  if (distortion_is_physical(in, &fault)) return;
+  const JsonView dv = *member(root, field(schema().root, "distortion"));
+  const Field& f = field(schema().distortion, kDistKeys[fault.coefficient]);
+  const std::string reason = fault.reason + "; a calibration must be invertible over its image";
+  if (auto v = member(dv, f)) v->fail(reason);
+  dv.fail(reason);
+}
+
 void read_pose(const JsonView& root, CameraPose* pose) {
   const Schema& s = schema().root;
   const Field& rf = field(s, "rotation_world_to_camera");
@@ -498,6 +511,7 @@ CalibrationResult calibration_from_json_text(const std::string& text, const std:
   if (auto wf = member(root, field(s, "world_frame"))) r.site_origin = read_world_frame(*wf);
   read_sensor(root, &r.camera.intr);
   r.camera.intr.dist = read_distortion(root);
+  check_distortion(root, r.camera.intr);
   read_pose(root, &r.camera.pose);
   const Field& clock = field(s, "clock_offset_s");
   if (auto co = member(root, clock)) r.clock_offset_s = number(*co, clock);

@@ -9,6 +9,7 @@
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
 #include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/run_outcome.hpp"
 #include "pipeline/io/stage_outputs.hpp"
 
 namespace rangecal {
@@ -45,6 +46,7 @@ void update_run_log(const MissionConfig& cfg, const StageLog& log) {
   stage["wall_time_s"] = std::round(log.wall_time_s * 1000.0) / 1000.0;
   stage["counts"] = log.counts;
   stage["warnings"] = log.warnings;
+  if (!log.shortfalls.empty()) stage["shortfalls"] = log.shortfalls;
   stage["removed_outputs"] = log.removed_outputs.size();
   if (!j["stages"].is_object()) j["stages"] = nlohmann::json::object();
   j["stages"][log.stage] = stage;
@@ -67,6 +69,7 @@ void update_run_log(const MissionConfig& cfg, const StageLog& log) {
       for (const auto& w : s["warnings"])
         if (w.is_string()) all.push_back(name + ": " + w.get<std::string>());
   j["warnings"] = all;
+  j["outcome"] = run_outcome_json(run_outcome(j));
   // Messages may quote bytes from bad input that are not UTF-8: replaced (U+FFFD), never a throw.
   write_file_atomic(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }

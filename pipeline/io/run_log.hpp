@@ -3,7 +3,8 @@
 // stage can run alone, so each stage updates its own section of the file in the output folder
 // (read, replace the section, drop the sections of the later stages — their outputs were removed
 // with this stage's, pipeline/io/stage_outputs.hpp — write atomically). A stage that fails records
-// its error in its section, and the file's top-level "status" says "failed" and which stage.
+// its error in its section, and the file's top-level "status" says "failed" and which stage; its
+// top-level "outcome" (pipeline/io/run_outcome.hpp) says whether the folder is a complete mission.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -18,6 +19,10 @@ struct StageLog {
   double wall_time_s = 0;
   nlohmann::json counts = nlohmann::json::object();  ///< stage-specific numbers (dropped epochs, …)
   std::vector<std::string> warnings;
+  /// What the stage finished without but a complete mission needs (a camera not calibrated, an
+  /// intersection check without poles): run.json's `shortfalls`, making the run's outcome partial
+  /// (pipeline/io/run_outcome.hpp, exit 4) with the outputs kept.
+  std::vector<std::string> shortfalls;
   bool failed = false;             ///< the stage threw: `error` says why, and it wrote no outputs
   nlohmann::json error = nullptr;  ///< {message, exit_code, file, line, field} when failed
   /// Previous outputs removed before the stage ran (its own and the later stages').
@@ -30,7 +35,7 @@ StageLog failed_stage_log(const std::string& stage, const Error& e);
 /// Merges `log` into <output_dir>/run.json (creating it), together with the program version, the
 /// config path and its SHA-256 (also kept per stage: stages rerun alone may have run under
 /// different configs). Drops the sections of the stages after log.stage. Wall times are rounded
-/// to 1 ms.
+/// to 1 ms. Sets the top-level `outcome` from the sections kept.
 void update_run_log(const MissionConfig& cfg, const StageLog& log);
 
 }  // namespace rangecal

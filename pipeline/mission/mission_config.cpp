@@ -326,6 +326,15 @@ CalibrateConfig parse_calibrate(const JsonView& c) {
   return cal;
 }
 
+RunConfig parse_run(const JsonView& r) {
+  r.require_object("an object {\"fail_on_poorly_determined\"}");
+  r.check_keys({"fail_on_poorly_determined"});
+  RunConfig run;
+  if (auto f = r.find("fail_on_poorly_determined"))
+    run.fail_on_poorly_determined = f->boolean("true or false");
+  return run;
+}
+
 }  // namespace
 
 MissionConfig parse_mission_config(const std::string& json_text, const std::string& path, bool check_files) {
@@ -342,7 +351,7 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
   const JsonView root(doc, path, "", ErrorKind::usage);
   root.require_object("a mission config object (docs/config.md)");
   root.check_keys({"mission", "site", "gnss", "attitude", "lever_arm", "poles", "cameras", "align", "detect",
-                   "calibrate", "intersect", "output_dir"});
+                   "calibrate", "intersect", "run", "output_dir"});
   const Loader L{path, abs.parent_path(), check_files};
 
   if (auto m = root.find("mission")) cfg.mission = m->string("a free-text string");
@@ -415,6 +424,7 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
       if (cfg.intersect.bar_mean_dR_m > 1) v->fail_expected(form);
     }
   }
+  if (auto r = root.find("run")) cfg.run = parse_run(*r);
   fs::path out = "out";
   if (auto o = root.find("output_dir")) out = o->nonempty_string("a folder path");
   if (out.is_relative()) out = abs.parent_path() / out;

@@ -87,6 +87,14 @@ struct IntersectConfig {
   double bar_mean_dR_m = 0.010;
 };
 
+/// What the run's outcome counts as incomplete beyond the fixed rules (docs/reliability.md "Run
+/// outcome").
+struct RunConfig {
+  /// A parameter the calibrate stage calls poorly determined makes the run partial (exit 4)
+  /// instead of only warning.
+  bool fail_on_poorly_determined = false;
+};
+
 struct MissionConfig {
   std::string config_path;    ///< absolute path of the config file
   std::string config_dir;     ///< its folder (relative paths resolve here)
@@ -105,6 +113,7 @@ struct MissionConfig {
   DetectConfig detect;
   CalibrateConfig calibrate;
   IntersectConfig intersect;
+  RunConfig run;
   std::string output_dir;  ///< absolute; default "<config_dir>/out"
 };
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "config/number_format.hpp"
+#include "pipeline/io/run_outcome.hpp"
 #include "pipeline/report/data_funnel.hpp"
 #include "pipeline/report/flight_volume_sigma.hpp"
 #include "pipeline/report/html_escape.hpp"
@@ -903,6 +904,17 @@ std::string network_section(const ReportData& d) {
          "cameras put the lamp.</p>\n</section>\n";
 }
 
+// A partial mission says so before anything else (docs/reliability.md "Run outcome"): what the
+// stages could not deliver, as run.json's outcome lists it. Nothing for a complete one.
+std::string outcome_banner(const ReportData& d) {
+  const RunOutcome outcome = run_outcome(nlohmann::json{{"stages", d.run_stages}});
+  if (outcome.status == "complete") return "";
+  std::string s = "<p class=\"bad\">This mission is " + outcome.status + " (exit " +
+                  std::to_string(outcome.exit_code) + "): its outputs are kept but incomplete.</p>\n<ul>\n";
+  for (const std::string& r : outcome.reasons) s += "<li>" + html_escape(r) + "</li>\n";
+  return s + "</ul>\n";
+}
+
 }  // namespace
 
 std::string render_report_html(const ReportData& d, const FlightVolumeSigma& volume) {
@@ -912,6 +924,7 @@ std::string render_report_html(const ReportData& d, const FlightVolumeSigma& vol
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>rangecal report: " +
       html_escape(d.mission) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n";
   s += "<h1>rangecal calibration report</h1>\n";
+  s += outcome_banner(d);
   s += verdict_section(d, figs, volume);
   s += mission_section(d);
   s += overview_section(d);

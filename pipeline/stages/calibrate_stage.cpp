@@ -294,6 +294,25 @@ CameraInputs read_camera_inputs(const MissionConfig& cfg, const CameraConfig& ca
   return in;
 }
 
+/// What a complete mission needs but this pass lacks (docs/reliability.md "Run outcome"): every
+/// configured camera calibrated and, under run.fail_on_poorly_determined, no parameter the
+/// diagnostics call poorly determined (optim/bundle/bundle_diagnostics.hpp words it so).
+std::vector<std::string> calibrate_shortfalls(const MissionConfig& cfg, const PerCameraPass& pass) {
+  std::vector<std::string> out;
+  for (const CameraConfig& cam : cfg.cameras) {
+    const auto it = pass.record.cameras.find(cam.id);
+    if (it != pass.record.cameras.end() && !it->second.failed.empty())
+      out.push_back("camera " + cam.id + " not calibrated (from " +
+                    camera_output(cfg, cam.id, kCorrespondencesCsv) + "): " + it->second.failed);
+  }
+  if (cfg.run.fail_on_poorly_determined)
+    for (const auto& [id, cc] : pass.done)
+      for (const std::string& w : cc.main.warnings)
+        if (w.find(" is poorly determined: ") != std::string::npos)
+          out.push_back("camera " + id + ": " + w + " (run.fail_on_poorly_determined is true)");
+  return out;
+}
+
 }  // namespace
 
 StageLog run_calibrate_stage(const MissionConfig& cfg) {
@@ -334,6 +353,7 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
   log.stage = "calibrate";
   log.counts = calibrate_record_json(pass.record);
   log.warnings = std::move(pass.warnings);
+  log.shortfalls = calibrate_shortfalls(cfg, pass);
   return log;
 }
 

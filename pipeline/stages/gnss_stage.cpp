@@ -158,6 +158,19 @@ StageLog run_gnss_stage(const MissionConfig& cfg) {
   log.counts = gnss_stage_counts(res.report, in.pos_files, in.lever);
   if (in.attitude) log.counts["attitude"] = attitude_file_counts(attitude_report, cfg.attitude_file);
   log.warnings = res.report.warnings;
+  if (attitude_report.log) {
+    // What run.json's attitude counts hold, said once on the console too (docs/gnss.md).
+    const AutopilotAttitudeReport& r = *attitude_report.log;
+    if (r.truncated_bytes > 0)
+      log.warnings.push_back(cfg.attitude_file + ": the log is truncated: its last " +
+                             std::to_string(r.truncated_bytes) +
+                             " byte(s) are an incomplete message and were not read");
+    if (r.fit.rejected > 0)
+      log.warnings.push_back(cfg.attitude_file + ": " + std::to_string(r.fit.rejected) + " of " +
+                             std::to_string(r.fit.used + r.fit.rejected) + " " + r.gps_message +
+                             " time pairs rejected as jumps from the boot-time -> UTC fit (threshold " +
+                             std::to_string(static_cast<long long>(r.fit.reject_threshold_us)) + " us)");
+  }
   return log;
 }
 

@@ -22,9 +22,38 @@ bool any_camera_has_picks(const MissionConfig& cfg) {
   return false;
 }
 
-/// Metres rounded to 1 µm for run.json (readable, and NaN stays NaN → null).
-double um(double v) {
-  return std::round(v * 1e6) / 1e6;
+/// Metres rounded to 1 µm for run.json (readable); a figure that was not computed (no pole to
+/// average) is null, never NaN, so that nothing downstream prints "nan".
+nlohmann::json um(double v) {
+  return std::isfinite(v) ? nlohmann::json(std::round(v * 1e6) / 1e6) : nlohmann::json(nullptr);
+}
+
+int cameras_with_picks(const MissionConfig& cfg) {
+  int n = 0;
+  for (const CameraConfig& cam : cfg.cameras) n += cam.pole_observations.empty() ? 0 : 1;
+  return n;
+}
+
+/// The intersection check's shortfall (docs/reliability.md "Run outcome"), "" when it had what it
+/// needs. The check is configured when the mission has a survey and two or more cameras have pole
+/// picks; it then needs a check pole triangulated (its ΔR is the headline), or, when the calibrated
+/// cameras picked no check pole, at least one surveyed pole.
+std::string intersection_shortfall(const MissionConfig& cfg, const std::vector<SurveyedPole>& survey,
+                                   const std::set<std::string>& picked_ids, const nlohmann::json& used,
+                                   const IntersectionResult& result) {
+  if (cameras_with_picks(cfg) < 2) return "";
+  bool check_picked = false;
+  for (const SurveyedPole& p : survey)
+    check_picked = check_picked || (p.role == PoleRole::check && picked_ids.count(p.id));
+  if (check_picked ? result.check.n > 0 : result.check.n + result.control.n > 0) return "";
+  std::string cams;
+  for (const auto& c : used) cams += (cams.empty() ? "" : ", ") + c.get<std::string>();
+  const std::string what = check_picked ? "no check pole" : "no surveyed pole";
+  const std::string why =
+      used.size() < 2 ? "only " + std::to_string(used.size()) + " calibrated camera has pole picks (" + cams +
+                            "); a pole needs two"
+                      : "none is picked in two calibrated cameras with a triangulation (see the warnings)";
+  return what + " was triangulated, so the intersection check has no dR: " + why;
 }
 
 nlohmann::json means_json(const IntersectionMeans& m) {
@@ -142,6 +171,8 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
   log.counts["check"] = means_json(result.check);
   log.counts["control"] = means_json(result.control);
   log.counts["warnings"] = log.warnings.size();
+  if (const std::string s = intersection_shortfall(cfg, survey, picked_ids, used, result); !s.empty())
+    log.shortfalls.push_back(s);
   return log;
 }
 

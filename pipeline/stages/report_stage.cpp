@@ -6,6 +6,7 @@
 #include "config/atomic_file.hpp"
 #include "config/json_format.hpp"
 #include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/run_outcome.hpp"
 #include "pipeline/report/report_html.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/steps/intersection.hpp"
@@ -31,7 +32,8 @@ nlohmann::ordered_json prediction_json(const FlightVolumeSigma& volume) {
   return pred;
 }
 
-std::string format_summary_json(const ReportData& data, const FlightVolumeSigma& volume) {
+std::string format_summary_json(const ReportData& data, const FlightVolumeSigma& volume,
+                                const RunOutcome& outcome) {
   using ojson = nlohmann::ordered_json;
   ojson j;
   j["format"] = "rangecal.summary/1";
@@ -64,6 +66,7 @@ std::string format_summary_json(const ReportData& data, const FlightVolumeSigma&
   inter["max_dR_m"] = m.n > 0 ? num_or_null(m.max_dR) : ojson(nullptr);
   j["intersection"] = inter;
   j["prediction"] = prediction_json(volume);
+  j["outcome"] = ojson(run_outcome_json(outcome));
   return dump_json_compact_arrays(j);
 }
 
@@ -94,7 +97,9 @@ StageLog run_report_stage(const MissionConfig& cfg) {
   if (!data.intersection) log.warnings.push_back("no intersection.csv; the report has no intersection table");
   const FlightVolumeSigma volume = flight_volume_sigma(data);
   write_file_atomic(mission_output(cfg, kReportHtml), render_report_html(data, volume));
-  write_file_atomic(mission_output(cfg, kSummaryJson), format_summary_json(data, volume));
+  write_file_atomic(
+      mission_output(cfg, kSummaryJson),
+      format_summary_json(data, volume, run_outcome(nlohmann::json{{"stages", data.run_stages}})));
   log.counts["cameras"] = data.cameras.size();
   log.counts["calibrated"] = calibrated;
   log.counts["intersection_poles"] = data.intersection ? data.intersection->size() : 0;

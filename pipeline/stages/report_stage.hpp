@@ -7,6 +7,7 @@
 #include <string>
 
 #include "pipeline/io/run_log.hpp"
+#include "pipeline/io/run_outcome.hpp"
 #include "pipeline/mission/mission_config.hpp"
 #include "pipeline/report/flight_volume_sigma.hpp"
 #include "pipeline/report/report_data.hpp"
@@ -20,8 +21,10 @@ nlohmann::ordered_json prediction_json(const FlightVolumeSigma& volume);
 
 /// summary.json text (docs/outputs.md): per camera method, rms_px, n_used (null when not calibrated);
 /// intersection mean and max dR in metres (null when intersection.csv is missing or has no dR); the
-/// prediction (`volume` = flight_volume_sigma(data)). Deterministic (fixed key order, numbers as read).
-std::string format_summary_json(const ReportData& data, const FlightVolumeSigma& volume);
+/// prediction (`volume` = flight_volume_sigma(data)); the run's `outcome` over the stages before
+/// the report (pipeline/io/run_outcome.hpp). Deterministic (fixed key order, numbers as read).
+std::string format_summary_json(const ReportData& data, const FlightVolumeSigma& volume,
+                                const RunOutcome& outcome);
 
 StageLog run_report_stage(const MissionConfig& cfg);
 

@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -132,6 +134,8 @@ TEST(BadInputCli, TheSmallMissionRunsCleanly) {
   const json runlog = read_json(m / "out/run.json");
   EXPECT_EQ(runlog["status"], "ok");
   EXPECT_EQ(runlog["stages"]["report"]["status"], "ok");
+  EXPECT_EQ(runlog["outcome"], json({{"status", "complete"}, {"exit_code", 0}, {"reasons", json::array()}}));
+  EXPECT_EQ(read_json(m / "out/summary.json")["outcome"], runlog["outcome"]);
   EXPECT_TRUE(o.cli.err.empty()) << "library chatter on a clean run: " << o.cli.err;
 }
 
@@ -379,9 +383,19 @@ TEST(BadInputCli, ACameraThatFailsIsNotUsedDownstream) {
   // A stale compared-method file and a dead process's temp file are cleaned up too.
   test::write_text(m / "out/c2/calibration_tsai.json", "{}");
   test::write_text(m / "out/c1/calibration.json.tmp.4194302", "half");
+  // Each command leaves a partial mission (c2 not calibrated, so no pole can be triangulated):
+  // exit 4, naming run.json's outcome and why, the outputs of c1 kept (docs/reliability.md "Run
+  // outcome").
   for (const std::string stage : {"calibrate", "intersect", "report"}) {
     const Outcome o = run(stage + " " + q(m / "mission.json"));
-    EXPECT_EQ(o.cli.exit_code, 0) << stage << ": " << o.cli.err;
+    EXPECT_EQ(o.cli.exit_code, 4) << stage << ": " << o.cli.err;
+    EXPECT_NE(o.cli.err.find((m / "out/run.json").string() + ": field 'outcome': the mission is partial"),
+              std::string::npos)
+        << stage << ": " << o.cli.err;
+    EXPECT_NE(o.cli.err.find("calibrate: camera c2 not calibrated (from " +
+                             (m / "out/c2/correspondences.csv").string() + ")"),
+              std::string::npos)
+        << stage << ": " << o.cli.err;
   }
   EXPECT_FALSE(fs::exists(m / "out/c2/calibration.json"));
   EXPECT_FALSE(fs::exists(m / "out/c2/calibration_tsai.json"));
@@ -396,6 +410,120 @@ TEST(BadInputCli, ACameraThatFailsIsNotUsedDownstream) {
   EXPECT_EQ(summary["cameras"]["c1"]["calibrated"], true);
   EXPECT_EQ(summary["cameras"]["c2"]["calibrated"], false);
   EXPECT_NE(summary["cameras"]["c2"]["failure"].get<std::string>().find("lie in one"), std::string::npos);
+  EXPECT_EQ(runlog["outcome"]["status"], "partial");
+  EXPECT_EQ(runlog["outcome"]["exit_code"], 4);
+  ASSERT_EQ(runlog["outcome"]["reasons"].size(), 2u) << runlog["outcome"];
+  EXPECT_NE(runlog["outcome"]["reasons"][1].get<std::string>().find(
+                "intersect: no check pole was triangulated, so the intersection check has no dR: only 1 "
+                "calibrated camera has pole picks (c1)"),
+            std::string::npos)
+      << runlog["outcome"];
+  EXPECT_EQ(summary["outcome"], runlog["outcome"]);
+  EXPECT_EQ(runlog["status"], "ok");  // every stage ran to its end; the outcome says what is missing
+}
+
+// ---- the run's outcome (docs/reliability.md "Run outcome") -------------------------------------
+
+// No figure that was not computed is printed or written: no "nan" or "inf" word anywhere.
+void expect_no_undefined_numbers(const std::string& what, const std::string& text) {
+  static const std::regex word("\\b(nan|NaN|NAN|-?inf|-?Inf|Infinity)\\b");
+  std::smatch hit;
+  EXPECT_FALSE(std::regex_search(text, hit, word)) << what << " holds '" << hit.str() << "'";
+}
+
+// A .pos holding one epoch: c1 (no control pole picked) cannot be calibrated, c2 is calibrated from
+// its six control poles, and no pole can be triangulated with one camera. The run goes to its end,
+// keeps what it made, and exits 4 saying both, never 0 with "mean dR nan mm".
+TEST(BadInputCli, OneEpochIsAPartialMissionExitFourWithItsOutputsMarked) {
+  json scenario = small_scenario();
+  scenario["poles"] = json::array();
+  const std::vector<std::array<double, 3>> control = {{0.5, 0.4, 3.2},  {-1.5, 1.0, 1.0}, {1.4, -0.8, 4.0},
+                                                      {-0.7, 2.0, 2.5}, {1.8, 1.5, 1.5},  {-1.9, -1.2, 3.8}};
+  for (std::size_t i = 0; i < control.size(); ++i)
+    scenario["poles"].push_back(
+        {{"id", "P" + std::to_string(i + 1)}, {"role", "control"}, {"enu_m", control[i]}});
+  scenario["poles"].push_back({{"id", "Q1"}, {"role", "check"}, {"enu_m", {-0.6, -0.5, 2.1}}});
+  scenario["poles"].push_back({{"id", "Q2"}, {"role", "check"}, {"enu_m", {0.3, 1.2, 3.0}}});
+  const fs::path d = test::scratch_dir("bad_input_one_epoch");
+  test::write_text(d / "scenario.json", scenario.dump(2));
+  ASSERT_EQ(run("simulate " + q(d / "scenario.json") + " --out " + q(d / "mission")).cli.exit_code, 0);
+  const fs::path m = d / "mission";
+  json cfg = read_json(m / "mission.json");
+  cfg["calibrate"]["use_control_poles"] = true;
+  test::write_text(m / "mission.json", cfg.dump(2));
+  auto lines = split_lines(test::read_text(m / "gnss/rover.pos"));
+  const std::size_t first = first_data_line(lines);
+  const std::string epoch = lines[first + (lines.size() - first) / 2];
+  lines.resize(first);
+  lines.push_back(epoch);
+  test::write_text(m / "gnss/rover.pos", join_lines(lines));
+  std::string c1_picks = "id,u,v\n";
+  for (const std::string& l : split_lines(test::read_text(m / "c1/poles_px.csv")))
+    if (l.rfind("Q", 0) == 0) c1_picks += l + "\n";
+  test::write_text(m / "c1/poles_px.csv", c1_picks);
+
+  const test::CliResult o = test::run_cli("run " + q(m / "mission.json"));  // not quiet: the console too
+  EXPECT_EQ(o.exit_code, 4) << o.err;
+  EXPECT_NE(o.err.find((m / "out/run.json").string() + ": field 'outcome': the mission is partial"),
+            std::string::npos)
+      << o.err;
+  EXPECT_NE(o.out.find("no check pole triangulated: no mean dR"), std::string::npos) << o.out;
+  expect_no_undefined_numbers("the console", o.out + o.err);
+  EXPECT_TRUE(fs::exists(m / "out/c2/calibration.json"));
+  EXPECT_FALSE(fs::exists(m / "out/c1/calibration.json"));
+  EXPECT_TRUE(fs::exists(m / "out/intersection.csv"));
+  EXPECT_TRUE(fs::exists(m / "out/report.html"));
+  const json runlog = read_json(m / "out/run.json");
+  EXPECT_EQ(runlog["status"], "ok");
+  EXPECT_EQ(runlog["outcome"]["status"], "partial");
+  EXPECT_EQ(runlog["outcome"]["exit_code"], 4);
+  ASSERT_EQ(runlog["outcome"]["reasons"].size(), 2u) << runlog["outcome"];
+  EXPECT_EQ(runlog["outcome"]["reasons"][0].get<std::string>().rfind(
+                "calibrate: camera c1 not calibrated (from " + (m / "out/c1/correspondences.csv").string() +
+                    "): field 'dlt': too few points: 1 given",
+                0),
+            0u)
+      << runlog["outcome"];
+  EXPECT_EQ(runlog["outcome"]["reasons"][1],
+            "intersect: no check pole was triangulated, so the intersection check has no dR: only 1 "
+            "calibrated camera has pole picks (c2); a pole needs two");
+  EXPECT_EQ(runlog["stages"]["calibrate"]["shortfalls"].size(), 1u);
+  EXPECT_EQ(runlog["stages"]["intersect"]["counts"]["poles_triangulated"], 0);
+  const json summary = read_json(m / "out/summary.json");
+  EXPECT_EQ(summary["outcome"], runlog["outcome"]);
+  const std::string html = test::read_text(m / "out/report.html");
+  EXPECT_NE(html.find("This mission is partial (exit 4)"), std::string::npos);
+  for (const char* f : {"out/run.json", "out/summary.json", "out/report.html"})
+    expect_no_undefined_numbers(f, test::read_text(m / f));
+}
+
+// Poorly determined parameters are warnings (the small mission has some: exit 0 above) unless
+// run.fail_on_poorly_determined asks for a partial run; a value that is not a boolean is a config
+// error naming the key.
+TEST(BadInputCli, PoorlyDeterminedParametersFailTheRunOnlyWhenAsked) {
+  const fs::path m = mission_copy("poorly_determined");
+  json cfg = read_json(m / "mission.json");
+  cfg["run"] = {{"fail_on_poorly_determined", true}};
+  test::write_text(m / "mission.json", cfg.dump(2));
+  const Outcome o = run("run " + q(m / "mission.json"));
+  EXPECT_EQ(o.cli.exit_code, 4) << o.cli.err;
+  EXPECT_NE(o.cli.err.find("field 'outcome'"), std::string::npos) << o.cli.err;
+  const json runlog = read_json(m / "out/run.json");
+  ASSERT_FALSE(runlog["outcome"]["reasons"].empty());
+  for (const json& r : runlog["outcome"]["reasons"]) {
+    EXPECT_EQ(r.get<std::string>().rfind("calibrate: camera c", 0), 0u) << r;
+    EXPECT_NE(r.get<std::string>().find(" is poorly determined: "), std::string::npos) << r;
+    EXPECT_NE(r.get<std::string>().find("(run.fail_on_poorly_determined is true)"), std::string::npos) << r;
+  }
+  // Every output is there: the run is complete in its files, partial in its outcome.
+  for (const char* f : {"out/c1/calibration.json", "out/c2/calibration.json", "out/intersection.csv",
+                        "out/summary.json", "out/report.html"})
+    EXPECT_TRUE(fs::exists(m / f)) << f;
+  EXPECT_EQ(read_json(m / "out/summary.json")["outcome"]["status"], "partial");
+
+  cfg["run"] = {{"fail_on_poorly_determined", 1}};
+  test::write_text(m / "mission.json", cfg.dump(2));
+  expect_refused(run("run " + q(m / "mission.json")), 2, "mission.json", "run.fail_on_poorly_determined");
 }
 
 // ---- 5. valid input in other spellings: CRLF, byte-order mark ---------------------------------

@@ -78,3 +78,27 @@ TEST(InspectCli, AFileOfNoKnownKindExitsThreeNamingItAndTheOthersAreStillShown) 
 
 }  // namespace
 }  // namespace rangecal
+
+namespace rangecal {
+namespace {
+
+// The real pymavlink log is cut 24 bytes into its last message (tests/data/external/
+// ardupilot-dataflash/SOURCE.md): inspect says so once, in the table and in --json alike.
+TEST(InspectCli, TruncatedDataflashLogIsNotedOnce) {
+  const std::string path = q(test::external("ardupilot-dataflash/pymavlink_test.BIN"));
+  const auto count = [](const std::string& s, const std::string& part) {
+    int n = 0;
+    for (std::size_t at = s.find(part); at != std::string::npos; at = s.find(part, at + 1)) ++n;
+    return n;
+  };
+  const auto r = test::run_cli("inspect " + path);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(count(r.out + r.err, "incomplete"), 1) << r.out << r.err;
+  EXPECT_EQ(count(r.out, "24 bytes of an incomplete last message"), 1) << r.out;
+  const auto j = test::run_cli("inspect --json " + path);
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  EXPECT_EQ(count(j.out + j.err, "incomplete"), 1) << j.out << j.err;
+}
+
+}  // namespace
+}  // namespace rangecal

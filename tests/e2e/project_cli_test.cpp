@@ -115,5 +115,47 @@ TEST(ProjectCommand, CliWritesIdUvToStdout) {
   EXPECT_EQ(usage.exit_code, 2);
 }
 
+// A calibration whose distortion no lens can have (k1 = 1e6 mm⁻²: every point would land by the
+// principal point) is refused when read, naming the file and the coefficient, by `project` and
+// `intersect` alike; nothing is printed on stdout (vision/camera/distortion_validity.hpp).
+TEST(ProjectCommand, ImpossibleDistortionIsRefusedNamingTheCalibrationFileAndField) {
+  const auto dir = test::scratch_dir("project_command_bad_distortion");
+  CalibrationResult cal = test_calibration();
+  write_calibration_json((dir / "good.json").string(), cal);
+  cal.camera.intr.dist.k1 = 1e6;
+  write_calibration_json((dir / "bad.json").string(), cal);
+  test::write_text(dir / "pts.csv", kPoints);
+  test::write_text(dir / "picks.csv", "id,u,v\nP1,600,400\n");
+  const std::string bad = (dir / "bad.json").string(), good = (dir / "good.json").string();
+  const auto p = test::run_cli("project --calibration " + bad + " --points " + (dir / "pts.csv").string());
+  EXPECT_EQ(p.exit_code, 3) << p.out;
+  EXPECT_TRUE(p.out.empty()) << p.out;
+  EXPECT_NE(p.err.find(bad + ": field 'distortion.k1_per_mm2'"), std::string::npos) << p.err;
+  EXPECT_NE(p.err.find("invertible over its image"), std::string::npos) << p.err;
+  const auto i =
+      test::run_cli("intersect --calibration " + good + " --observations " + (dir / "picks.csv").string() +
+                    " --calibration " + bad + " --observations " + (dir / "picks.csv").string());
+  EXPECT_EQ(i.exit_code, 3) << i.out;
+  EXPECT_TRUE(i.out.empty()) << i.out;
+  EXPECT_NE(i.err.find(bad + ": field 'distortion.k1_per_mm2'"), std::string::npos) << i.err;
+}
+
+// A distortion that folds just beyond the image corner (r_f = 1/√(−3 k1) = 16 mm, the corner at
+// 15.2 mm) is valid, but no distorted point reaches an undistorted radius above r_f·2/3 = 10.7 mm:
+// a point imaged 21 mm off the axis cannot be projected, and the message names the points file,
+// its line and the calibration file.
+TEST(ProjectCommand, PointBeyondTheDistortionsFoldNamesBothFiles) {
+  const auto dir = test::scratch_dir("project_command_fold");
+  CalibrationResult cal = test_calibration();
+  cal.camera.intr.dist.k1 = -1.0 / (3 * 16.0 * 16.0);
+  write_calibration_json((dir / "cal.json").string(), cal);
+  test::write_text(dir / "pts.csv", "id,E,N,U\nnear,0,0,1.5\nwide,0,10,1.5\n");
+  const auto r = test::run_cli("project --calibration " + (dir / "cal.json").string() + " --points " +
+                               (dir / "pts.csv").string());
+  EXPECT_EQ(r.exit_code, 3) << r.out;
+  EXPECT_NE(r.err.find((dir / "pts.csv").string() + ":3: field 'E,N,U'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(" + (dir / "cal.json").string() + ")"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace rangecal

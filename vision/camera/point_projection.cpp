@@ -14,6 +14,7 @@ namespace {
 /// `id,u,v` for every record of `t`, whose world point (site ENU, m) `world` reads; `fields`
 /// names the point's columns in messages.
 std::string project_table(const Camera& cam, const CsvTable& t, const std::string& fields,
+                          const std::string& calibration_file,
                           const std::function<Eigen::Vector3d(const CsvRecord&)>& world) {
   const std::size_t ci = t.column("id");
   std::string out = "id,u,v\n";
@@ -27,9 +28,10 @@ std::string project_table(const Camera& cam, const CsvTable& t, const std::strin
                             "' (depth along the optical axis " + std::to_string(zc) + " m)");
     Eigen::Vector2d uv;
     if (!project(cam, Xw, &uv))
-      throw_input_error(t.path, r.line, fields,
-                        "point '" + id + "' lies outside the region where camera '" + cam.id +
-                            "''s distortion model can be inverted");
+      throw_input_error(
+          t.path, r.line, fields,
+          "point '" + id + "' lies outside the region where camera '" + cam.id + "''s distortion model" +
+              (calibration_file.empty() ? "" : " (" + calibration_file + ")") + " can be inverted");
     out += id;
     fmt::format_to(std::back_inserter(out), ",{:.6f},{:.6f}\n", uv.x(), uv.y());
   }
@@ -39,22 +41,23 @@ std::string project_table(const Camera& cam, const CsvTable& t, const std::strin
 }  // namespace
 
 std::string project_points_csv(const Camera& cam, const std::string& points_csv_text,
-                               const std::string& points_file) {
+                               const std::string& points_file, const std::string& calibration_file) {
   const CsvTable t = parse_csv(points_csv_text, points_file);
   t.column("id");
   const std::size_t ce = t.column("E"), cn = t.column("N"), cu = t.column("U");
-  return project_table(cam, t, "E,N,U", [&](const CsvRecord& r) {
+  return project_table(cam, t, "E,N,U", calibration_file, [&](const CsvRecord& r) {
     return Eigen::Vector3d(t.number(r, ce), t.number(r, cn), t.number(r, cu));
   });
 }
 
 std::string project_geodetic_points_csv(const Camera& cam, const GeodeticOrigin& origin,
-                                        const std::string& points_csv_text, const std::string& points_file) {
+                                        const std::string& points_csv_text, const std::string& points_file,
+                                        const std::string& calibration_file) {
   const CsvTable t = parse_csv(points_csv_text, points_file);
   t.column("id");
   const std::size_t cla = t.column("lat"), clo = t.column("lon"), ch = t.column("h");
   const LocalEnu site(origin);
-  return project_table(cam, t, "lat,lon,h", [&](const CsvRecord& r) {
+  return project_table(cam, t, "lat,lon,h", calibration_file, [&](const CsvRecord& r) {
     const Eigen::Vector3d llh(
         t.number_in(r, cla, -90, 90, "latitude, degrees"),
         t.number_in(r, clo, -180, 180, "longitude, degrees"),

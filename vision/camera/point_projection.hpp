@@ -15,15 +15,16 @@ namespace rangecal {
 /// top-left pixel (0, 0), v down — with 6 decimals, i.e. 1e-6 px). `points_file` names the input in messages.
 /// Throws rangecal::Error (kind input) naming the file, line and field for a missing column, a
 /// non-numeric value, a point behind the camera (Zc ≤ 0) or a point where the distortion inverse
-/// does not converge.
+/// does not converge (the message also names `calibration_file`, the camera's file, when given).
 std::string project_points_csv(const Camera& cam, const std::string& points_csv_text,
-                               const std::string& points_file);
+                               const std::string& points_file, const std::string& calibration_file = "");
 
 /// As project_points_csv for `id,lat,lon,h` CSV text: WGS84 latitude and longitude in degrees,
 /// ellipsoidal height in metres, converted to the site ENU frame about `origin`
 /// (gnss/geodesy/local_enu.hpp, GeographicLib::LocalCartesian). A point outside the site box
 /// (±50 km: a wrong origin or swapped lat/lon) is an input error naming the line.
 std::string project_geodetic_points_csv(const Camera& cam, const GeodeticOrigin& origin,
-                                        const std::string& points_csv_text, const std::string& points_file);
+                                        const std::string& points_csv_text, const std::string& points_file,
+                                        const std::string& calibration_file = "");
 
 }  // namespace rangecal

@@ -99,6 +99,20 @@ void read_bitmap_header(int fd, const std::string& path, CineHeader& c) {
   if (c.bi_bit_count != 8 && c.bi_bit_count != 16 && c.bi_bit_count != 24 && c.bi_bit_count != 48)
     bad(path, "BITMAPINFOHEADER.biBitCount",
         "unsupported bit count " + std::to_string(c.bi_bit_count) + " (expected 8, 16, 24 or 48)");
+  // biSizeImage is the bytes of one image: fewer than the pixels need is a damaged header, whose
+  // frames could only be read short (packed 10-bit: 5 bytes per 4 pixels, 12-bit: 3 per 2).
+  const std::uint64_t n = static_cast<std::uint64_t>(c.width()) * static_cast<std::uint64_t>(c.height());
+  const std::uint64_t need = c.bi_compression == cine::kBiPacked10   ? (n * 10 + 7) / 8
+                             : c.bi_compression == cine::kBiPacked12 ? (n * 12 + 7) / 8
+                                                                     : n * (c.bi_bit_count / 8);
+  if (c.bi_size_image < need)
+    bad(path, "BITMAPINFOHEADER.biSizeImage",
+        std::to_string(c.bi_size_image) + " bytes is less than one image of " + std::to_string(c.width()) +
+            " x " + std::to_string(c.height()) + " px needs (" + std::to_string(need) + " bytes at " +
+            (c.bi_compression == cine::kBiPacked10   ? std::string("10 packed bits")
+             : c.bi_compression == cine::kBiPacked12 ? std::string("12 packed bits")
+                                                     : std::to_string(c.bi_bit_count / 8) + " byte(s)") +
+            " per pixel)");
 }
 
 // SETUP at OffSetup: the fields the reader uses (row flip, rate, colour filter, bits, shutter).

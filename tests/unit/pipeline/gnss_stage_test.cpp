@@ -461,3 +461,55 @@ TEST(GnssStage, AutopilotLogTakesItsTypesDefaultReceiverLag) {
 
 }  // namespace
 }  // namespace rangecal
+
+namespace rangecal {
+namespace {
+
+// What run.json's attitude counts say of a truncated log and of rejected GPS pairs is a warning
+// too, each once, so that the console shows it (pipeline/cli/stage_summary.hpp prints warnings).
+TEST(GnssStage, TruncatedLogAndRejectedGpsPairsAreWarnedOnce) {
+  const auto dir = test::scratch_dir("gnss_stage_autopilot_damaged");
+  MissionConfig cfg = autopilot_mission(dir);
+  cfg.attitude_gnss_lag_ms = 0;
+  test::DataflashWriter w;
+  w.define_att_and_gps();
+  const std::uint64_t boot0 = 100'000'000;
+  for (int i = 0; i <= 3000; ++i) {
+    const std::uint64_t t = boot0 + 200'000ULL * static_cast<std::uint64_t>(i);
+    // One fix 2 s off the others' line: a jump the fit rejects.
+    const std::uint32_t jump = i == 1500 ? 2000 : 0;
+    w.gps(t, 6, 2022, static_cast<std::uint32_t>(217'818'000 + (t - boot0) / 1000) + jump);
+  }
+  for (int i = 0; i <= 6000; ++i) w.att(boot0 + 100'000ULL * static_cast<std::uint64_t>(i), 0, 0, 90);
+  const std::string bytes = w.bytes();
+  test::write_text(dir / "flight.bin", bytes.substr(0, bytes.size() - 5));  // cut inside the last ATT
+  const StageLog log = run_gnss_stage(cfg);
+  const nlohmann::json& a = log.counts.at("attitude");
+  ASSERT_GT(a.at("truncated_bytes").get<int>(), 0);
+  ASSERT_EQ(a.at("gps_rejected"), 1);
+  int truncated = 0, rejected = 0;
+  for (const std::string& w : log.warnings) {
+    if (w.find("the log is truncated") != std::string::npos) {
+      ++truncated;
+      EXPECT_NE(w.find(cfg.attitude_file), std::string::npos) << w;
+      EXPECT_NE(w.find(std::to_string(a.at("truncated_bytes").get<int>()) + " byte(s)"), std::string::npos)
+          << w;
+    }
+    if (w.find("time pairs rejected") != std::string::npos) {
+      ++rejected;
+      EXPECT_NE(w.find("1 of 3001 GPS"), std::string::npos) << w;
+    }
+  }
+  EXPECT_EQ(truncated, 1);
+  EXPECT_EQ(rejected, 1);
+  // A whole log with no jump says neither.
+  cfg = autopilot_mission(dir);
+  cfg.attitude_gnss_lag_ms = 0;
+  for (const std::string& w : run_gnss_stage(cfg).warnings) {
+    EXPECT_EQ(w.find("truncated"), std::string::npos) << w;
+    EXPECT_EQ(w.find("rejected"), std::string::npos) << w;
+  }
+}
+
+}  // namespace
+}  // namespace rangecal

@@ -96,6 +96,7 @@ TEST(MissionConfig, FullExampleParses) {
   EXPECT_EQ(c.calibrate.seed, 7u);
   EXPECT_DOUBLE_EQ(c.intersect.pick_sigma_px, 0.4);
   EXPECT_DOUBLE_EQ(c.intersect.bar_mean_dR_m, 0.015);
+  EXPECT_FALSE(c.run.fail_on_poorly_determined);
   EXPECT_EQ(c.output_dir, (dir / "out").string());
 }
 
@@ -296,6 +297,18 @@ TEST(MissionConfig, AccuracyBarIsReadAndRangeChecked) {
   expect_error(j, "intersect.bar_mean_dR_m", "at most 1");
   j["intersect"] = {{"bar_mean_dR_m", "1 cm"}};
   expect_error(j, "intersect.bar_mean_dR_m", "positive distance in metres");
+}
+
+// docs/reliability.md "Run outcome": poorly determined parameters are warnings unless asked.
+TEST(MissionConfig, FailOnPoorlyDeterminedIsABooleanOffByDefault) {
+  auto j = minimal();
+  EXPECT_FALSE(parse_mission_config(j.dump(), kPath, false).run.fail_on_poorly_determined);
+  j["run"] = {{"fail_on_poorly_determined", true}};
+  EXPECT_TRUE(parse_mission_config(j.dump(), kPath, false).run.fail_on_poorly_determined);
+  j["run"] = {{"fail_on_poorly_determined", "yes"}};
+  expect_error(j, "run.fail_on_poorly_determined", "true or false");
+  j["run"] = {{"fail_on_poorly_determind", true}};
+  expect_error(j, "run.fail_on_poorly_determind", "did you mean 'fail_on_poorly_determined'");
 }
 
 TEST(MissionConfigErrors, UnknownCompareMethod) {

@@ -230,3 +230,38 @@ TEST(Cine, ImpossibleBitmapHeaderValues) {
     }
   }
 }
+
+// biSizeImage is one image's bytes: a header claiming fewer than width × height × bytes per pixel
+// (here the real sample's 2048 × 1080 packed 10-bit: 2,764,800 bytes) is refused naming the file
+// and the field, on a damaged copy (the original is never edited).
+TEST(Cine, BitmapSizeImageSmallerThanTheImageIsRefused) {
+  const fs::path dir = test::scratch_dir("cine_bad_size_image");
+  const std::string ok = test::read_text(test::external("phantom-cine/chart1.cine"));
+  std::uint32_t off_image_header = 0;
+  std::memcpy(&off_image_header, ok.data() + 24, 4);  // CINEFILEHEADER.OffImageHeader
+  std::uint32_t recorded = 0;
+  std::memcpy(&recorded, ok.data() + off_image_header + 20, 4);  // BITMAPINFOHEADER.biSizeImage
+  ASSERT_EQ(recorded, 2048u * 1080u * 10u / 8u);
+  for (const std::uint32_t value : {0u, 1u, 2048u * 1080u, 2048u * 1080u * 10u / 8u - 1u}) {
+    SCOPED_TRACE(value);
+    std::string b = ok;
+    std::memcpy(&b[off_image_header + 20], &value, 4);
+    const fs::path path = dir / ("size_image_" + std::to_string(value) + ".cine");
+    test::write_text(path, b);
+    try {
+      CineReader r(path.string());
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::input);
+      EXPECT_EQ(e.file(), path.string());
+      EXPECT_EQ(e.field(), "BITMAPINFOHEADER.biSizeImage") << e.what();
+      EXPECT_NE(std::string(e.what()).find("2764800 bytes"), std::string::npos) << e.what();
+    }
+  }
+  // One byte more than needed is a valid header (Phantom may pad); the exact size is the sample.
+  std::string b = ok;
+  const std::uint32_t more = recorded + 1;
+  std::memcpy(&b[off_image_header + 20], &more, 4);
+  test::write_text(dir / "padded.cine", b);
+  EXPECT_NO_THROW(CineReader((dir / "padded.cine").string()));
+}
