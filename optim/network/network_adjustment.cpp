@@ -143,6 +143,7 @@ void fill_point_results(const NetworkLayout& layout, const NetworkSelection& sel
     result.enu = cov.point_enu[k];
     result.correction = result.enu - (*layout.points)[k].prior_enu;
     result.cov = cov.point_cov[k];
+    result.ppk_gm = cov.point_gm[k];
     result.cameras = seen[k];
     result.prior_used = selection.prior[k] != 0;
     result.used = result.prior_used || seen[k] > 0;
@@ -307,7 +308,7 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
                              const std::vector<NetworkObservation>& observations,
                              const NetworkOptions& options) {
   check_network_input(cameras, points, observations);
-  const NetworkLayout layout = make_network_layout(cameras, points, observations);
+  const NetworkLayout layout = make_network_layout(cameras, points, observations, options.ppk_error);
   NetworkParameterBlocks blocks = starting_blocks(layout);
   NetworkSelection selection{
       std::vector<char>(observations.size(), 1), std::vector<char>(points.size(), 1), {}, {}};

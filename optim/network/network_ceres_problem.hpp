@@ -39,6 +39,8 @@ class NetworkCeresProblem {
 
  private:
   void add_image_residual(std::size_t i, const NetworkSelection& selection);
+  void add_chained_prior(std::size_t k);
+  void add_gauss_markov_chain();
   void pack_cameras();
 
   /// Before each evaluation, every camera's evaluation point (CameraBlock::prepare_evaluation):
@@ -63,6 +65,7 @@ class NetworkCeresProblem {
   std::vector<ImageResidualCost*> image_;              // per observation: its residual (null: none)
   std::vector<char> image_single_view_;                // per observation: its residual is the single-view one
   std::vector<std::array<PointPriorCost*, 2>> prior_;  // per point: its prior's two halves
+  std::vector<std::array<ChainedPointPriorCost*, 2>> chained_prior_;  // per point in the GM chain
   std::vector<char> point_constant_;
 };
 

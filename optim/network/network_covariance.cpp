@@ -10,6 +10,7 @@
 #include "optim/bundle/whitening.hpp"
 #include "optim/estimation/rank_tested_inverse.hpp"
 #include "optim/estimation/symmetric_part.hpp"
+#include "optim/network/gauss_markov_elimination.hpp"
 
 namespace rangecal {
 namespace {
@@ -130,10 +131,49 @@ struct EliminatedPoints {
   int count = 0;
 };
 
+/// The Gauss–Markov chain's own information (its AR(1) prior, ppk_error_model.hpp) into `gm`, sized
+/// for `n` camera columns.
+GaussMarkovSystem gauss_markov_system(const NetworkLayout& l, const NetworkParameterBlocks& b, int n,
+                                      double* chi2, int* rows) {
+  const std::size_t states = l.gm_chain.size();
+  GaussMarkovSystem gm;
+  gm.diagonal.assign(states, Eigen::Matrix3d::Zero());
+  gm.below.assign(states, Eigen::Vector3d::Zero());
+  gm.B = MatrixXd::Zero(3 * static_cast<Eigen::Index>(states), n);
+  for (std::size_t j = 0; j < states; ++j) {
+    const GaussMarkovStep step = gauss_markov_step(l, j);
+    const Eigen::Vector3d w2 = step.weight.cwiseProduct(step.weight);
+    const Eigen::Map<const Eigen::Vector3d> g(b.gm[j].data());
+    gm.diagonal[j].diagonal() += w2;
+    Eigen::Vector3d r = step.weight.cwiseProduct(g);
+    if (j > 0) {
+      gm.diagonal[j - 1].diagonal() += w2.cwiseProduct(step.phi).cwiseProduct(step.phi);
+      gm.below[j] = -w2.cwiseProduct(step.phi);
+      r -= step.weight.cwiseProduct(step.phi).cwiseProduct(
+          Eigen::Map<const Eigen::Vector3d>(b.gm[j - 1].data()));
+    }
+    *chi2 += r.squaredNorm();
+    *rows += 3;
+  }
+  return gm;
+}
+
+/// A chained point's coupling with its state once the point is eliminated: G_jj += P − P·V⁻¹·P,
+/// B_j = −P·V⁻¹·Wᵀ (gauss_markov_elimination.hpp).
+void couple_state(const NetworkLayout& l, std::size_t k, const PointLinearisation& lin,
+                  const Eigen::Matrix3d& Vinv, GaussMarkovSystem* gm) {
+  const std::size_t j = static_cast<std::size_t>(l.gm_state[k]);
+  const Eigen::Matrix3d PV = lin.P * Vinv;
+  gm->diagonal[j] += lin.P - PV * lin.P;
+  for (const auto& [c, W] : lin.W)
+    gm->B.block(3 * static_cast<Eigen::Index>(j), l.offset[c], 3, W.rows()).noalias() -= PV * W.transpose();
+}
+
 /// The reduced camera system S = U − Σ_k W_k·V_k⁻¹·W_kᵀ (both triangles) into out->S, with the
 /// images' and point priors' χ² and residual count.
 EliminatedPoints reduce_camera_system(const NetworkLayout& l, const NetworkParameterBlocks& b,
-                                      const NetworkSelection& sel, NetworkCovariance* out) {
+                                      const NetworkSelection& sel, GaussMarkovSystem* gm,
+                                      NetworkCovariance* out) {
   const int n = l.n_camera_parameters;
   out->S = MatrixXd::Zero(n, n);
   const std::size_t np = l.by_point.size();
@@ -158,6 +198,7 @@ EliminatedPoints reduce_camera_system(const NetworkLayout& l, const NetworkParam
     const Eigen::Matrix3d L = points.Vinv[k].llt().matrixL();
     for (const auto& [c, W] : points.lin[k].W)
       H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * L;
+    if (!points.lin[k].P.isZero(0)) couple_state(l, k, points.lin[k], points.Vinv[k], gm);
     if (++filled == kChunk) flush();
   }
   flush();
@@ -199,10 +240,11 @@ void single_view_point_covariances(const NetworkLayout& l, const NetworkParamete
       if (!project(cam, X, &uv)) continue;
       const Eigen::Matrix<double, 2, 3> JX = pixel_jacobian_wrt_world(cam, X);
       const double sp = l.pixel_sigma(i);
-      const Eigen::Matrix2d C = sp * sp * Eigen::Matrix2d::Identity() + JX * p.prior_cov * JX.transpose();
-      const Eigen::Matrix<double, 3, 2> K = p.prior_cov * JX.transpose() * C.inverse();
+      const Eigen::Matrix3d& prior_cov = l.prior_total_cov[k];  // white: the point is not chained
+      const Eigen::Matrix2d C = sp * sp * Eigen::Matrix2d::Identity() + JX * prior_cov * JX.transpose();
+      const Eigen::Matrix<double, 3, 2> K = prior_cov * JX.transpose() * C.inverse();
       out->point_enu[k] = p.prior_enu - K * (uv - o.pixel);
-      out->point_cov[k] = p.prior_cov - K * JX * p.prior_cov;
+      out->point_cov[k] = prior_cov - K * JX * prior_cov;
       if (out->joint.size() > 0) {
         Eigen::Vector2d r;
         CameraJacobian Jc;
@@ -240,10 +282,43 @@ void eliminated_point_covariances(const NetworkLayout& l, const EliminatedPoints
     chunk.clear();
   };
   for (std::size_t k = 0; k < points.Vinv.size(); ++k) {
-    if (points.Vinv[k].isZero(0)) continue;
+    if (points.Vinv[k].isZero(0) || !points.lin[k].P.isZero(0)) continue;  // chained: below
     for (const auto& [c, W] : points.lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3) = W;
     chunk.push_back(k);
     if (++filled == kChunk) finish_chunk();
+  }
+  finish_chunk();
+}
+
+/// Each chained point's Σ_kk = V⁻¹ + V⁻¹·[Aᵀ·Σ_cc·A + P·(G⁻¹)_jj·P]·V⁻¹ with A = W − Z_jᵀ·P
+/// (network_covariance.hpp); Σ_cc·A for a chunk of points at once.
+void chained_point_covariances(const NetworkLayout& l, const EliminatedPoints& points, const MatrixXd& Z,
+                               const std::vector<Eigen::Matrix3d>& state_cov, NetworkCovariance* out) {
+  const int n = l.n_camera_parameters;
+  MatrixXd H = MatrixXd::Zero(n, 3 * kChunk), SA;
+  std::vector<std::size_t> chunk;
+  auto finish_chunk = [&]() {
+    if (chunk.empty()) return;
+    const Eigen::Index cols = 3 * static_cast<Eigen::Index>(chunk.size());
+    if (out->joint.size() > 0) SA.noalias() = out->joint * H.leftCols(cols);
+    for (std::size_t i = 0; i < chunk.size(); ++i) {
+      const std::size_t k = chunk[i];
+      const Eigen::Index at = 3 * static_cast<Eigen::Index>(i);
+      const Eigen::Matrix3d& P = points.lin[k].P;
+      Eigen::Matrix3d add = P * state_cov[static_cast<std::size_t>(l.gm_state[k])] * P;
+      if (out->joint.size() > 0) add.noalias() += H.middleCols(at, 3).transpose() * SA.middleCols(at, 3);
+      out->point_cov[k] = points.Vinv[k] + points.Vinv[k] * add * points.Vinv[k];
+    }
+    chunk.clear();
+  };
+  for (std::size_t k = 0; k < points.Vinv.size(); ++k) {
+    if (points.Vinv[k].isZero(0) || points.lin[k].P.isZero(0)) continue;
+    const Eigen::Index at = 3 * static_cast<Eigen::Index>(chunk.size());
+    H.middleCols(at, 3).noalias() =
+        -Z.middleRows(3 * static_cast<Eigen::Index>(l.gm_state[k]), 3).transpose() * points.lin[k].P;
+    for (const auto& [c, W] : points.lin[k].W) H.block(l.offset[c], at, W.rows(), 3) += W;
+    chunk.push_back(k);
+    if (static_cast<int>(chunk.size()) == kChunk) finish_chunk();
   }
   finish_chunk();
 }
@@ -273,8 +348,12 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
   if (sel.prior[k]) {
     const Eigen::Matrix3d& Li = l.prior_whiten[k];
     pl.V += Li.transpose() * Li;
-    const Eigen::Vector3d e =
-        Li * (Eigen::Map<const Eigen::Vector3d>(b.points[k].data()) - (*l.points)[k].prior_enu);
+    Eigen::Vector3d X = Eigen::Map<const Eigen::Vector3d>(b.points[k].data());
+    if (l.gm_state[k] >= 0) {  // the fix is X + g + w (ppk_error_model.hpp)
+      pl.P = Li.transpose() * Li;
+      X += Eigen::Map<const Eigen::Vector3d>(b.gm[static_cast<std::size_t>(l.gm_state[k])].data());
+    }
+    const Eigen::Vector3d e = Li * (X - (*l.points)[k].prior_enu);
     if (chi2) *chi2 += e.squaredNorm();
     if (rows) *rows += 3;
   }
@@ -303,10 +382,12 @@ NetworkCovariance network_covariance(const NetworkLayout& l, const NetworkParame
                                      const NetworkSelection& sel, double scene_distance_m,
                                      double max_speed_mps, double rank_tolerance) {
   NetworkCovariance out;
-  const EliminatedPoints points = reduce_camera_system(l, b, sel, &out);
+  GaussMarkovSystem gm = gauss_markov_system(l, b, l.n_camera_parameters, &out.chi2, &out.residuals);
+  const EliminatedPoints points = reduce_camera_system(l, b, sel, &gm, &out);
   add_camera_priors(l, b, &out.S, &out.chi2, &out.residuals);
+  const std::vector<Eigen::Matrix3d> state_cov = eliminate_gauss_markov(&gm, &out.S);
   out.S = symmetric_part(out.S);
-  out.parameters = l.n_camera_parameters + 3 * points.count;
+  out.parameters = l.n_camera_parameters + 3 * points.count + 3 * static_cast<int>(l.gm_chain.size());
   invert_camera_system(l, scene_distance_m, max_speed_mps, rank_tolerance, &out);
 
   const std::size_t np = l.by_point.size();
@@ -314,8 +395,14 @@ NetworkCovariance network_covariance(const NetworkLayout& l, const NetworkParame
   out.point_enu.resize(np);
   for (std::size_t k = 0; k < np; ++k)
     out.point_enu[k] = Eigen::Map<const Eigen::Vector3d>(b.points[k].data());
+  out.point_gm.assign(np, Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < np; ++k)
+    if (l.gm_state[k] >= 0)
+      out.point_gm[k] =
+          Eigen::Map<const Eigen::Vector3d>(b.gm[static_cast<std::size_t>(l.gm_state[k])].data());
   single_view_point_covariances(l, b, sel, &out);
   eliminated_point_covariances(l, points, &out);
+  chained_point_covariances(l, points, gm.B, state_cov, &out);
   return out;
 }
 

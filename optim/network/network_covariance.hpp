@@ -9,7 +9,10 @@
 // which keeps every correlation between cameras that the shared epochs create. Each point's
 // covariance follows as Σ_kk = V_k⁻¹ + V_k⁻¹·W_kᵀ·Σ_cc·W_k·V_k⁻¹; a single-view point
 // (network_parameters.hpp) has Σ − K·J_X·Σ + K·J_θ·Σ_cc·J_θᵀ·Kᵀ, K = Σ·J_Xᵀ·C⁻¹. S is inverted after Jacobi
-// scaling, with the per-camera bundle's rank tests (optim/bundle/bundle_covariance.hpp).
+// scaling, with the per-camera bundle's rank tests (optim/bundle/bundle_covariance.hpp). Under a
+// correlated PPK error model the Gauss–Markov states are eliminated after the points
+// (gauss_markov_elimination.hpp), and a chained point's covariance takes their share:
+//   Σ_kk = V⁻¹ + V⁻¹·[(Wᵀ − P·Z_j)·Σ_cc·(Wᵀ − P·Z_j)ᵀ + P·(G⁻¹)_jj·P]·V⁻¹.
 #include <Eigen/Core>
 #include <string>
 #include <utility>
@@ -25,6 +28,9 @@ using CameraPointBlock = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, kBundlePara
 /// One point's share of the normal equations.
 struct PointLinearisation {
   Eigen::Matrix3d V = Eigen::Matrix3d::Zero();  ///< V_k (m⁻²)
+  /// The prior's information L⁻ᵀL⁻¹ when it is a fix in the Gauss–Markov chain (it then couples the
+  /// point with its GM state: gauss_markov_elimination.hpp); zero otherwise.
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
   /// W_k per observing camera: (camera index, J_cᵀJ_p over that camera's used observations, n_free × 3).
   std::vector<std::pair<std::size_t, CameraPointBlock>> W;
   int cameras = 0;  ///< cameras with a used observation of the point
@@ -44,6 +50,8 @@ struct NetworkCovariance {
   /// Per point: the adjusted position — its block, or for a single-view point the posterior
   /// X̄ − Σ·J_Xᵀ·C⁻¹·e given the camera (e its pixel residual at X̄).
   std::vector<Eigen::Vector3d> point_enu;
+  /// Per point in the Gauss–Markov chain, its state's estimate (ENU m; zero for the others).
+  std::vector<Eigen::Vector3d> point_gm;
   double chi2 = 0;
   int residuals = 0;
   int parameters = 0;
