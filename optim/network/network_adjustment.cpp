@@ -313,6 +313,8 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
   NetworkSelection selection{
       std::vector<char>(observations.size(), 1), std::vector<char>(points.size(), 1), {}, {}};
   NetworkResult out;
+  out.ppk_error = options.ppk_error;
+  out.gauss_markov_states = static_cast<int>(layout.gm_chain.size());
   NetworkStatistics& stats = out.statistics;
   out.points.resize(points.size());
 

@@ -134,6 +134,8 @@ struct NetworkResult {
   Eigen::MatrixXd datum_floor_covariance;
   double datum_floor_image_factor = 0;
   std::vector<std::string> warnings;  ///< network-wide (camera warnings are in each calibration)
+  PpkErrorModel ppk_error;            ///< the model the fixes were weighed by (NetworkOptions::ppk_error)
+  int gauss_markov_states = 0;        ///< epochs in its chain (0: white)
 };
 
 /// Adjusts the network. Throws rangecal::Error: calibration kind for non-finite input (naming

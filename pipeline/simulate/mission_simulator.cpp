@@ -502,6 +502,18 @@ std::string format_mission_config(const SimMission& m) {
   const double max_gap = std::max(0.5, 2.5 / s.gnss.rate_hz);
   j["gnss"] = {
       {"pos_files", {"gnss/rover.pos"}}, {"accept_quality", {1}}, {"max_sd_m", 0.05}, {"max_gap_s", max_gap}};
+  // A correlated scenario's mission states the model its errors were drawn from, as a range states
+  // the model of a receiver it has characterised (docs/gnss.md "PPK error model"): the white part as
+  // a fraction of the reported sd √(white² + σ_GM²), and the Gauss–Markov part (E for horizontal).
+  const PpkCorrelatedError& ce = s.gnss.correlated_error;
+  if (ce.gm_sd_m.x() > 0 && ce.gm_sd_m.z() > 0) {
+    const Eigen::Vector3d total = reported_sd_m(s.gnss.noise_sd_m, ce);
+    const auto hv = [](double h, double v) { return J{{"horizontal", h}, {"vertical", v}}; };
+    j["gnss"]["error_model"] = {
+        {"white_scale", hv(s.gnss.noise_sd_m.x() / total.x(), s.gnss.noise_sd_m.z() / total.z())},
+        {"gauss_markov",
+         {{"sd_m", hv(ce.gm_sd_m.x(), ce.gm_sd_m.z())}, {"tau_s", hv(ce.gm_tau_s.x(), ce.gm_tau_s.z())}}}};
+  }
   j["attitude"] = {{"file", "gnss/attitude.csv"}};
   j["lever_arm"] = {{"body_frd_m", vec_json(s.lever_arm_frd_m)}};
   if (!m.poles.empty()) j["poles"] = "survey/poles.csv";
