@@ -503,16 +503,13 @@ std::string format_mission_config(const SimMission& m) {
   j["gnss"] = {
       {"pos_files", {"gnss/rover.pos"}}, {"accept_quality", {1}}, {"max_sd_m", 0.05}, {"max_gap_s", max_gap}};
   // A correlated scenario's mission states the model its errors were drawn from, as a range states
-  // the model of a receiver it has characterised (docs/gnss.md "PPK error model"): the white part as
-  // a fraction of the reported sd √(white² + σ_GM²), and the Gauss–Markov part (E for horizontal).
-  const PpkCorrelatedError& ce = s.gnss.correlated_error;
-  if (ce.gm_sd_m.x() > 0 && ce.gm_sd_m.z() > 0) {
-    const Eigen::Vector3d total = reported_sd_m(s.gnss.noise_sd_m, ce);
+  // the model of a receiver it has characterised (docs/gnss.md "PPK error model").
+  const PpkErrorModel em = stated_error_model(s.gnss.noise_sd_m, s.gnss.correlated_error);
+  if (em.correlated()) {
     const auto hv = [](double h, double v) { return J{{"horizontal", h}, {"vertical", v}}; };
     j["gnss"]["error_model"] = {
-        {"white_scale", hv(s.gnss.noise_sd_m.x() / total.x(), s.gnss.noise_sd_m.z() / total.z())},
-        {"gauss_markov",
-         {{"sd_m", hv(ce.gm_sd_m.x(), ce.gm_sd_m.z())}, {"tau_s", hv(ce.gm_tau_s.x(), ce.gm_tau_s.z())}}}};
+        {"white_scale", hv(em.white_scale_h, em.white_scale_v)},
+        {"gauss_markov", {{"sd_m", hv(em.gm_sd_h_m, em.gm_sd_v_m)}, {"tau_s", hv(em.tau_h_s, em.tau_v_s)}}}};
   }
   j["attitude"] = {{"file", "gnss/attitude.csv"}};
   j["lever_arm"] = {{"body_frd_m", vec_json(s.lever_arm_frd_m)}};
