@@ -35,7 +35,8 @@ BlockBidiagonal factor(const GaussMarkovSystem& g) {
 
 }  // namespace
 
-std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* g, Eigen::MatrixXd* S) {
+std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* g, Eigen::MatrixXd* S,
+                                                    Eigen::VectorXd* state_rhs, Eigen::VectorXd* camera_rhs) {
   const std::size_t n = g->diagonal.size();
   std::vector<Eigen::Matrix3d> inverse_diagonal(n, Eigen::Matrix3d::Zero());
   if (n == 0) return inverse_diagonal;
@@ -46,7 +47,13 @@ std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* g, Eigen:
   for (std::size_t j = 0; j < n; ++j) {
     if (j > 0) Y(rows(j), Eigen::all).noalias() -= L.below[j] * Y(rows(j - 1), Eigen::all);
     L.diagonal[j].triangularView<Eigen::Lower>().solveInPlace(Y(rows(j), Eigen::all));
+    if (state_rhs) {
+      auto y = state_rhs->segment<3>(3 * static_cast<Eigen::Index>(j));
+      if (j > 0) y -= L.below[j] * state_rhs->segment<3>(3 * static_cast<Eigen::Index>(j - 1));
+      L.diagonal[j].triangularView<Eigen::Lower>().solveInPlace(y);
+    }
   }
+  if (state_rhs && camera_rhs) camera_rhs->noalias() -= Y.transpose() * *state_rhs;
   S->selfadjointView<Eigen::Lower>().rankUpdate(Y.transpose(), -1.0);
   *S = S->selfadjointView<Eigen::Lower>();
   // Backward: Z_j = L_jj⁻ᵀ·(Y_j − L_{j+1,j}ᵀ·Z_{j+1}), and the diagonal blocks of G⁻¹.
@@ -54,6 +61,12 @@ std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* g, Eigen:
     if (j + 1 < n)
       Y(rows(j), Eigen::all).noalias() -= L.below[j + 1].transpose() * Y(rows(j + 1), Eigen::all);
     L.diagonal[j].transpose().triangularView<Eigen::Upper>().solveInPlace(Y(rows(j), Eigen::all));
+    if (state_rhs) {
+      auto z = state_rhs->segment<3>(3 * static_cast<Eigen::Index>(j));
+      if (j + 1 < n)
+        z -= L.below[j + 1].transpose() * state_rhs->segment<3>(3 * static_cast<Eigen::Index>(j + 1));
+      L.diagonal[j].transpose().triangularView<Eigen::Upper>().solveInPlace(z);
+    }
     const Eigen::Matrix3d Linv = L.diagonal[j].inverse();
     inverse_diagonal[j] = Linv.transpose() * Linv;
     if (j + 1 < n) {

@@ -19,11 +19,15 @@ struct GaussMarkovSystem {
   std::vector<Eigen::Matrix3d> diagonal;  ///< G_jj (m⁻²)
   std::vector<Eigen::Vector3d> below;     ///< G_{j,j−1}, diagonal (below[0] unused)
   Eigen::MatrixXd B;                      ///< S_gc: 3·states × camera columns; becomes Z = G⁻¹·B
+  Eigen::VectorXd gradient;               ///< b_g, the states' reduced gradient (a Gauss–Newton step's)
 };
 
 /// Eliminates the states: S −= Bᵀ·G⁻¹·B (both triangles of S kept), system->B replaced by Z = G⁻¹·B.
-/// Returns the diagonal blocks of G⁻¹. Throws rangecal::Error (calibration) when G is not positive
-/// definite.
-std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* system, Eigen::MatrixXd* S);
+/// With `state_rhs` (b_g) and `camera_rhs` (b_c) for a Gauss–Newton step: b_c −= Bᵀ·G⁻¹·b_g and
+/// b_g replaced by G⁻¹·b_g. Returns the diagonal blocks of G⁻¹. Throws rangecal::Error
+/// (calibration) when G is not positive definite.
+std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* system, Eigen::MatrixXd* S,
+                                                    Eigen::VectorXd* state_rhs = nullptr,
+                                                    Eigen::VectorXd* camera_rhs = nullptr);
 
 }  // namespace rangecal

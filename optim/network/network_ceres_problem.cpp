@@ -52,17 +52,12 @@ NetworkCeresProblem::NetworkCeresProblem(const NetworkLayout& layout, NetworkPar
       image_(layout.observations->size(), nullptr),
       image_single_view_(layout.observations->size(), 0),
       prior_(blocks->points.size(), {nullptr, nullptr}),
-      chained_prior_(blocks->points.size(), {nullptr, nullptr}),
       point_constant_(blocks->points.size(), 0) {
   pack_cameras();
   for (std::size_t i = 0; i < image_.size(); ++i)
     if (selection.observation[i]) add_image_residual(i, selection);
   for (std::size_t k = 0; k < prior_.size(); ++k) {
     if (!selection.prior[k] || selection.single_view[k]) continue;
-    if (layout_.gm_state[k] >= 0) {
-      add_chained_prior(k);
-      continue;
-    }
     for (int half = 0; half < 2; ++half) {
       prior_[k][static_cast<std::size_t>(half)] =
           new PointPriorCost((*layout_.points)[k].prior_enu, layout_.prior_whiten[k], half);
@@ -70,7 +65,6 @@ NetworkCeresProblem::NetworkCeresProblem(const NetworkLayout& layout, NetworkPar
                                  blocks_->points[k].data());
     }
   }
-  add_gauss_markov_chain();
   for (std::size_t c = 0; c < cameras_.size(); ++c) {
     CameraBlock& cb = cameras_[c];
     if (cb.size == 0 || !problem_->HasParameterBlock(cb.values.data())) continue;  // no observation
@@ -103,27 +97,6 @@ void NetworkCeresProblem::add_image_residual(std::size_t i, const NetworkSelecti
     problem_->AddResidualBlock(image_[i], &loss_, blocks_->points[o.point].data());
 }
 
-void NetworkCeresProblem::add_chained_prior(std::size_t k) {
-  double* g = blocks_->gm[static_cast<std::size_t>(layout_.gm_state[k])].data();
-  for (std::size_t half = 0; half < 2; ++half) {
-    chained_prior_[k][half] = new ChainedPointPriorCost((*layout_.points)[k].prior_enu,
-                                                        layout_.prior_whiten[k], static_cast<int>(half));
-    problem_->AddResidualBlock(chained_prior_[k][half], &loss_, blocks_->points[k].data(), g);
-  }
-}
-
-void NetworkCeresProblem::add_gauss_markov_chain() {
-  // The chain's prior is the error model itself, not an observation: no robust loss.
-  for (std::size_t j = 0; j < blocks_->gm.size(); ++j) {
-    const GaussMarkovStep step = gauss_markov_step(layout_, j);
-    if (j == 0)
-      problem_->AddResidualBlock(new GaussMarkovStartCost(step.weight), nullptr, blocks_->gm[0].data());
-    else
-      problem_->AddResidualBlock(new GaussMarkovStepCost(step.phi, step.weight), nullptr,
-                                 blocks_->gm[j - 1].data(), blocks_->gm[j].data());
-  }
-}
-
 void NetworkCeresProblem::pack_cameras() {
   // In place: the costs hold the address of each camera's block.
   for (std::size_t c = 0; c < cameras_.size(); ++c) {
@@ -149,10 +122,8 @@ void NetworkCeresProblem::select(const NetworkSelection& sel) {
   for (std::size_t k = 0; k < prior_.size(); ++k) {
     const bool prior_on = sel.prior[k] && !sel.single_view[k];
     if (prior_on) continue;
-    for (std::size_t half = 0; half < 2; ++half) {
+    for (std::size_t half = 0; half < 2; ++half)
       if (prior_[k][half]) prior_[k][half]->switch_off();
-      if (chained_prior_[k][half]) chained_prior_[k][half]->switch_off();
-    }
   }
   for (std::size_t k = 0; k < point_constant_.size(); ++k) {
     if (point_constant_[k] || !problem_->HasParameterBlock(blocks_->points[k].data())) continue;
@@ -166,7 +137,7 @@ void NetworkCeresProblem::select(const NetworkSelection& sel) {
 int NetworkCeresProblem::solve(RobustLoss loss, double loss_scale, double tolerance, int max_iterations,
                                int num_threads) {
   loss_.Reset(new_robust_loss(loss, loss_scale), ceres::TAKE_OWNERSHIP);
-  // Points first (eliminated), then the cameras and the Gauss–Markov states; Ceres prunes the held points
+  // Points first (eliminated), then the cameras; Ceres prunes the held points
   // from the ordering it is given, so each solve gets its own.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (std::size_t k = 0; k < blocks_->points.size(); ++k)
@@ -175,14 +146,11 @@ int NetworkCeresProblem::solve(RobustLoss loss, double loss_scale, double tolera
   for (CameraBlock& cb : cameras_)
     if (cb.size > 0 && problem_->HasParameterBlock(cb.values.data()))
       ordering->AddElementToGroup(cb.values.data(), 1);
-  for (std::array<double, 3>& g : blocks_->gm) ordering->AddElementToGroup(g.data(), 1);
 
   ceres::Solver::Options so;
   so.minimizer_type = ceres::TRUST_REGION;
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  // With the Gauss–Markov chain the reduced system holds one 3-vector per epoch besides the cameras:
-  // block tridiagonal, bordered by the cameras, which a sparse Cholesky factors in O(epochs).
-  so.linear_solver_type = blocks_->gm.empty() ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
+  so.linear_solver_type = ceres::DENSE_SCHUR;
   so.linear_solver_ordering = ordering;
   so.max_num_iterations = max_iterations;
   // The cameras start at the per-camera bundle's solution and the points at their PPK fixes, so the

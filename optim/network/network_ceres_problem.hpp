@@ -5,7 +5,9 @@
 // the loss, the weights of the single-view observations and the set of observations and priors change, and
 // those are changed in place: a residual that leaves the solve is switched off (r = 0, J = 0), a point left
 // with one camera's ray becomes that camera's single-view residual (network_parameters.hpp), and a point left
-// with nothing is held constant (docs/performance.md, network bundle).
+// with nothing is held constant (docs/performance.md, network bundle). Under a correlated PPK model it
+// solves the model's white approximation (network_adjustment.cpp; the model's own solve is
+// network_gauss_newton.hpp).
 #include <ceres/evaluation_callback.h>
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
@@ -39,8 +41,6 @@ class NetworkCeresProblem {
 
  private:
   void add_image_residual(std::size_t i, const NetworkSelection& selection);
-  void add_chained_prior(std::size_t k);
-  void add_gauss_markov_chain();
   void pack_cameras();
 
   /// Before each evaluation, every camera's evaluation point (CameraBlock::prepare_evaluation):
@@ -65,7 +65,6 @@ class NetworkCeresProblem {
   std::vector<ImageResidualCost*> image_;              // per observation: its residual (null: none)
   std::vector<char> image_single_view_;                // per observation: its residual is the single-view one
   std::vector<std::array<PointPriorCost*, 2>> prior_;  // per point: its prior's two halves
-  std::vector<std::array<ChainedPointPriorCost*, 2>> chained_prior_;  // per point in the GM chain
   std::vector<char> point_constant_;
 };
 

@@ -80,52 +80,6 @@ bool PointPriorCost::Evaluate(double const* const* parameters, double* residuals
   return true;
 }
 
-bool ChainedPointPriorCost::Evaluate(double const* const* parameters, double* residuals,
-                                     double** jacobians) const {
-  const Eigen::Vector3d r = whitening_ * (Eigen::Map<const Eigen::Vector3d>(parameters[0]) +
-                                          Eigen::Map<const Eigen::Vector3d>(parameters[1]) - prior_);
-  residuals[0] = half_ == 0 ? r[0] : r[2];
-  residuals[1] = half_ == 0 ? r[1] : 0.0;
-  for (int b = 0; b < 2; ++b) {
-    if (!jacobians || !jacobians[b]) continue;
-    Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> J(jacobians[b]);
-    if (half_ == 0) {
-      J = whitening_.topRows<2>();
-    } else {
-      J.row(0) = whitening_.row(2);
-      J.row(1).setZero();
-    }
-  }
-  return true;
-}
-
-bool GaussMarkovStartCost::Evaluate(double const* const* parameters, double* residuals,
-                                    double** jacobians) const {
-  Eigen::Map<Eigen::Vector3d> r(residuals);
-  r = weight_.cwiseProduct(Eigen::Map<const Eigen::Vector3d>(parameters[0]));
-  if (jacobians && jacobians[0]) {
-    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> J(jacobians[0]);
-    J = weight_.asDiagonal();
-  }
-  return true;
-}
-
-bool GaussMarkovStepCost::Evaluate(double const* const* parameters, double* residuals,
-                                   double** jacobians) const {
-  const Eigen::Map<const Eigen::Vector3d> before(parameters[0]), now(parameters[1]);
-  Eigen::Map<Eigen::Vector3d> r(residuals);
-  r = weight_.cwiseProduct(now - phi_.cwiseProduct(before));
-  if (jacobians && jacobians[0]) {
-    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> J(jacobians[0]);
-    J = (-weight_.cwiseProduct(phi_)).asDiagonal();
-  }
-  if (jacobians && jacobians[1]) {
-    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> J(jacobians[1]);
-    J = weight_.asDiagonal();
-  }
-  return true;
-}
-
 ParameterPriorCost::ParameterPriorCost(int block_size, std::vector<Term> terms)
     : block_size_(block_size), terms_(std::move(terms)) {
   set_num_residuals(static_cast<int>(terms_.size()));

@@ -61,46 +61,6 @@ class PointPriorCost final : public ceres::SizedCostFunction<2, 3> {
   int half_;
 };
 
-/// Prior of a PPK fix in the Gauss–Markov chain (ppk_error_model.hpp): the fix is X + g + w, so
-/// r = L⁻¹·(X + g − X̄) with L·Lᵀ the white part's covariance, over the point's block and its GM state's
-/// (ENU m), in PointPriorCost's two halves.
-class ChainedPointPriorCost final : public ceres::SizedCostFunction<2, 3, 3> {
- public:
-  ChainedPointPriorCost(const Eigen::Vector3d& prior, const Eigen::Matrix3d& whitening, int half)
-      : prior_(prior), whitening_(whitening), half_(half) {}
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
-
-  /// Takes the prior out of the solve (whitening 0: r = 0, J = 0).
-  void switch_off() { whitening_.setZero(); }
-
- private:
-  Eigen::Vector3d prior_;
-  Eigen::Matrix3d whitening_;
-  int half_;
-};
-
-/// The Gauss–Markov chain's first state, r = w ∘ g (w = 1/σ_g per axis), and each later step,
-/// r = w ∘ (g_k − φ ∘ g_{k−1}) (w = 1/(σ_g·√(1 − φ²))): ppk_error_model.hpp. Parameters: g_k, or
-/// (g_{k−1}, g_k).
-class GaussMarkovStartCost final : public ceres::SizedCostFunction<3, 3> {
- public:
-  explicit GaussMarkovStartCost(const Eigen::Vector3d& weight) : weight_(weight) {}
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
-
- private:
-  Eigen::Vector3d weight_;
-};
-
-class GaussMarkovStepCost final : public ceres::SizedCostFunction<3, 3, 3> {
- public:
-  GaussMarkovStepCost(const Eigen::Vector3d& phi, const Eigen::Vector3d& weight)
-      : phi_(phi), weight_(weight) {}
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
-
- private:
-  Eigen::Vector3d phi_, weight_;
-};
-
 /// Priors on single parameters of one camera block: r_m = (x[j_m] − mean_m)/σ_m (the principal
 /// point and centre priors of reprojection_cost.hpp on whichever of them are free).
 class ParameterPriorCost final : public ceres::CostFunction {

@@ -17,6 +17,15 @@ namespace {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+
+void add_camera_gradient(std::size_t c, const VectorXd& g, PointLinearisation* pl) {
+  for (auto& [camera, sum] : pl->grad_camera)
+    if (camera == c) {
+      sum += g;
+      return;
+    }
+  pl->grad_camera.emplace_back(c, g);
+}
 /// One observation's camera columns (free order; fixed capacity, no heap).
 using CameraJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kBundleParameterCount>;
 
@@ -71,7 +80,7 @@ void image_jacobian(const NetworkLayout& l, const NetworkParameterBlocks& b, std
 
 /// The camera priors' information and χ² (principal point, centre), as the per-camera bundle's.
 void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, MatrixXd* U, double* chi2,
-                       int* rows) {
+                       int* rows, VectorXd* gradient = nullptr) {
   for (std::size_t c = 0; c < l.setups.size(); ++c) {
     const BundleSetup& s = l.setups[c];
     const BundlePriors& pr = (*l.cameras)[c].options.priors;
@@ -89,6 +98,7 @@ void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, 
       for (int a = 0; a < 2; ++a) {
         const int j = column(ps[a]);
         if (j >= 0) (*U)(j, j) += 1 / (sg * sg);
+        if (j >= 0 && gradient) (*gradient)[j] += e[a] / sg;
         *chi2 += e[a] * e[a];
       }
       *rows += 2;
@@ -99,6 +109,7 @@ void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, 
         const double e = (b.cameras[c].pose[3 + a] - pr.center_enu_m[a]) / sg;
         const int j = column(kCenterParameters[a]);
         if (j >= 0) (*U)(j, j) += 1 / (sg * sg);
+        if (j >= 0 && gradient) (*gradient)[j] += e / sg;
         *chi2 += e * e;
       }
       *rows += 3;
@@ -140,6 +151,7 @@ GaussMarkovSystem gauss_markov_system(const NetworkLayout& l, const NetworkParam
   gm.diagonal.assign(states, Eigen::Matrix3d::Zero());
   gm.below.assign(states, Eigen::Vector3d::Zero());
   gm.B = MatrixXd::Zero(3 * static_cast<Eigen::Index>(states), n);
+  gm.gradient = VectorXd::Zero(3 * static_cast<Eigen::Index>(states));
   for (std::size_t j = 0; j < states; ++j) {
     const GaussMarkovStep step = gauss_markov_step(l, j);
     const Eigen::Vector3d w2 = step.weight.cwiseProduct(step.weight);
@@ -152,6 +164,10 @@ GaussMarkovSystem gauss_markov_system(const NetworkLayout& l, const NetworkParam
       r -= step.weight.cwiseProduct(step.phi).cwiseProduct(
           Eigen::Map<const Eigen::Vector3d>(b.gm[j - 1].data()));
     }
+    gm.gradient.segment<3>(3 * static_cast<Eigen::Index>(j)) += step.weight.cwiseProduct(r);
+    if (j > 0)
+      gm.gradient.segment<3>(3 * static_cast<Eigen::Index>(j - 1)) -=
+          step.weight.cwiseProduct(step.phi).cwiseProduct(r);
     *chi2 += r.squaredNorm();
     *rows += 3;
   }
@@ -165,15 +181,25 @@ void couple_state(const NetworkLayout& l, std::size_t k, const PointLinearisatio
   const std::size_t j = static_cast<std::size_t>(l.gm_state[k]);
   const Eigen::Matrix3d PV = lin.P * Vinv;
   gm->diagonal[j] += lin.P - PV * lin.P;
+  gm->gradient.segment<3>(3 * static_cast<Eigen::Index>(j)) += lin.grad_state - PV * lin.grad_point;
   for (const auto& [c, W] : lin.W)
     gm->B.block(3 * static_cast<Eigen::Index>(j), l.offset[c], 3, W.rows()).noalias() -= PV * W.transpose();
+}
+
+/// A point's share of the cameras' reduced gradient, b_c − W·V⁻¹·b_X (V⁻¹ zero when the point is not
+/// eliminated: a single-view point's gradient is its cameras' alone).
+void add_reduced_gradient(const NetworkLayout& l, const PointLinearisation& lin, const Eigen::Matrix3d& Vinv,
+                          VectorXd* gradient) {
+  for (const auto& [c, g] : lin.grad_camera) gradient->segment(l.offset[c], g.size()) += g;
+  const Eigen::Vector3d VgX = Vinv * lin.grad_point;
+  for (const auto& [c, W] : lin.W) gradient->segment(l.offset[c], W.rows()) -= W * VgX;
 }
 
 /// The reduced camera system S = U − Σ_k W_k·V_k⁻¹·W_kᵀ (both triangles) into out->S, with the
 /// images' and point priors' χ² and residual count.
 EliminatedPoints reduce_camera_system(const NetworkLayout& l, const NetworkParameterBlocks& b,
                                       const NetworkSelection& sel, GaussMarkovSystem* gm,
-                                      NetworkCovariance* out) {
+                                      NetworkCovariance* out, VectorXd* gradient = nullptr) {
   const int n = l.n_camera_parameters;
   out->S = MatrixXd::Zero(n, n);
   const std::size_t np = l.by_point.size();
@@ -190,9 +216,11 @@ EliminatedPoints reduce_camera_system(const NetworkLayout& l, const NetworkParam
   };
   for (std::size_t k = 0; k < np; ++k) {
     points.lin[k] = linearise_point(l, b, sel, k, &out->S, &out->chi2, &out->residuals);
-    if (points.lin[k].V.isZero(0)) continue;  // not in the solve
+    const bool eliminated = !points.lin[k].V.isZero(0);
+    if (eliminated) points.Vinv[k] = points.lin[k].V.inverse();
+    if (gradient) add_reduced_gradient(l, points.lin[k], points.Vinv[k], gradient);
+    if (!eliminated) continue;  // not in the solve
     ++points.count;
-    points.Vinv[k] = points.lin[k].V.inverse();
     // S −= W_k·V_k⁻¹·W_kᵀ = (W_k·L_k)(W_k·L_k)ᵀ, V_k⁻¹ = L_k·L_kᵀ: the columns W_k·L_k of a chunk
     // of points side by side (zero where a camera did not see the point), one product per chunk.
     const Eigen::Matrix3d L = points.Vinv[k].llt().matrixL();
@@ -337,6 +365,7 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
       if (!sel.observation[i]) continue;
       single_view_jacobian(l, b, sel, i, &r, &Jc);
       const std::size_t c = (*l.observations)[i].camera;
+      add_camera_gradient(c, Jc.transpose() * r, &pl);
       if (U)
         U->block(l.offset[c], l.offset[c], Jc.cols(), Jc.cols()).noalias() += Jc.transpose().lazyProduct(Jc);
       if (chi2) *chi2 += r.squaredNorm();
@@ -354,6 +383,8 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
       X += Eigen::Map<const Eigen::Vector3d>(b.gm[static_cast<std::size_t>(l.gm_state[k])].data());
     }
     const Eigen::Vector3d e = Li * (X - (*l.points)[k].prior_enu);
+    pl.grad_point += Li.transpose() * e;
+    if (l.gm_state[k] >= 0) pl.grad_state = Li.transpose() * e;
     if (chi2) *chi2 += e.squaredNorm();
     if (rows) *rows += 3;
   }
@@ -363,6 +394,8 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
     image_jacobian(l, b, i, &r, &Jc, &Jp);
     const std::size_t c = (*l.observations)[i].camera;
     pl.V += Jp.transpose() * Jp;
+    pl.grad_point += Jp.transpose() * r;
+    add_camera_gradient(c, Jc.transpose() * r, &pl);
     auto it = std::find_if(pl.W.begin(), pl.W.end(), [&](const auto& w) { return w.first == c; });
     if (it == pl.W.end()) {
       pl.W.emplace_back(c, CameraPointBlock::Zero(Jc.cols(), 3));
@@ -404,6 +437,41 @@ NetworkCovariance network_covariance(const NetworkLayout& l, const NetworkParame
   eliminated_point_covariances(l, points, &out);
   chained_point_covariances(l, points, gm.B, state_cov, &out);
   return out;
+}
+
+double network_gauss_newton_step(const NetworkLayout& l, const NetworkParameterBlocks& b,
+                                 const NetworkSelection& sel, NetworkStep* step) {
+  const int n = l.n_camera_parameters;
+  NetworkCovariance normal;
+  GaussMarkovSystem gm = gauss_markov_system(l, b, n, &normal.chi2, &normal.residuals);
+  VectorXd grad_c = VectorXd::Zero(n);
+  const EliminatedPoints points = reduce_camera_system(l, b, sel, &gm, &normal, &grad_c);
+  add_camera_priors(l, b, &normal.S, &normal.chi2, &normal.residuals, &grad_c);
+  VectorXd state_solve = gm.gradient;  // becomes G⁻¹·b_g
+  eliminate_gauss_markov(&gm, &normal.S, &state_solve, &grad_c);
+  // S·δc = −b_c, Jacobi-scaled (the f–distance ridge of a narrow lens spans decades).
+  const VectorXd d = normal.S.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  const Eigen::LDLT<MatrixXd> ldlt(d.asDiagonal() * normal.S * d.asDiagonal());
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all())
+    throw_calibration_error("network", "the cameras' normal equations are not positive definite");
+  const VectorXd dc = d.asDiagonal() * ldlt.solve(-(d.asDiagonal() * grad_c));
+  const VectorXd dg = -(state_solve + gm.B * dc);  // δg = −G⁻¹·(b_g + B·δc)
+  step->cameras.resize(l.setups.size());
+  for (std::size_t c = 0; c < l.setups.size(); ++c)
+    step->cameras[c] = dc.segment(l.offset[c], l.setups[c].n_free);
+  step->states.assign(l.gm_chain.size(), Eigen::Vector3d::Zero());
+  for (std::size_t j = 0; j < l.gm_chain.size(); ++j)
+    step->states[j] = dg.segment<3>(3 * static_cast<Eigen::Index>(j));
+  step->points.assign(l.by_point.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < l.by_point.size(); ++k) {
+    if (points.Vinv[k].isZero(0)) continue;
+    const PointLinearisation& lin = points.lin[k];
+    Eigen::Vector3d rhs = lin.grad_point;  // δX = −V⁻¹·(b_X + Wᵀ·δc + P·δg)
+    for (const auto& [c, W] : lin.W) rhs += W.transpose() * dc.segment(l.offset[c], W.rows());
+    if (l.gm_state[k] >= 0) rhs += lin.P * step->states[static_cast<std::size_t>(l.gm_state[k])];
+    step->points[k] = -points.Vinv[k] * rhs;
+  }
+  return normal.chi2;
 }
 
 }  // namespace rangecal

@@ -34,6 +34,12 @@ struct PointLinearisation {
   /// W_k per observing camera: (camera index, J_cᵀJ_p over that camera's used observations, n_free × 3).
   std::vector<std::pair<std::size_t, CameraPointBlock>> W;
   int cameras = 0;  ///< cameras with a used observation of the point
+  /// The gradient Jᵀr of the point's residuals: on its block, on its Gauss–Markov state (chained
+  /// fix), and per observing camera (its free columns), as W lists the cameras.
+  Eigen::Vector3d grad_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d grad_state = Eigen::Vector3d::Zero();
+  std::vector<std::pair<std::size_t, Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kBundleParameterCount, 1>>>
+      grad_camera;
 };
 
 /// V_k and W_k of point k at `blocks` over the selection; when `U` is given, the observations'
@@ -58,6 +64,19 @@ struct NetworkCovariance {
   bool rank_deficient = false;
   std::vector<std::string> warnings;
 };
+
+/// One Gauss–Newton step of the whole network at `blocks` for the selection (plain least squares):
+/// the same normal equations as the covariance's, with their gradient carried through the same
+/// eliminations (points, then Gauss–Markov states, then the cameras' dense system). Writes the
+/// step into `step` (cameras packed as CameraBlock, points, states) and returns the χ² at `blocks`.
+/// Throws rangecal::Error (calibration) when the cameras' system is not positive definite.
+struct NetworkStep {
+  std::vector<Eigen::VectorXd> cameras;  ///< per camera, its free parameters in order
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> states;
+};
+double network_gauss_newton_step(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
+                                 const NetworkSelection& selection, NetworkStep* step);
 
 /// The covariance at `blocks` (rotations re-based) for the selection. `scene_distance_m` and
 /// `max_speed_mps` set the physical ranges of the rank test (parameter_range).

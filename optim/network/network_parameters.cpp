@@ -69,6 +69,15 @@ NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,
   return l;
 }
 
+NetworkLayout white_approximation(const NetworkLayout& layout) {
+  NetworkLayout white = layout;
+  white.gm_chain.clear();
+  white.gm_state.assign(layout.gm_state.size(), -1);
+  for (std::size_t k = 0; k < white.prior_whiten.size(); ++k)
+    white.prior_whiten[k] = prior_whitening(layout.prior_total_cov[k]);
+  return white;
+}
+
 GaussMarkovStep gauss_markov_step(const NetworkLayout& l, std::size_t j) {
   GaussMarkovStep step;
   if (j == 0) {

@@ -57,6 +57,10 @@ NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,
                                   const std::vector<NetworkObservation>& observations,
                                   const PpkErrorModel& ppk = {});
 
+/// `layout` with each fix white under its whole covariance (prior_total_cov) and no chain: the
+/// correlated model's white approximation, for the robust solve that separates outliers.
+NetworkLayout white_approximation(const NetworkLayout& layout);
+
 /// φ and the weights of chain state j's residual (gauss_markov_weight): of the first state when j = 0.
 struct GaussMarkovStep {
   Eigen::Vector3d phi = Eigen::Vector3d::Zero();
