@@ -12,6 +12,7 @@
 #include "optim/estimation/reprojection_stats.hpp"
 #include "optim/network/network_ceres_problem.hpp"
 #include "optim/network/network_covariance.hpp"
+#include "optim/network/network_gauss_newton.hpp"
 #include "optim/network/network_input_checks.hpp"
 #include "optim/network/network_outliers.hpp"
 #include "optim/network/network_parameters.hpp"
@@ -143,6 +144,7 @@ void fill_point_results(const NetworkLayout& layout, const NetworkSelection& sel
     result.enu = cov.point_enu[k];
     result.correction = result.enu - (*layout.points)[k].prior_enu;
     result.cov = cov.point_cov[k];
+    result.ppk_gm = cov.point_gm[k];
     result.cameras = seen[k];
     result.prior_used = selection.prior[k] != 0;
     result.used = result.prior_used || seen[k] > 0;
@@ -307,17 +309,24 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
                              const std::vector<NetworkObservation>& observations,
                              const NetworkOptions& options) {
   check_network_input(cameras, points, observations);
-  const NetworkLayout layout = make_network_layout(cameras, points, observations);
+  const NetworkLayout layout = make_network_layout(cameras, points, observations, options.ppk_error);
+  // Under a correlated model the robust solve and the outlier tests run on its white approximation
+  // (each fix under its whole covariance), the final solve on the model (network_gauss_newton.hpp).
+  const bool correlated = !layout.gm_chain.empty();
+  const NetworkLayout white = correlated ? white_approximation(layout) : NetworkLayout{};
+  const NetworkLayout& separating = correlated ? white : layout;
   NetworkParameterBlocks blocks = starting_blocks(layout);
   NetworkSelection selection{
       std::vector<char>(observations.size(), 1), std::vector<char>(points.size(), 1), {}, {}};
   NetworkResult out;
+  out.ppk_error = options.ppk_error;
+  out.gauss_markov_states = static_cast<int>(layout.gm_chain.size());
   NetworkStatistics& stats = out.statistics;
   out.points.resize(points.size());
 
   // 1. Robust solve, every prior in; single-view weights at the starting cameras.
-  refresh_single_view(layout, blocks, &selection);
-  NetworkCeresProblem problem(layout, &blocks, selection);
+  refresh_single_view(separating, blocks, &selection);
+  NetworkCeresProblem problem(separating, &blocks, selection);
   stats.iterations += problem.solve(options.loss, options.loss_scale,
                                     options.resolve_without_outliers ? kSeparatingTolerance : kFinalTolerance,
                                     options.max_iterations, options.num_threads);
@@ -326,14 +335,20 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
   // 2. PPK outliers (multi-ray epochs), then image outliers (the bundle's rule, per camera); the
   // image outliers of the robust solution are the ones listed (and dropped).
   stats.ppk_outliers =
-      flag_ppk_outliers(layout, blocks, options.ppk_outlier_probability, &selection, &out.points);
-  ImageOutlierTest test = test_image_observations(layout, blocks, selection, options.outlier_threshold);
+      flag_ppk_outliers(separating, blocks, options.ppk_outlier_probability, &selection, &out.points);
+  ImageOutlierTest test = test_image_observations(separating, blocks, selection, options.outlier_threshold);
   const std::vector<bool> dropped = test.outlier;
   for (bool flagged : dropped) stats.image_outliers += flagged ? 1 : 0;
 
   // 3. Plain least squares without them, weights at the robust solution as the per-camera bundle.
-  if (options.resolve_without_outliers) {
-    drop_image_outliers(layout, test, &selection);
+  if (options.resolve_without_outliers) drop_image_outliers(layout, test, &selection);
+  if (correlated) {
+    refresh_single_view(layout, blocks, &selection);
+    stats.iterations +=
+        network_gauss_newton(layout, &blocks, selection, kFinalTolerance, options.max_iterations);
+    ++n_solves;
+    test = test_image_observations(layout, blocks, selection, options.outlier_threshold);
+  } else if (options.resolve_without_outliers) {
     refresh_single_view(layout, blocks, &selection);
     problem.select(selection);
     stats.iterations += problem.solve(RobustLoss::none, options.loss_scale, kFinalTolerance,

@@ -27,6 +27,7 @@
 
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/network/network_observation.hpp"
+#include "optim/network/ppk_error_model.hpp"
 
 namespace rangecal {
 
@@ -59,6 +60,10 @@ struct NetworkOptions {
   bool scale_covariance = false;
   /// The joint covariance's rank test (BundleOptions::rank_tolerance for the network).
   double rank_tolerance = 1e-14;
+  /// The PPK fixes' error model (ppk_error_model.hpp): the default is white, each fix under its own
+  /// .pos covariance; with a Gauss–Markov part the epochs with a time (NetworkPoint::time_s) are
+  /// chained.
+  PpkErrorModel ppk_error;
 };
 
 /// The network's datum floor (docs/accuracy_analysis.md, "Datum floor"): its joint covariance with
@@ -80,6 +85,9 @@ struct NetworkPointResult {
   bool ppk_outlier = false;  ///< flagged by the PPK outlier test (prior dropped)
   double ppk_test_d2 = 0;    ///< whitened d² of the test (0 when not tested)
   int ppk_test_dof = 0;      ///< its redundancy m (0 when not tested)
+  /// The estimated Gauss–Markov part of its fix's error, g (ENU m; ppk_error_model.hpp): zero for a
+  /// point outside the chain.
+  Eigen::Vector3d ppk_gm = Eigen::Vector3d::Zero();
 };
 
 struct NetworkStatistics {
@@ -126,6 +134,8 @@ struct NetworkResult {
   Eigen::MatrixXd datum_floor_covariance;
   double datum_floor_image_factor = 0;
   std::vector<std::string> warnings;  ///< network-wide (camera warnings are in each calibration)
+  PpkErrorModel ppk_error;            ///< the model the fixes were weighed by (NetworkOptions::ppk_error)
+  int gauss_markov_states = 0;        ///< epochs in its chain (0: white)
 };
 
 /// Adjusts the network. Throws rangecal::Error: calibration kind for non-finite input (naming

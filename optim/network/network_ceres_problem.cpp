@@ -121,7 +121,9 @@ void NetworkCeresProblem::select(const NetworkSelection& sel) {
   }
   for (std::size_t k = 0; k < prior_.size(); ++k) {
     const bool prior_on = sel.prior[k] && !sel.single_view[k];
-    if (prior_[k][0] && !prior_on) prior_[k][0]->switch_off(), prior_[k][1]->switch_off();
+    if (prior_on) continue;
+    for (std::size_t half = 0; half < 2; ++half)
+      if (prior_[k][half]) prior_[k][half]->switch_off();
   }
   for (std::size_t k = 0; k < point_constant_.size(); ++k) {
     if (point_constant_[k] || !problem_->HasParameterBlock(blocks_->points[k].data())) continue;
@@ -135,8 +137,8 @@ void NetworkCeresProblem::select(const NetworkSelection& sel) {
 int NetworkCeresProblem::solve(RobustLoss loss, double loss_scale, double tolerance, int max_iterations,
                                int num_threads) {
   loss_.Reset(new_robust_loss(loss, loss_scale), ceres::TAKE_OWNERSHIP);
-  // Points first (eliminated), then the cameras; Ceres prunes the held points from the ordering it
-  // is given, so each solve gets its own.
+  // Points first (eliminated), then the cameras; Ceres prunes the held points
+  // from the ordering it is given, so each solve gets its own.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (std::size_t k = 0; k < blocks_->points.size(); ++k)
     if (!point_constant_[k] && problem_->HasParameterBlock(blocks_->points[k].data()))

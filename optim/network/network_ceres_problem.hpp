@@ -5,7 +5,9 @@
 // the loss, the weights of the single-view observations and the set of observations and priors change, and
 // those are changed in place: a residual that leaves the solve is switched off (r = 0, J = 0), a point left
 // with one camera's ray becomes that camera's single-view residual (network_parameters.hpp), and a point left
-// with nothing is held constant (docs/performance.md, network bundle).
+// with nothing is held constant (docs/performance.md, network bundle). Under a correlated PPK model it
+// solves the model's white approximation (network_adjustment.cpp; the model's own solve is
+// network_gauss_newton.hpp).
 #include <ceres/evaluation_callback.h>
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>

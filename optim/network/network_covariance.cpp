@@ -10,12 +10,22 @@
 #include "optim/bundle/whitening.hpp"
 #include "optim/estimation/rank_tested_inverse.hpp"
 #include "optim/estimation/symmetric_part.hpp"
+#include "optim/network/gauss_markov_elimination.hpp"
 
 namespace rangecal {
 namespace {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+
+void add_camera_gradient(std::size_t c, const VectorXd& g, PointLinearisation* pl) {
+  for (auto& [camera, sum] : pl->grad_camera)
+    if (camera == c) {
+      sum += g;
+      return;
+    }
+  pl->grad_camera.emplace_back(c, g);
+}
 /// One observation's camera columns (free order; fixed capacity, no heap).
 using CameraJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kBundleParameterCount>;
 
@@ -70,7 +80,7 @@ void image_jacobian(const NetworkLayout& l, const NetworkParameterBlocks& b, std
 
 /// The camera priors' information and χ² (principal point, centre), as the per-camera bundle's.
 void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, MatrixXd* U, double* chi2,
-                       int* rows) {
+                       int* rows, VectorXd* gradient = nullptr) {
   for (std::size_t c = 0; c < l.setups.size(); ++c) {
     const BundleSetup& s = l.setups[c];
     const BundlePriors& pr = (*l.cameras)[c].options.priors;
@@ -88,6 +98,7 @@ void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, 
       for (int a = 0; a < 2; ++a) {
         const int j = column(ps[a]);
         if (j >= 0) (*U)(j, j) += 1 / (sg * sg);
+        if (j >= 0 && gradient) (*gradient)[j] += e[a] / sg;
         *chi2 += e[a] * e[a];
       }
       *rows += 2;
@@ -98,6 +109,7 @@ void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, 
         const double e = (b.cameras[c].pose[3 + a] - pr.center_enu_m[a]) / sg;
         const int j = column(kCenterParameters[a]);
         if (j >= 0) (*U)(j, j) += 1 / (sg * sg);
+        if (j >= 0 && gradient) (*gradient)[j] += e / sg;
         *chi2 += e * e;
       }
       *rows += 3;
@@ -130,10 +142,64 @@ struct EliminatedPoints {
   int count = 0;
 };
 
+/// The Gauss–Markov chain's own information (its AR(1) prior, ppk_error_model.hpp) into `gm`, sized
+/// for `n` camera columns.
+GaussMarkovSystem gauss_markov_system(const NetworkLayout& l, const NetworkParameterBlocks& b, int n,
+                                      double* chi2, int* rows) {
+  const std::size_t states = l.gm_chain.size();
+  GaussMarkovSystem gm;
+  gm.diagonal.assign(states, Eigen::Matrix3d::Zero());
+  gm.below.assign(states, Eigen::Vector3d::Zero());
+  gm.B = MatrixXd::Zero(3 * static_cast<Eigen::Index>(states), n);
+  gm.gradient = VectorXd::Zero(3 * static_cast<Eigen::Index>(states));
+  for (std::size_t j = 0; j < states; ++j) {
+    const GaussMarkovStep step = gauss_markov_step(l, j);
+    const Eigen::Vector3d w2 = step.weight.cwiseProduct(step.weight);
+    const Eigen::Map<const Eigen::Vector3d> g(b.gm[j].data());
+    gm.diagonal[j].diagonal() += w2;
+    Eigen::Vector3d r = step.weight.cwiseProduct(g);
+    if (j > 0) {
+      gm.diagonal[j - 1].diagonal() += w2.cwiseProduct(step.phi).cwiseProduct(step.phi);
+      gm.below[j] = -w2.cwiseProduct(step.phi);
+      r -= step.weight.cwiseProduct(step.phi).cwiseProduct(
+          Eigen::Map<const Eigen::Vector3d>(b.gm[j - 1].data()));
+    }
+    gm.gradient.segment<3>(3 * static_cast<Eigen::Index>(j)) += step.weight.cwiseProduct(r);
+    if (j > 0)
+      gm.gradient.segment<3>(3 * static_cast<Eigen::Index>(j - 1)) -=
+          step.weight.cwiseProduct(step.phi).cwiseProduct(r);
+    *chi2 += r.squaredNorm();
+    *rows += 3;
+  }
+  return gm;
+}
+
+/// A chained point's coupling with its state once the point is eliminated: G_jj += P − P·V⁻¹·P,
+/// B_j = −P·V⁻¹·Wᵀ (gauss_markov_elimination.hpp).
+void couple_state(const NetworkLayout& l, std::size_t k, const PointLinearisation& lin,
+                  const Eigen::Matrix3d& Vinv, GaussMarkovSystem* gm) {
+  const std::size_t j = static_cast<std::size_t>(l.gm_state[k]);
+  const Eigen::Matrix3d PV = lin.P * Vinv;
+  gm->diagonal[j] += lin.P - PV * lin.P;
+  gm->gradient.segment<3>(3 * static_cast<Eigen::Index>(j)) += lin.grad_state - PV * lin.grad_point;
+  for (const auto& [c, W] : lin.W)
+    gm->B.block(3 * static_cast<Eigen::Index>(j), l.offset[c], 3, W.rows()).noalias() -= PV * W.transpose();
+}
+
+/// A point's share of the cameras' reduced gradient, b_c − W·V⁻¹·b_X (V⁻¹ zero when the point is not
+/// eliminated: a single-view point's gradient is its cameras' alone).
+void add_reduced_gradient(const NetworkLayout& l, const PointLinearisation& lin, const Eigen::Matrix3d& Vinv,
+                          VectorXd* gradient) {
+  for (const auto& [c, g] : lin.grad_camera) gradient->segment(l.offset[c], g.size()) += g;
+  const Eigen::Vector3d VgX = Vinv * lin.grad_point;
+  for (const auto& [c, W] : lin.W) gradient->segment(l.offset[c], W.rows()) -= W * VgX;
+}
+
 /// The reduced camera system S = U − Σ_k W_k·V_k⁻¹·W_kᵀ (both triangles) into out->S, with the
 /// images' and point priors' χ² and residual count.
 EliminatedPoints reduce_camera_system(const NetworkLayout& l, const NetworkParameterBlocks& b,
-                                      const NetworkSelection& sel, NetworkCovariance* out) {
+                                      const NetworkSelection& sel, GaussMarkovSystem* gm,
+                                      NetworkCovariance* out, VectorXd* gradient = nullptr) {
   const int n = l.n_camera_parameters;
   out->S = MatrixXd::Zero(n, n);
   const std::size_t np = l.by_point.size();
@@ -150,14 +216,17 @@ EliminatedPoints reduce_camera_system(const NetworkLayout& l, const NetworkParam
   };
   for (std::size_t k = 0; k < np; ++k) {
     points.lin[k] = linearise_point(l, b, sel, k, &out->S, &out->chi2, &out->residuals);
-    if (points.lin[k].V.isZero(0)) continue;  // not in the solve
+    const bool eliminated = !points.lin[k].V.isZero(0);
+    if (eliminated) points.Vinv[k] = points.lin[k].V.inverse();
+    if (gradient) add_reduced_gradient(l, points.lin[k], points.Vinv[k], gradient);
+    if (!eliminated) continue;  // not in the solve
     ++points.count;
-    points.Vinv[k] = points.lin[k].V.inverse();
     // S −= W_k·V_k⁻¹·W_kᵀ = (W_k·L_k)(W_k·L_k)ᵀ, V_k⁻¹ = L_k·L_kᵀ: the columns W_k·L_k of a chunk
     // of points side by side (zero where a camera did not see the point), one product per chunk.
     const Eigen::Matrix3d L = points.Vinv[k].llt().matrixL();
     for (const auto& [c, W] : points.lin[k].W)
       H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * L;
+    if (!points.lin[k].P.isZero(0)) couple_state(l, k, points.lin[k], points.Vinv[k], gm);
     if (++filled == kChunk) flush();
   }
   flush();
@@ -199,10 +268,11 @@ void single_view_point_covariances(const NetworkLayout& l, const NetworkParamete
       if (!project(cam, X, &uv)) continue;
       const Eigen::Matrix<double, 2, 3> JX = pixel_jacobian_wrt_world(cam, X);
       const double sp = l.pixel_sigma(i);
-      const Eigen::Matrix2d C = sp * sp * Eigen::Matrix2d::Identity() + JX * p.prior_cov * JX.transpose();
-      const Eigen::Matrix<double, 3, 2> K = p.prior_cov * JX.transpose() * C.inverse();
+      const Eigen::Matrix3d& prior_cov = l.prior_total_cov[k];  // white: the point is not chained
+      const Eigen::Matrix2d C = sp * sp * Eigen::Matrix2d::Identity() + JX * prior_cov * JX.transpose();
+      const Eigen::Matrix<double, 3, 2> K = prior_cov * JX.transpose() * C.inverse();
       out->point_enu[k] = p.prior_enu - K * (uv - o.pixel);
-      out->point_cov[k] = p.prior_cov - K * JX * p.prior_cov;
+      out->point_cov[k] = prior_cov - K * JX * prior_cov;
       if (out->joint.size() > 0) {
         Eigen::Vector2d r;
         CameraJacobian Jc;
@@ -240,10 +310,43 @@ void eliminated_point_covariances(const NetworkLayout& l, const EliminatedPoints
     chunk.clear();
   };
   for (std::size_t k = 0; k < points.Vinv.size(); ++k) {
-    if (points.Vinv[k].isZero(0)) continue;
+    if (points.Vinv[k].isZero(0) || !points.lin[k].P.isZero(0)) continue;  // chained: below
     for (const auto& [c, W] : points.lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3) = W;
     chunk.push_back(k);
     if (++filled == kChunk) finish_chunk();
+  }
+  finish_chunk();
+}
+
+/// Each chained point's Σ_kk = V⁻¹ + V⁻¹·[Aᵀ·Σ_cc·A + P·(G⁻¹)_jj·P]·V⁻¹ with A = W − Z_jᵀ·P
+/// (network_covariance.hpp); Σ_cc·A for a chunk of points at once.
+void chained_point_covariances(const NetworkLayout& l, const EliminatedPoints& points, const MatrixXd& Z,
+                               const std::vector<Eigen::Matrix3d>& state_cov, NetworkCovariance* out) {
+  const int n = l.n_camera_parameters;
+  MatrixXd H = MatrixXd::Zero(n, 3 * kChunk), SA;
+  std::vector<std::size_t> chunk;
+  auto finish_chunk = [&]() {
+    if (chunk.empty()) return;
+    const Eigen::Index cols = 3 * static_cast<Eigen::Index>(chunk.size());
+    if (out->joint.size() > 0) SA.noalias() = out->joint * H.leftCols(cols);
+    for (std::size_t i = 0; i < chunk.size(); ++i) {
+      const std::size_t k = chunk[i];
+      const Eigen::Index at = 3 * static_cast<Eigen::Index>(i);
+      const Eigen::Matrix3d& P = points.lin[k].P;
+      Eigen::Matrix3d add = P * state_cov[static_cast<std::size_t>(l.gm_state[k])] * P;
+      if (out->joint.size() > 0) add.noalias() += H.middleCols(at, 3).transpose() * SA.middleCols(at, 3);
+      out->point_cov[k] = points.Vinv[k] + points.Vinv[k] * add * points.Vinv[k];
+    }
+    chunk.clear();
+  };
+  for (std::size_t k = 0; k < points.Vinv.size(); ++k) {
+    if (points.Vinv[k].isZero(0) || points.lin[k].P.isZero(0)) continue;
+    const Eigen::Index at = 3 * static_cast<Eigen::Index>(chunk.size());
+    H.middleCols(at, 3).noalias() =
+        -Z.middleRows(3 * static_cast<Eigen::Index>(l.gm_state[k]), 3).transpose() * points.lin[k].P;
+    for (const auto& [c, W] : points.lin[k].W) H.block(l.offset[c], at, W.rows(), 3) += W;
+    chunk.push_back(k);
+    if (static_cast<int>(chunk.size()) == kChunk) finish_chunk();
   }
   finish_chunk();
 }
@@ -262,6 +365,7 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
       if (!sel.observation[i]) continue;
       single_view_jacobian(l, b, sel, i, &r, &Jc);
       const std::size_t c = (*l.observations)[i].camera;
+      add_camera_gradient(c, Jc.transpose() * r, &pl);
       if (U)
         U->block(l.offset[c], l.offset[c], Jc.cols(), Jc.cols()).noalias() += Jc.transpose().lazyProduct(Jc);
       if (chi2) *chi2 += r.squaredNorm();
@@ -273,8 +377,14 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
   if (sel.prior[k]) {
     const Eigen::Matrix3d& Li = l.prior_whiten[k];
     pl.V += Li.transpose() * Li;
-    const Eigen::Vector3d e =
-        Li * (Eigen::Map<const Eigen::Vector3d>(b.points[k].data()) - (*l.points)[k].prior_enu);
+    Eigen::Vector3d X = Eigen::Map<const Eigen::Vector3d>(b.points[k].data());
+    if (l.gm_state[k] >= 0) {  // the fix is X + g + w (ppk_error_model.hpp)
+      pl.P = Li.transpose() * Li;
+      X += Eigen::Map<const Eigen::Vector3d>(b.gm[static_cast<std::size_t>(l.gm_state[k])].data());
+    }
+    const Eigen::Vector3d e = Li * (X - (*l.points)[k].prior_enu);
+    pl.grad_point += Li.transpose() * e;
+    if (l.gm_state[k] >= 0) pl.grad_state = Li.transpose() * e;
     if (chi2) *chi2 += e.squaredNorm();
     if (rows) *rows += 3;
   }
@@ -284,6 +394,8 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
     image_jacobian(l, b, i, &r, &Jc, &Jp);
     const std::size_t c = (*l.observations)[i].camera;
     pl.V += Jp.transpose() * Jp;
+    pl.grad_point += Jp.transpose() * r;
+    add_camera_gradient(c, Jc.transpose() * r, &pl);
     auto it = std::find_if(pl.W.begin(), pl.W.end(), [&](const auto& w) { return w.first == c; });
     if (it == pl.W.end()) {
       pl.W.emplace_back(c, CameraPointBlock::Zero(Jc.cols(), 3));
@@ -303,10 +415,12 @@ NetworkCovariance network_covariance(const NetworkLayout& l, const NetworkParame
                                      const NetworkSelection& sel, double scene_distance_m,
                                      double max_speed_mps, double rank_tolerance) {
   NetworkCovariance out;
-  const EliminatedPoints points = reduce_camera_system(l, b, sel, &out);
+  GaussMarkovSystem gm = gauss_markov_system(l, b, l.n_camera_parameters, &out.chi2, &out.residuals);
+  const EliminatedPoints points = reduce_camera_system(l, b, sel, &gm, &out);
   add_camera_priors(l, b, &out.S, &out.chi2, &out.residuals);
+  const std::vector<Eigen::Matrix3d> state_cov = eliminate_gauss_markov(&gm, &out.S);
   out.S = symmetric_part(out.S);
-  out.parameters = l.n_camera_parameters + 3 * points.count;
+  out.parameters = l.n_camera_parameters + 3 * points.count + 3 * static_cast<int>(l.gm_chain.size());
   invert_camera_system(l, scene_distance_m, max_speed_mps, rank_tolerance, &out);
 
   const std::size_t np = l.by_point.size();
@@ -314,9 +428,50 @@ NetworkCovariance network_covariance(const NetworkLayout& l, const NetworkParame
   out.point_enu.resize(np);
   for (std::size_t k = 0; k < np; ++k)
     out.point_enu[k] = Eigen::Map<const Eigen::Vector3d>(b.points[k].data());
+  out.point_gm.assign(np, Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < np; ++k)
+    if (l.gm_state[k] >= 0)
+      out.point_gm[k] =
+          Eigen::Map<const Eigen::Vector3d>(b.gm[static_cast<std::size_t>(l.gm_state[k])].data());
   single_view_point_covariances(l, b, sel, &out);
   eliminated_point_covariances(l, points, &out);
+  chained_point_covariances(l, points, gm.B, state_cov, &out);
   return out;
+}
+
+double network_gauss_newton_step(const NetworkLayout& l, const NetworkParameterBlocks& b,
+                                 const NetworkSelection& sel, NetworkStep* step) {
+  const int n = l.n_camera_parameters;
+  NetworkCovariance normal;
+  GaussMarkovSystem gm = gauss_markov_system(l, b, n, &normal.chi2, &normal.residuals);
+  VectorXd grad_c = VectorXd::Zero(n);
+  const EliminatedPoints points = reduce_camera_system(l, b, sel, &gm, &normal, &grad_c);
+  add_camera_priors(l, b, &normal.S, &normal.chi2, &normal.residuals, &grad_c);
+  VectorXd state_solve = gm.gradient;  // becomes G⁻¹·b_g
+  eliminate_gauss_markov(&gm, &normal.S, &state_solve, &grad_c);
+  // S·δc = −b_c, Jacobi-scaled (the f–distance ridge of a narrow lens spans decades).
+  const VectorXd d = normal.S.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  const Eigen::LDLT<MatrixXd> ldlt(d.asDiagonal() * normal.S * d.asDiagonal());
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all())
+    throw_calibration_error("network", "the cameras' normal equations are not positive definite");
+  const VectorXd dc = d.asDiagonal() * ldlt.solve(-(d.asDiagonal() * grad_c));
+  const VectorXd dg = -(state_solve + gm.B * dc);  // δg = −G⁻¹·(b_g + B·δc)
+  step->cameras.resize(l.setups.size());
+  for (std::size_t c = 0; c < l.setups.size(); ++c)
+    step->cameras[c] = dc.segment(l.offset[c], l.setups[c].n_free);
+  step->states.assign(l.gm_chain.size(), Eigen::Vector3d::Zero());
+  for (std::size_t j = 0; j < l.gm_chain.size(); ++j)
+    step->states[j] = dg.segment<3>(3 * static_cast<Eigen::Index>(j));
+  step->points.assign(l.by_point.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < l.by_point.size(); ++k) {
+    if (points.Vinv[k].isZero(0)) continue;
+    const PointLinearisation& lin = points.lin[k];
+    Eigen::Vector3d rhs = lin.grad_point;  // δX = −V⁻¹·(b_X + Wᵀ·δc + P·δg)
+    for (const auto& [c, W] : lin.W) rhs += W.transpose() * dc.segment(l.offset[c], W.rows());
+    if (l.gm_state[k] >= 0) rhs += lin.P * step->states[static_cast<std::size_t>(l.gm_state[k])];
+    step->points[k] = -points.Vinv[k] * rhs;
+  }
+  return normal.chi2;
 }
 
 }  // namespace rangecal

@@ -9,7 +9,10 @@
 // which keeps every correlation between cameras that the shared epochs create. Each point's
 // covariance follows as Σ_kk = V_k⁻¹ + V_k⁻¹·W_kᵀ·Σ_cc·W_k·V_k⁻¹; a single-view point
 // (network_parameters.hpp) has Σ − K·J_X·Σ + K·J_θ·Σ_cc·J_θᵀ·Kᵀ, K = Σ·J_Xᵀ·C⁻¹. S is inverted after Jacobi
-// scaling, with the per-camera bundle's rank tests (optim/bundle/bundle_covariance.hpp).
+// scaling, with the per-camera bundle's rank tests (optim/bundle/bundle_covariance.hpp). Under a
+// correlated PPK error model the Gauss–Markov states are eliminated after the points
+// (gauss_markov_elimination.hpp), and a chained point's covariance takes their share:
+//   Σ_kk = V⁻¹ + V⁻¹·[(Wᵀ − P·Z_j)·Σ_cc·(Wᵀ − P·Z_j)ᵀ + P·(G⁻¹)_jj·P]·V⁻¹.
 #include <Eigen/Core>
 #include <string>
 #include <utility>
@@ -25,9 +28,18 @@ using CameraPointBlock = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, kBundlePara
 /// One point's share of the normal equations.
 struct PointLinearisation {
   Eigen::Matrix3d V = Eigen::Matrix3d::Zero();  ///< V_k (m⁻²)
+  /// The prior's information L⁻ᵀL⁻¹ when it is a fix in the Gauss–Markov chain (it then couples the
+  /// point with its GM state: gauss_markov_elimination.hpp); zero otherwise.
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
   /// W_k per observing camera: (camera index, J_cᵀJ_p over that camera's used observations, n_free × 3).
   std::vector<std::pair<std::size_t, CameraPointBlock>> W;
   int cameras = 0;  ///< cameras with a used observation of the point
+  /// The gradient Jᵀr of the point's residuals: on its block, on its Gauss–Markov state (chained
+  /// fix), and per observing camera (its free columns), as W lists the cameras.
+  Eigen::Vector3d grad_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d grad_state = Eigen::Vector3d::Zero();
+  std::vector<std::pair<std::size_t, Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kBundleParameterCount, 1>>>
+      grad_camera;
 };
 
 /// V_k and W_k of point k at `blocks` over the selection; when `U` is given, the observations'
@@ -44,12 +56,27 @@ struct NetworkCovariance {
   /// Per point: the adjusted position — its block, or for a single-view point the posterior
   /// X̄ − Σ·J_Xᵀ·C⁻¹·e given the camera (e its pixel residual at X̄).
   std::vector<Eigen::Vector3d> point_enu;
+  /// Per point in the Gauss–Markov chain, its state's estimate (ENU m; zero for the others).
+  std::vector<Eigen::Vector3d> point_gm;
   double chi2 = 0;
   int residuals = 0;
   int parameters = 0;
   bool rank_deficient = false;
   std::vector<std::string> warnings;
 };
+
+/// One Gauss–Newton step of the whole network at `blocks` for the selection (plain least squares):
+/// the same normal equations as the covariance's, with their gradient carried through the same
+/// eliminations (points, then Gauss–Markov states, then the cameras' dense system). Writes the
+/// step into `step` (cameras packed as CameraBlock, points, states) and returns the χ² at `blocks`.
+/// Throws rangecal::Error (calibration) when the cameras' system is not positive definite.
+struct NetworkStep {
+  std::vector<Eigen::VectorXd> cameras;  ///< per camera, its free parameters in order
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> states;
+};
+double network_gauss_newton_step(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
+                                 const NetworkSelection& selection, NetworkStep* step);
 
 /// The covariance at `blocks` (rotations re-based) for the selection. `scene_distance_m` and
 /// `max_speed_mps` set the physical ranges of the rank test (parameter_range).

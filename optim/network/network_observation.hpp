@@ -10,6 +10,7 @@
 // (optim/bundle/bundle_observation.hpp for the clock-offset term).
 #include <Eigen/Core>
 #include <cstddef>
+#include <limits>
 #include <string>
 
 namespace rangecal {
@@ -23,7 +24,11 @@ struct NetworkPoint {
   Eigen::Matrix3d prior_cov = Eigen::Matrix3d::Identity() * 1e-4;
   bool control_pole = false;  ///< a pole never takes part in the PPK outlier test
   int quality = 1;            ///< RTKLIB Q of the epoch (1 fix, 2 float); 0 for poles
-  std::string source;         ///< for messages: "epoch 2024-… (lamp_track.csv line 12)", "pole 'P3'"
+  /// The epoch's time (s, on one continuous scale for the whole mission): its place in the PPK
+  /// error's Gauss–Markov chain (ppk_error_model.hpp). NaN: not a PPK epoch (a pole, a lone pair),
+  /// outside the chain, its prior white.
+  double time_s = std::numeric_limits<double>::quiet_NaN();
+  std::string source;  ///< for messages: "epoch 2024-… (lamp_track.csv line 12)", "pole 'P3'"
 };
 
 /// One camera's view of one point.

@@ -46,7 +46,12 @@ std::vector<std::size_t> flag_ppk_outliers(const NetworkLayout& l, const Network
     if (p.control_pole || !sel->prior[k]) continue;
     const PointLinearisation lin = linearise_point(l, b, *sel, k, nullptr, nullptr, nullptr);
     if (lin.cameras < 2) continue;
-    const Eigen::Matrix3d Sr = p.prior_cov - lin.V.inverse();
+    // Cov(X̂ − X̄) = Σ − (V_rays + Σ⁻¹)⁻¹ with Σ the fix's whole covariance. A white prior's V is
+    // already V_rays + Σ⁻¹; a chained one's holds only its white part (lin.P), its fix weighed alone.
+    const Eigen::Matrix3d& total = l.prior_total_cov[k];
+    const Eigen::Matrix3d Sr = lin.P.isZero(0)
+                                   ? Eigen::Matrix3d(total - lin.V.inverse())
+                                   : Eigen::Matrix3d(total - (lin.V - lin.P + total.inverse()).inverse());
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(symmetric_part(Sr));
     const Eigen::Vector3d r = Eigen::Map<const Eigen::Vector3d>(b.points[k].data()) - p.prior_enu;
     const double top = es.eigenvalues().maxCoeff();
@@ -96,7 +101,7 @@ ImageOutlierTest test_image_observations(const NetworkLayout& l, const NetworkPa
     const Eigen::Vector3d X =
         prior ? p.prior_enu : Eigen::Map<const Eigen::Vector3d>(b.points[o.point].data());
     bo.world = network_seen_point(X, o, b.cameras[o.camera].clock[0]);
-    bo.world_cov = prior ? p.prior_cov : ray_cov[o.point];
+    bo.world_cov = prior ? l.prior_total_cov[o.point] : ray_cov[o.point];
     Eigen::Vector2d uv;
     if (!project(cams[o.camera], bo.world, &uv)) uv.setConstant(std::numeric_limits<double>::infinity());
     t.residual_px[i] = uv - o.pixel;

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
 
 #include "optim/bundle/whitening.hpp"
 
@@ -33,7 +34,8 @@ double NetworkLayout::pixel_sigma(std::size_t i) const {
 
 NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,
                                   const std::vector<NetworkPoint>& points,
-                                  const std::vector<NetworkObservation>& observations) {
+                                  const std::vector<NetworkObservation>& observations,
+                                  const PpkErrorModel& ppk) {
   NetworkLayout l;
   l.cameras = &cameras, l.points = &points, l.observations = &observations;
   for (const NetworkCamera& c : cameras) {
@@ -44,8 +46,48 @@ NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,
     l.n_camera_parameters += l.setups.back().n_free;
   }
   l.by_point = observations_by_point(points.size(), observations);
-  for (const NetworkPoint& p : points) l.prior_whiten.push_back(prior_whitening(p.prior_cov));
+  l.ppk = ppk;
+  l.gm_state.assign(points.size(), -1);
+  const bool chained = ppk.correlated();
+  for (std::size_t k = 0; k < points.size(); ++k)
+    if (chained && !points[k].control_pole && std::isfinite(points[k].time_s)) l.gm_chain.push_back(k);
+  std::stable_sort(l.gm_chain.begin(), l.gm_chain.end(),
+                   [&](std::size_t a, std::size_t b) { return points[a].time_s < points[b].time_s; });
+  for (std::size_t j = 0; j < l.gm_chain.size(); ++j) l.gm_state[l.gm_chain[j]] = static_cast<int>(j);
+  const Eigen::Matrix3d S = ppk.white_scale().asDiagonal();
+  const Eigen::Vector3d g = ppk.gm_sd();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const NetworkPoint& p = points[k];
+    // A pole is a survey, and a lone pair has no place in the chain: their priors are their own.
+    const bool ppk_epoch = !p.control_pole && std::isfinite(p.time_s);
+    const Eigen::Matrix3d white = ppk_epoch ? Eigen::Matrix3d(S * p.prior_cov * S) : p.prior_cov;
+    l.prior_whiten.push_back(prior_whitening(white));
+    l.prior_total_cov.push_back(l.gm_state[k] >= 0
+                                    ? Eigen::Matrix3d(white + Eigen::Matrix3d(g.cwiseProduct(g).asDiagonal()))
+                                    : white);
+  }
   return l;
+}
+
+NetworkLayout white_approximation(const NetworkLayout& layout) {
+  NetworkLayout white = layout;
+  white.gm_chain.clear();
+  white.gm_state.assign(layout.gm_state.size(), -1);
+  for (std::size_t k = 0; k < white.prior_whiten.size(); ++k)
+    white.prior_whiten[k] = prior_whitening(layout.prior_total_cov[k]);
+  return white;
+}
+
+GaussMarkovStep gauss_markov_step(const NetworkLayout& l, std::size_t j) {
+  GaussMarkovStep step;
+  if (j == 0) {
+    step.weight = gauss_markov_weight(l.ppk, nullptr);
+    return step;
+  }
+  const double dt = (*l.points)[l.gm_chain[j]].time_s - (*l.points)[l.gm_chain[j - 1]].time_s;
+  step.phi = gauss_markov_transition(l.ppk, dt);
+  step.weight = gauss_markov_weight(l.ppk, &step.phi);
+  return step;
 }
 
 NetworkParameterBlocks starting_blocks(const NetworkLayout& l) {
@@ -55,6 +97,7 @@ NetworkParameterBlocks starting_blocks(const NetworkLayout& l) {
         BundleParameterBlocks::from_camera(l.starts[c], (*l.cameras)[c].options.initial_clock_offset_s));
   for (const NetworkPoint& p : *l.points)
     b.points.push_back({p.prior_enu.x(), p.prior_enu.y(), p.prior_enu.z()});
+  b.gm.assign(l.gm_chain.size(), {0.0, 0.0, 0.0});
   return b;
 }
 
@@ -65,7 +108,7 @@ void refresh_single_view(const NetworkLayout& l, const NetworkParameterBlocks& b
   std::vector<Camera> cams;
   for (std::size_t c = 0; c < b.cameras.size(); ++c) cams.push_back(b.cameras[c].to_camera(l.starts[c]));
   for (std::size_t k = 0; k < l.by_point.size(); ++k) {
-    if (!sel->prior[k]) continue;
+    if (!sel->prior[k] || l.gm_state[k] >= 0) continue;
     std::size_t used = 0, last = 0;
     for (std::size_t i : l.by_point[k])
       if (sel->observation[i]) ++used, last = i;
@@ -74,7 +117,7 @@ void refresh_single_view(const NetworkLayout& l, const NetworkParameterBlocks& b
     const NetworkObservation& o = obs[last];
     BundleObservation bo;
     bo.world = (*l.points)[k].prior_enu + o.offset_m;
-    bo.world_cov = (*l.points)[k].prior_cov;
+    bo.world_cov = l.prior_total_cov[k];
     sel->whitening[last] = whitening_matrix(cams[o.camera], bo, l.pixel_sigma(last));
   }
 }

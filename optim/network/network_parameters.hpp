@@ -7,6 +7,7 @@
 
 #include "optim/bundle/bundle_parameters.hpp"
 #include "optim/network/network_adjustment.hpp"
+#include "optim/network/ppk_error_model.hpp"
 
 namespace rangecal {
 
@@ -16,6 +17,8 @@ inline constexpr int kPointBlockSize = 3;
 struct NetworkParameterBlocks {
   std::vector<BundleParameterBlocks> cameras;
   std::vector<std::array<double, kPointBlockSize>> points;  ///< ENU m
+  /// The PPK error's Gauss–Markov states g (ENU m), one per state of NetworkLayout::gm_chain.
+  std::vector<std::array<double, 3>> gm;
 };
 
 /// The problem's fixed layout: per camera its set-up, starting camera, free parameters and the
@@ -30,7 +33,17 @@ struct NetworkLayout {
   std::vector<int> offset;  ///< first joint column of each camera
   int n_camera_parameters = 0;
   std::vector<std::vector<std::size_t>> by_point;
-  std::vector<Eigen::Matrix3d> prior_whiten;  ///< L⁻¹ per point
+  /// L⁻¹ per point, L·Lᵀ its prior's covariance: the survey's for a pole; the white part
+  /// S·Σ_pos·S of the error model for a PPK epoch (ppk_error_model.hpp).
+  std::vector<Eigen::Matrix3d> prior_whiten;
+  /// Per point, the whole covariance of its prior under the error model (white part + σ_g²): what
+  /// the outlier tests weigh a fix by alone.
+  std::vector<Eigen::Matrix3d> prior_total_cov;
+  PpkErrorModel ppk;
+  /// The Gauss–Markov chain (empty unless ppk.correlated()): its states' points in time order, and
+  /// per point its state (−1: none, the point's prior is white).
+  std::vector<std::size_t> gm_chain;
+  std::vector<int> gm_state;
   /// Multiplies every observation's σ_px: 1 for the network itself, 1/kDatumFloorImageFactor for
   /// its datum floor (network_adjustment.hpp).
   double pixel_sigma_scale = 1;
@@ -41,10 +54,22 @@ struct NetworkLayout {
 
 NetworkLayout make_network_layout(const std::vector<NetworkCamera>& cameras,
                                   const std::vector<NetworkPoint>& points,
-                                  const std::vector<NetworkObservation>& observations);
+                                  const std::vector<NetworkObservation>& observations,
+                                  const PpkErrorModel& ppk = {});
+
+/// `layout` with each fix white under its whole covariance (prior_total_cov) and no chain: the
+/// correlated model's white approximation, for the robust solve that separates outliers.
+NetworkLayout white_approximation(const NetworkLayout& layout);
+
+/// φ and the weights of chain state j's residual (gauss_markov_weight): of the first state when j = 0.
+struct GaussMarkovStep {
+  Eigen::Vector3d phi = Eigen::Vector3d::Zero();
+  Eigen::Vector3d weight = Eigen::Vector3d::Zero();
+};
+GaussMarkovStep gauss_markov_step(const NetworkLayout& layout, std::size_t j);
 
 /// The solve's start: each camera at its starting camera and initial clock offset, each point at
-/// its prior.
+/// its prior, each Gauss–Markov state at 0.
 NetworkParameterBlocks starting_blocks(const NetworkLayout& layout);
 
 /// What enters a solve: observations (image residuals) and point priors; and which points are
@@ -60,7 +85,8 @@ struct NetworkSelection {
   std::vector<Eigen::Matrix2d> whitening;  ///< per observation of a single-view point: W (px⁻¹)
 };
 
-/// Marks the single-view points of `selection` (prior used, exactly one used observation) and
+/// Marks the single-view points of `selection` (prior used, exactly one used observation, not in
+/// the Gauss–Markov chain: a chained fix is not independent of the others) and
 /// computes their observations' W at the cameras of `blocks`.
 void refresh_single_view(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
                          NetworkSelection* selection);

@@ -6,6 +6,7 @@
 
 #include "optim/network/network_covariance.hpp"
 #include "optim/network/network_parameters.hpp"
+#include "pipeline/simulate/ppk_error.hpp"
 
 namespace rangecal {
 
@@ -16,6 +17,7 @@ PlannedNetwork planned_network(const Scenario& s, const PlanOptions& o) {
 PlannedNetwork planned_network(const SimMission& m, const PlanOptions& o) {
   const Scenario& s = m.scenario;
   PlannedNetwork n;
+  n.ppk = stated_error_model(s.gnss.noise_sd_m, s.gnss.correlated_error);
   const std::int64_t max_ns = static_cast<std::int64_t>(std::llround(o.max_frame_offset_s * 1e9));
   std::map<std::size_t, std::size_t> point_of_epoch;
   for (std::size_t c = 0; c < m.cameras.size(); ++c) {
@@ -37,6 +39,7 @@ PlannedNetwork planned_network(const SimMission& m, const PlanOptions& o) {
         p.prior_enu = ep.lamp_true;
         p.prior_cov = ep.sd_enu.cwiseProduct(ep.sd_enu).asDiagonal();
         p.quality = ep.quality;
+        p.time_s = 1e-9 * static_cast<double>(ep.utc.ns - m.epochs.front().utc.ns);
         it = point_of_epoch.emplace(e, n.points.size()).first;
         n.points.push_back(p);
       }
@@ -85,12 +88,13 @@ Eigen::MatrixXd network_cramer_rao_bound(const PlannedNetwork& n, const std::vec
     c.options.pixel_sigma_px = pixel_sigma_px;
     cams.push_back(c);
   }
-  NetworkLayout l = make_network_layout(cams, n.points, n.observations);
+  NetworkLayout l = make_network_layout(cams, n.points, n.observations, n.ppk);
   l.pixel_sigma_scale = 1 / image_factor;  // as the run's datum floor (network_adjustment.cpp)
   NetworkParameterBlocks b;
   for (const Camera& t : n.truth) b.cameras.push_back(BundleParameterBlocks::from_camera(t));
   for (const NetworkPoint& p : n.points)
     b.points.push_back({p.prior_enu.x(), p.prior_enu.y(), p.prior_enu.z()});
+  b.gm.assign(l.gm_chain.size(), {0.0, 0.0, 0.0});
   const NetworkSelection sel{
       std::vector<char>(n.observations.size(), 1), std::vector<char>(n.points.size(), 1), {}, {}};
   return network_covariance(l, b, sel, 64, 10, 1e-14).joint;

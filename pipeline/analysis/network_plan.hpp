@@ -19,6 +19,9 @@ struct PlannedNetwork {
   std::vector<Camera> truth;  ///< per scenario camera
   std::vector<NetworkPoint> points;
   std::vector<NetworkObservation> observations;
+  /// The scenario's PPK errors as the network would weigh them (stated_error_model): the bound is
+  /// then the correlated one when the scenario draws a Gauss–Markov part.
+  PpkErrorModel ppk;
 };
 
 PlannedNetwork planned_network(const Scenario& s, const PlanOptions& options = {});

@@ -89,6 +89,17 @@ CrossCovariances camera_blocks(const nlohmann::json& j, const nlohmann::json& ro
 
 }  // namespace
 
+nlohmann::json ppk_error_model_json(const PpkErrorModel& m, int states) {
+  const auto hv = [](double h, double v) { return nlohmann::json{{"horizontal", h}, {"vertical", v}}; };
+  nlohmann::json j;
+  j["white_scale"] = hv(m.white_scale_h, m.white_scale_v);
+  j["gauss_markov"] = m.correlated() ? nlohmann::json{{"sd_m", hv(m.gm_sd_h_m, m.gm_sd_v_m)},
+                                                      {"tau_s", hv(m.tau_h_s, m.tau_v_s)},
+                                                      {"states", states}}
+                                     : nlohmann::json();
+  return j;
+}
+
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc) {
   const NetworkStatistics& s = r.statistics;
   nlohmann::json j;
@@ -107,6 +118,7 @@ nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector
   for (std::size_t c : s.cameras_alone) alone.push_back(r.cameras[c].calibration.camera_id);
   j["cameras_alone"] = alone;
   j["rank_deficient"] = s.rank_deficient;
+  j["ppk_error_model"] = ppk_error_model_json(r.ppk_error, r.gauss_markov_states);
   return j;
 }
 

@@ -20,6 +20,9 @@ namespace rangecal {
 
 /// The statistics object (also run.json's `network` counts). `epoch_utc` names each point's epoch
 /// ("" for poles).
+/// The PPK error model the network weighed the fixes by (docs/outputs.md "network"): white scale and,
+/// for a correlated model, the Gauss–Markov sd, τ and the number of chained epochs (null when white).
+nlohmann::json ppk_error_model_json(const PpkErrorModel& model, int gauss_markov_states);
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 
 /// The statistics object read back (the report's network section): NetworkStatistics with the PPK

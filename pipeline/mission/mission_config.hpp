@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gnss/geodesy/geodetic_origin.hpp"
+#include "optim/network/ppk_error_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
@@ -18,6 +19,10 @@ struct GnssConfig {
   std::vector<int> accept_quality{1};  ///< Q values kept (1 fix … 6 ppp); default [1]
   double max_sd_m = 0.05;              ///< epochs with any of sdn/sde/sdu above this are dropped
   double max_gap_s = 0.5;              ///< never interpolate across a gap longer than this
+  /// gnss.error_model (docs/gnss.md "PPK error model"): the fixes' error as the network weighs it —
+  /// white scale, Gauss–Markov sd and τ, horizontal and vertical. Default: white, each fix under its
+  /// own .pos covariance.
+  PpkErrorModel error_model;
 };
 
 struct LeverArmConfig {

@@ -502,6 +502,15 @@ std::string format_mission_config(const SimMission& m) {
   const double max_gap = std::max(0.5, 2.5 / s.gnss.rate_hz);
   j["gnss"] = {
       {"pos_files", {"gnss/rover.pos"}}, {"accept_quality", {1}}, {"max_sd_m", 0.05}, {"max_gap_s", max_gap}};
+  // A correlated scenario's mission states the model its errors were drawn from, as a range states
+  // the model of a receiver it has characterised (docs/gnss.md "PPK error model").
+  const PpkErrorModel em = stated_error_model(s.gnss.noise_sd_m, s.gnss.correlated_error);
+  if (em.correlated()) {
+    const auto hv = [](double h, double v) { return J{{"horizontal", h}, {"vertical", v}}; };
+    j["gnss"]["error_model"] = {
+        {"white_scale", hv(em.white_scale_h, em.white_scale_v)},
+        {"gauss_markov", {{"sd_m", hv(em.gm_sd_h_m, em.gm_sd_v_m)}, {"tau_s", hv(em.tau_h_s, em.tau_v_s)}}}};
+  }
   j["attitude"] = {{"file", "gnss/attitude.csv"}};
   j["lever_arm"] = {{"body_frd_m", vec_json(s.lever_arm_frd_m)}};
   if (!m.poles.empty()) j["poles"] = "survey/poles.csv";

@@ -63,4 +63,14 @@ Eigen::Vector3d reported_sd_m(const Eigen::Vector3d& white_sd_m, const PpkCorrel
   return sd;
 }
 
+PpkErrorModel stated_error_model(const Eigen::Vector3d& white_sd_m, const PpkCorrelatedError& model) {
+  PpkErrorModel m;
+  if (!(model.gm_sd_m.x() > 0 && model.gm_sd_m.z() > 0)) return m;
+  const Eigen::Vector3d total = reported_sd_m(white_sd_m, model);
+  m.white_scale_h = white_sd_m.x() / total.x(), m.white_scale_v = white_sd_m.z() / total.z();
+  m.gm_sd_h_m = model.gm_sd_m.x(), m.gm_sd_v_m = model.gm_sd_m.z();
+  m.tau_h_s = model.gm_tau_s.x(), m.tau_v_s = model.gm_tau_s.z();
+  return m;
+}
+
 }  // namespace rangecal

@@ -6,8 +6,10 @@
 // minutes (multipath, troposphere), and an ambiguity fix holds an offset until lock is lost; white
 // noise alone makes every epoch an independent look at the truth.
 #include <Eigen/Core>
+
 #include <cstdint>
 #include <vector>
+#include "optim/network/ppk_error_model.hpp"
 
 namespace rangecal {
 
@@ -46,5 +48,11 @@ std::vector<Eigen::Vector3d> draw_ppk_correlated_error(const PpkCorrelatedError&
 /// The 1σ a receiver reports per axis (the .pos sdn/sde/sdu): √(white² + σ_GM²). RTKLIB reports the
 /// whole variance of an epoch, not its correlation, and knows nothing of a bias.
 Eigen::Vector3d reported_sd_m(const Eigen::Vector3d& white_sd_m, const PpkCorrelatedError& model);
+
+/// The network's error model of these errors (optim/network/ppk_error_model.hpp; docs/gnss.md "PPK
+/// error model"): the white part as a fraction of the reported sd, the GM sd and τ (E for
+/// horizontal, U for vertical). White (the default model) without a GM part on both axes; a
+/// per-flight bias is not in it.
+PpkErrorModel stated_error_model(const Eigen::Vector3d& white_sd_m, const PpkCorrelatedError& model);
 
 }  // namespace rangecal

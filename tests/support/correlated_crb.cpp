@@ -406,6 +406,7 @@ NetworkInput network_input(const CrbNetwork& n, const GaussMarkovPpk& weights, c
     NetworkPoint p;
     p.prior_enu = n.epochs[k] + (noise.ppk_error.empty() ? Vector3d::Zero() : noise.ppk_error[k]);
     p.prior_cov = s.cwiseProduct(s).asDiagonal();
+    p.time_s = n.epoch_time_s[k];
     p.source = "epoch " + std::to_string(k);
     in.points.push_back(p);
   }

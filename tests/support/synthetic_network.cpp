@@ -41,6 +41,7 @@ SyntheticNetwork synthetic_network(int n_cameras, int n_epochs, std::uint64_t se
     p.prior_cov = Matrix3d::Identity() * 1e-4;
     p.prior_enu = X + 0.01 * Vector3d(N01(rng), N01(rng), N01(rng));
     p.source = "epoch " + std::to_string(k);
+    p.time_s = 0.2 * k;  // 5 Hz fixes: their place in a correlated error model's chain
     bool seen = false;
     for (int c = 0; c < n_cameras; ++c) {
       Vector2d uv;

@@ -1,9 +1,8 @@
 // The independent bound for time-correlated PPK errors (tests/support/correlated_crb.hpp;
 // docs/accuracy_analysis.md "Correlated PPK errors: the independent bound"):
 //   - the drawn errors (exact AR(1) recursion) have the modelled covariance Σ_PPK;
-//   - with white PPK errors the bound equals the network bundle's own a-priori covariance
-//     (optim/network: Schur complement, analytic Jacobians) on every camera parameter to 1e-3 —
-//     two computations that share only the camera model (vision/camera/camera_model.hpp);
+//   - (that it equals the network's own a-priori covariance, white and correlated, is
+//     tests/unit/optim/network_gauss_markov_test.cpp);
 //   - the measured mission's setting (two 100 mm cameras 45–80 m from five ascents, ~590 fixed
 //     epochs over ~140 s; white 0.3/0.5 cm + GM 0.8/1.4 cm, τ = 30 s): the calibration-only
 //     flight-volume intersection σ of the bound with 0 and 2 control poles and with the stations
@@ -72,64 +71,6 @@ TEST(CorrelatedCrb, DrawnErrorsHaveTheModelledCovariance) {
   EXPECT_NEAR(model.cov(3 * 19 + 2, 3 * 20 + 2), 0.014 * 0.014 * std::exp(-12.2 / 5), 1e-15);
   EXPECT_EQ(model.cov(0, 1), 0.0);  // no correlation between axes
   EXPECT_LT((model.cov * model.information - MatrixXd::Identity(n, n)).cwiseAbs().maxCoeff(), 1e-9);
-}
-
-/// The white bound of `n` against network_adjust's a-priori joint covariance on the noise-free network.
-void expect_network_equals_bound(const CrbNetwork& n, const char* what) {
-  const GaussMarkovPpk white = measured_model().as_white();
-  const CameraJointCovariance bound = cramer_rao_bound(n, ppk_joint_covariance(n.epoch_time_s, white));
-  // Start the network off the truth (f × 1.001, centre 3 cm, 0.2 mrad): the noise-free data bring it back.
-  std::vector<Camera> start;
-  for (const CrbCamera& c : n.cameras) {
-    Camera s = c.truth;
-    s.intr.f_mm *= 1.001;
-    const Vector3d C = s.pose.center() + Vector3d(0.03, -0.02, 0.03);
-    s.pose.R = Eigen::AngleAxisd(2e-4, Vector3d(1, -1, 0.5).normalized()).toRotationMatrix() * s.pose.R;
-    s.pose.T = -s.pose.R * C;
-    start.push_back(s);
-  }
-  const NetworkInput in = network_input(n, white, {}, start);
-  const NetworkResult r = network_adjust(in.cameras, in.points, in.observations);
-  ASSERT_FALSE(r.joint_covariance.size() == 0) << what;
-  // Every entry of the joint covariance (cross-camera blocks too), relative to √(Σ_ii·Σ_jj).
-  std::vector<Eigen::Index> row;  // the network's joint row of each of the bound's parameters
-  for (std::size_t c = 0; c < n.cameras.size(); ++c) {
-    const std::vector<CameraParameter>& mine = n.cameras[c].free;
-    const CalibrationResult& cal = r.cameras[c].calibration;
-    const VectorXd d = free_values(n, c, cal.camera) - free_values(n, c, n.cameras[c].truth);
-    EXPECT_LT(std::abs(d[0]), 1e-6) << what << ": f did not return to the truth";
-    const VectorXd s = bound.sigma(c);
-    for (std::size_t k = 0; k < mine.size(); ++k) {
-      const int j = cal.parameter_index(mine[k]);
-      ASSERT_GE(j, 0);
-      row.push_back(r.joint_offset[c] + j);
-      const double net = std::sqrt(r.joint_covariance(row.back(), row.back()));
-      const double mine_sigma = s[static_cast<Eigen::Index>(k)];
-      std::printf("%s %s %-3s network σ %.6e  bound σ %.6e  (%+.1e)\n", what, n.cameras[c].truth.id.c_str(),
-                  parameter_name(mine[k]), net, mine_sigma, mine_sigma / net - 1);
-      EXPECT_NEAR(mine_sigma / net, 1.0, 1e-3) << what << " " << parameter_name(mine[k]);
-    }
-  }
-  double worst = 0;
-  for (std::size_t a = 0; a < row.size(); ++a)
-    for (std::size_t b = 0; b < row.size(); ++b) {
-      const double net = r.joint_covariance(row[a], row[b]);
-      const double norm = std::sqrt(bound.joint(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(a)) *
-                                    bound.joint(static_cast<Eigen::Index>(b), static_cast<Eigen::Index>(b)));
-      worst = std::max(
-          worst,
-          std::abs(bound.joint(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) - net) / norm);
-    }
-  std::printf("%s: largest joint-covariance difference %.1e of √(Σ_ii·Σ_jj)\n", what, worst);
-  EXPECT_LT(worst, 1e-3) << what;
-}
-
-TEST(CorrelatedCrb, WhiteBoundEqualsTheNetworksCovariance) {
-  AscentNetworkOptions o;
-  o.rate_hz = 2;  // ~240 epochs: the same geometry, a quicker network solve
-  expect_network_equals_bound(ascent_network(o), "lamp only");
-  o.control_poles = 2, o.station_sigma_m = 0.005;
-  expect_network_equals_bound(ascent_network(o), "2 poles + stations");
 }
 
 struct SettingFigures {

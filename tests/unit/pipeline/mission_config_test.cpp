@@ -406,5 +406,48 @@ TEST(MissionConfigErrors, TopLevelNotAnObject) {
   }
 }
 
+TEST(MissionConfig, PpkErrorModelDefaultsToWhiteAndParsesBothForms) {
+  EXPECT_FALSE(parse_mission_config(minimal().dump(), kPath, false).gnss.error_model.correlated());
+  nlohmann::json j = minimal();
+  j["gnss"]["error_model"] = nlohmann::json::parse(R"({"white_scale": {"horizontal": 0.35, "vertical": 0.34},
+      "gauss_markov": {"sd_m": {"horizontal": 0.008, "vertical": 0.014}, "tau_s": 30}})");
+  const PpkErrorModel m = parse_mission_config(j.dump(), kPath, false).gnss.error_model;
+  EXPECT_TRUE(m.correlated());
+  EXPECT_DOUBLE_EQ(m.white_scale_h, 0.35);
+  EXPECT_DOUBLE_EQ(m.white_scale_v, 0.34);
+  EXPECT_DOUBLE_EQ(m.gm_sd_h_m, 0.008);
+  EXPECT_DOUBLE_EQ(m.gm_sd_v_m, 0.014);
+  EXPECT_DOUBLE_EQ(m.tau_h_s, 30);
+  EXPECT_DOUBLE_EQ(m.tau_v_s, 30);
+  // A white scale alone: white, scaled.
+  j["gnss"]["error_model"] = nlohmann::json::parse(R"({"white_scale": 1.5})");
+  const PpkErrorModel w = parse_mission_config(j.dump(), kPath, false).gnss.error_model;
+  EXPECT_FALSE(w.correlated());
+  EXPECT_DOUBLE_EQ(w.white_scale_h, 1.5);
+  EXPECT_DOUBLE_EQ(w.white_scale_v, 1.5);
+}
+
+TEST(MissionConfigErrors, PpkErrorModelOutOfRangeOrHalfGiven) {
+  const auto with = [](const char* model) {
+    nlohmann::json j = minimal();
+    j["gnss"]["error_model"] = nlohmann::json::parse(model);
+    return j;
+  };
+  expect_error(with(R"({"white_scale": 0})"), "gnss.error_model.white_scale", "a number in (0, 10]");
+  expect_error(with(R"({"white_scale": {"horizontal": 0.3}})"), "gnss.error_model.white_scale",
+               "missing required key");
+  expect_error(with(R"({"gauss_markov": {"sd_m": 0.01}})"), "gnss.error_model.gauss_markov",
+               "missing required key");
+  expect_error(with(R"({"gauss_markov": {"sd_m": 2, "tau_s": 30}})"), "gnss.error_model.gauss_markov.sd_m",
+               "[0, 1] m");
+  expect_error(with(R"({"gauss_markov": {"sd_m": 0.01, "tau_s": 0}})"), "gnss.error_model.gauss_markov.tau_s",
+               "(0, 86400] s");
+  expect_error(with(R"({"gauss_markov": {"sd_m": {"horizontal": 0.01, "vertical": 0}, "tau_s": 30}})"),
+               "gnss.error_model.gauss_markov.sd_m", "one axis only");
+  expect_error(with(R"({"gauss_markov": {"sd_m": 0.01, "tau_s": 30, "tau": 5}})"),
+               "gnss.error_model.gauss_markov", "tau");
+  expect_error(with(R"({"white_scale": "half"})"), "gnss.error_model.white_scale", "horizontal");
+}
+
 }  // namespace
 }  // namespace rangecal

@@ -214,6 +214,28 @@ TEST(PpkErrorSimulation, PosSdColumnsAreTheTotalSigma) {
   EXPECT_NEAR(truth["epochs"][0]["sd_enu_m"][2].get<double>(), 0.013, 1e-15);
 }
 
+TEST(PpkErrorSimulation, MissionStatesTheModelItDrew) {
+  // The mission.json of a correlated scenario gives the network the drawn model (docs/gnss.md "PPK
+  // error model"): white 0.3 / 0.5 cm of a reported 0.5 / 1.3 cm → scales 0.6 and 5/13; GM as drawn.
+  json j = test::tiny_scenario();
+  j["gnss"]["noise_sd_m"] = {0.003, 0.003, 0.005};
+  j["gnss"]["gauss_markov"] = {{"sd_m", {{"horizontal", 0.004}, {"vertical", 0.012}}},
+                               {"tau_s", {{"horizontal", 30}, {"vertical", 20}}}};
+  const fs::path dir = test::scratch_dir("ppk_error_model");
+  write_mission(simulate_mission(scenario_of(j)), dir.string());
+  const json m = json::parse(test::read_text(dir / "mission.json"))["gnss"]["error_model"];
+  EXPECT_NEAR(m["white_scale"]["horizontal"].get<double>(), 0.6, 1e-12);
+  EXPECT_NEAR(m["white_scale"]["vertical"].get<double>(), 5.0 / 13, 1e-12);
+  EXPECT_EQ(m["gauss_markov"]["sd_m"]["horizontal"].get<double>(), 0.004);
+  EXPECT_EQ(m["gauss_markov"]["sd_m"]["vertical"].get<double>(), 0.012);
+  EXPECT_EQ(m["gauss_markov"]["tau_s"]["horizontal"].get<double>(), 30);
+  EXPECT_EQ(m["gauss_markov"]["tau_s"]["vertical"].get<double>(), 20);
+  // A white scenario's mission has none: the network stays white.
+  const fs::path white = test::scratch_dir("ppk_error_model_white");
+  write_mission(simulate_mission(scenario_of(test::tiny_scenario())), white.string());
+  EXPECT_FALSE(json::parse(test::read_text(white / "mission.json"))["gnss"].contains("error_model"));
+}
+
 TEST(PpkErrorSimulation, CorrelatedErrorAddsToTheUnchangedWhiteNoise) {
   json white = test::tiny_scenario();
   white["gnss"]["gaps"] = {{1.0, 1.45}};

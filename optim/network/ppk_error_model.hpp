@@ -1,0 +1,57 @@
+#pragma once
+// The PPK error model of the network (docs/optimisation.md "Correlated PPK errors"): per ENU axis,
+// the error of a fix is
+//   e_k = w_k + g_k,    w_k white, Cov(w_k) = S·Σ_pos,k·S,   S = diag(s_h, s_h, s_v),
+//   g_k first-order Gauss–Markov: E[g_k g_j] = σ_g²·exp(−|t_k − t_j|/τ), axes uncorrelated,
+// Σ_pos,k the fix's own covariance from the .pos sd columns (which RTKLIB, and rangecal's simulator,
+// report as the whole error: /work/shared/notes/correlated_ppk.md §1). E and N share the horizontal
+// values, U has its own. The GM part is carried as one state per epoch and axis, chained by the exact
+// discretisation for any spacing (correlated_ppk.md §2a, Brown & Hwang):
+//   g_0 ~ N(0, σ_g²),   g_k = φ_k·g_{k−1} + ν_k,   φ_k = exp(−Δt_k/τ),   ν_k ~ N(0, σ_g²·(1 − φ_k²)),
+// so a gap between flights of many τ decouples them (φ → 0) and the stationary variance is σ_g² at
+// every epoch. With no GM part (σ_g = 0) and s = 1 the model is the white one the network has always
+// used: each fix independent under its own Σ_pos.
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+
+namespace rangecal {
+
+struct PpkErrorModel {
+  double white_scale_h = 1;  ///< s_h: the white sd as a fraction of the .pos sd, E and N
+  double white_scale_v = 1;  ///< s_v: the same, U
+  double gm_sd_h_m = 0;      ///< σ_g of E and N (m)
+  double gm_sd_v_m = 0;      ///< σ_g of U (m)
+  double tau_h_s = 0;        ///< τ of E and N (s)
+  double tau_v_s = 0;        ///< τ of U (s)
+
+  /// A Gauss–Markov part (on every axis: a model correlated on some axes only is refused where it
+  /// is read, pipeline/mission): the network then carries the GM states.
+  bool correlated() const { return gm_sd_h_m > 0 && gm_sd_v_m > 0 && tau_h_s > 0 && tau_v_s > 0; }
+  /// σ_g per ENU axis (m).
+  Eigen::Vector3d gm_sd() const { return {gm_sd_h_m, gm_sd_h_m, gm_sd_v_m}; }
+  /// τ per ENU axis (s).
+  Eigen::Vector3d tau() const { return {tau_h_s, tau_h_s, tau_v_s}; }
+  /// S per ENU axis.
+  Eigen::Vector3d white_scale() const { return {white_scale_h, white_scale_h, white_scale_v}; }
+};
+
+/// φ per ENU axis for a step of dt seconds: exp(−dt/τ).
+inline Eigen::Vector3d gauss_markov_transition(const PpkErrorModel& m, double dt_s) {
+  const Eigen::Vector3d tau = m.tau();
+  Eigen::Vector3d phi;
+  for (int a = 0; a < 3; ++a) phi[a] = std::exp(-std::abs(dt_s) / tau[a]);
+  return phi;
+}
+
+/// 1/σ of the chain's residuals per ENU axis: of the first state, 1/σ_g, when `phi` is null; else of
+/// the step g_k − φ·g_{k−1}, 1/(σ_g·√(1 − φ²)).
+inline Eigen::Vector3d gauss_markov_weight(const PpkErrorModel& m, const Eigen::Vector3d* phi) {
+  const Eigen::Vector3d sd = m.gm_sd();
+  Eigen::Vector3d w;
+  for (int a = 0; a < 3; ++a)
+    w[a] = 1 / (sd[a] * (phi ? std::sqrt(std::max(1e-300, 1 - (*phi)[a] * (*phi)[a])) : 1.0));
+  return w;
+}
+
+}  // namespace rangecal

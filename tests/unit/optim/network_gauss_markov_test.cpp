@@ -1,0 +1,367 @@
+// The network under a correlated PPK error model (optim/network/ppk_error_model.hpp: white part plus
+// a Gauss–Markov process carried as one state per epoch) against the independent correlated
+// Cramér–Rao bound of tests/support/correlated_crb.hpp, which holds Σ_PPK dense and shares only the
+// camera model with optim/network:
+//   - at the truth the network's a-priori joint covariance is that bound, white and correlated, with
+//     and without control poles and surveyed stations;
+//   - a vanishing GM part gives the white network back;
+//   - over many simulated missions with correlated errors (τ = 10, 30, 100 s) its σ hold: the
+//     calibration-only intersection error against the σ it predicts, the z-scores of f and the
+//     camera centres, and the error against the bound; and it beats the white-noise network.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "support/correlated_crb.hpp"
+
+namespace rangecal::test {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+/// White 0.3 / 0.5 cm, GM 0.8 / 1.4 cm (horizontal / vertical) at time constant `tau_s`: the
+/// measured mission's errors (docs/simulator.md, "Correlated PPK errors").
+GaussMarkovPpk measured_model(double tau_s = 30) {
+  GaussMarkovPpk m;
+  m.white_h_m = 0.003, m.white_v_m = 0.005;
+  m.gm_h_m = 0.008, m.gm_v_m = 0.014;
+  m.tau_h_s = tau_s, m.tau_v_s = tau_s;
+  return m;
+}
+
+/// The network's error model for fixes whose .pos covariance is the model's total
+/// (network_input): white scale = white / total per axis, the GM part as it is.
+PpkErrorModel network_model(const GaussMarkovPpk& m) {
+  const Vector3d total = m.total_sigma();
+  PpkErrorModel e;
+  e.white_scale_h = m.white_h_m / total.x(), e.white_scale_v = m.white_v_m / total.z();
+  e.gm_sd_h_m = m.gm_h_m, e.gm_sd_v_m = m.gm_v_m;
+  e.tau_h_s = m.tau_h_s, e.tau_v_s = m.tau_v_s;
+  return e;
+}
+
+/// Cameras off the truth (f × 1.001, centre 3 cm, 0.2 mrad): the noise-free data bring them back.
+std::vector<Camera> perturbed_start(const CrbNetwork& n) {
+  std::vector<Camera> start;
+  for (const CrbCamera& c : n.cameras) {
+    Camera s = c.truth;
+    s.intr.f_mm *= 1.001;
+    const Vector3d C = s.pose.center() + Vector3d(0.03, -0.02, 0.03);
+    s.pose.R = Eigen::AngleAxisd(2e-4, Vector3d(1, -1, 0.5).normalized()).toRotationMatrix() * s.pose.R;
+    s.pose.T = -s.pose.R * C;
+    start.push_back(s);
+  }
+  return start;
+}
+
+/// The bound of `n` under `model` against network_adjust's a-priori joint covariance on the noise-free
+/// network weighted by the same model: every σ and every entry (relative to √(Σ_ii·Σ_jj)) within 1e-3
+/// (the bound's derivatives are numeric).
+void expect_network_equals_bound(const CrbNetwork& n, const GaussMarkovPpk& model, bool correlated,
+                                 const char* what) {
+  const CameraJointCovariance bound = cramer_rao_bound(n, ppk_joint_covariance(n.epoch_time_s, model));
+  const NetworkInput in = network_input(n, model, {}, perturbed_start(n));
+  NetworkOptions opt;
+  if (correlated) opt.ppk_error = network_model(model);
+  const NetworkResult r = network_adjust(in.cameras, in.points, in.observations, opt);
+  ASSERT_FALSE(r.joint_covariance.size() == 0) << what;
+  std::vector<Eigen::Index> row;  // the network's joint row of each of the bound's parameters
+  for (std::size_t c = 0; c < n.cameras.size(); ++c) {
+    const std::vector<CameraParameter>& mine = n.cameras[c].free;
+    const CalibrationResult& cal = r.cameras[c].calibration;
+    const VectorXd d = free_values(n, c, cal.camera) - free_values(n, c, n.cameras[c].truth);
+    EXPECT_LT(std::abs(d[0]), 1e-6) << what << ": f did not return to the truth";
+    const VectorXd s = bound.sigma(c);
+    for (std::size_t k = 0; k < mine.size(); ++k) {
+      const int j = cal.parameter_index(mine[k]);
+      ASSERT_GE(j, 0);
+      row.push_back(r.joint_offset[c] + j);
+      const double net = std::sqrt(r.joint_covariance(row.back(), row.back()));
+      EXPECT_NEAR(s[static_cast<Eigen::Index>(k)] / net, 1.0, 1e-3) << what << " " << parameter_name(mine[k]);
+    }
+  }
+  double worst = 0;
+  for (std::size_t a = 0; a < row.size(); ++a)
+    for (std::size_t b = 0; b < row.size(); ++b) {
+      const auto ia = static_cast<Eigen::Index>(a), ib = static_cast<Eigen::Index>(b);
+      const double norm = std::sqrt(bound.joint(ia, ia) * bound.joint(ib, ib));
+      worst = std::max(worst, std::abs(bound.joint(ia, ib) - r.joint_covariance(row[a], row[b])) / norm);
+    }
+  std::printf("%s: largest joint-covariance difference from the bound %.1e of √(Σ_ii·Σ_jj)\n", what, worst);
+  EXPECT_LT(worst, 1e-3) << what;
+}
+
+TEST(NetworkGaussMarkov, WhiteNetworkIsTheWhiteBound) {
+  AscentNetworkOptions o;
+  o.rate_hz = 2;  // ~240 epochs: the same geometry, a quicker solve
+  const GaussMarkovPpk white = measured_model().as_white();
+  expect_network_equals_bound(ascent_network(o), white, false, "white, lamp only");
+  o.control_poles = 2, o.station_sigma_m = 0.005;
+  expect_network_equals_bound(ascent_network(o), white, false, "white, 2 poles + stations");
+}
+
+TEST(NetworkGaussMarkov, CorrelatedNetworkIsTheCorrelatedBound) {
+  AscentNetworkOptions o;
+  o.rate_hz = 2;
+  for (double tau : {10.0, 100.0}) {
+    const GaussMarkovPpk m = measured_model(tau);
+    o.control_poles = 0, o.station_sigma_m = 0;
+    expect_network_equals_bound(ascent_network(o), m, true,
+                                tau < 50 ? "τ 10 s, lamp only" : "τ 100 s, lamp only");
+    o.control_poles = 2;
+    expect_network_equals_bound(ascent_network(o), m, true,
+                                tau < 50 ? "τ 10 s, 2 poles" : "τ 100 s, 2 poles");
+    o.station_sigma_m = 0.005;
+    expect_network_equals_bound(ascent_network(o), m, true,
+                                tau < 50 ? "τ 10 s, 2 poles + stations" : "τ 100 s, 2 poles + stations");
+  }
+}
+
+/// One noisy draw of `n` under `model`.
+NetworkNoise draw_noise(const CrbNetwork& n, const GaussMarkovPpk& model, DeterministicRandom* rng) {
+  NetworkNoise noise;
+  noise.ppk_error = draw_correlated_ppk_errors(n.epoch_time_s, model, rng);
+  for (std::size_t j = 0; j < n.poles.size(); ++j)
+    noise.pole_error.push_back(n.pole_sigma_m * Vector3d(rng->normal(), rng->normal(), rng->normal()));
+  for (const CrbCamera& c : n.cameras)
+    noise.station_error.push_back(c.station_sigma_m * Vector3d(rng->normal(), rng->normal(), rng->normal()));
+  for (const CrbView& v : n.views)
+    noise.pixel_noise.push_back(v.pixel_sigma_px * Vector2d(rng->normal(), rng->normal()));
+  return noise;
+}
+
+TEST(NetworkGaussMarkov, VanishingGaussMarkovPartIsTheWhiteNetwork) {
+  // A GM part of 1 µm beside 0.85 / 1.5 cm of white noise: every camera value and σ, and every adjusted
+  // point and its covariance, as the white network's within 1e-6 relative (the GM part moves them by
+  // ~(1e-4)²).
+  // Only the epochs both cameras see: the white network eliminates an epoch seen once analytically,
+  // linearised at its fix (network_parameters.hpp), which the chained network cannot do.
+  AscentNetworkOptions o;
+  o.ascents = 3, o.rate_hz = 2, o.control_poles = 2;
+  CrbNetwork n = ascent_network(o);
+  std::vector<int> seen(n.epochs.size() + n.poles.size(), 0);
+  for (const CrbView& v : n.views) ++seen[v.point];
+  std::vector<CrbView> shared;
+  for (const CrbView& v : n.views)
+    if (seen[v.point] >= 2) shared.push_back(v);
+  std::printf("%zu of %zu views on points seen twice\n", shared.size(), n.views.size());
+  n.views = shared;
+  const GaussMarkovPpk white = measured_model().as_white();
+  DeterministicRandom rng(5);
+  const NetworkInput in = network_input(n, white, draw_noise(n, measured_model(), &rng));
+  // Plain least squares: both are then the exact minimisers of one model (the white network
+  // eliminates its single-view points analytically, the chained network carries them).
+  NetworkOptions plain;
+  plain.loss = RobustLoss::none;
+  plain.resolve_without_outliers = false;
+  plain.ppk_outlier_probability = 1e-300;
+  const NetworkResult w = network_adjust(in.cameras, in.points, in.observations, plain);
+  NetworkOptions opt = plain;
+  opt.ppk_error.gm_sd_h_m = opt.ppk_error.gm_sd_v_m = 1e-6;
+  opt.ppk_error.tau_h_s = opt.ppk_error.tau_v_s = 30;
+  const NetworkResult g = network_adjust(in.cameras, in.points, in.observations, opt);
+  ASSERT_EQ(w.joint_covariance.rows(), g.joint_covariance.rows());
+  for (std::size_t c = 0; c < n.cameras.size(); ++c) {
+    const VectorXd dv = free_values(n, c, g.cameras[c].calibration.camera) -
+                        free_values(n, c, w.cameras[c].calibration.camera);
+    const VectorXd sw = w.cameras[c].details.sigma_unscaled, sg = g.cameras[c].details.sigma_unscaled;
+    const std::vector<CameraParameter>& mine = n.cameras[c].free;
+    for (std::size_t a = 0; a < mine.size(); ++a) {
+      const int j = w.cameras[c].calibration.parameter_index(mine[a]);
+      EXPECT_LT(std::abs(dv[static_cast<Eigen::Index>(a)]), 1e-6 * sw[j])
+          << c << " " << parameter_name(mine[a]);
+      EXPECT_NEAR(sg[j] / sw[j], 1.0, 1e-6) << c << " " << parameter_name(mine[a]);
+    }
+  }
+  double worst_point = 0, worst_cov = 0;
+  for (std::size_t k = 0; k < w.points.size(); ++k) {
+    if (!w.points[k].used) continue;
+    worst_point = std::max(worst_point, (w.points[k].enu - g.points[k].enu).norm());
+    worst_cov = std::max(worst_cov, (w.points[k].cov - g.points[k].cov).norm() / w.points[k].cov.norm());
+  }
+  std::printf("vanishing GM part: points move ≤ %.1e m, their covariance ≤ %.1e relative\n", worst_point,
+              worst_cov);
+  EXPECT_LT(worst_point, 1e-7);
+  EXPECT_LT(worst_cov, 1e-6);
+}
+
+TEST(NetworkGaussMarkov, PointCovarianceMatchesItsScatter) {
+  // The chained points' covariance (network_covariance.hpp): the adjusted lamp positions scatter about
+  // the truth as their covariance says, over draws of correlated errors — mean whitened d² = 3.
+  AscentNetworkOptions o;
+  o.ascents = 3, o.rate_hz = 2, o.control_poles = 2;
+  const CrbNetwork n = ascent_network(o);
+  const GaussMarkovPpk m = measured_model(30);
+  NetworkOptions opt;
+  opt.loss = RobustLoss::none;
+  opt.resolve_without_outliers = false;
+  opt.ppk_outlier_probability = 1e-300;
+  opt.ppk_error = network_model(m);
+  DeterministicRandom rng(9);
+  constexpr int kDraws = 30;
+  double d2 = 0;
+  int count = 0;
+  for (int d = 0; d < kDraws; ++d) {
+    const NetworkInput in = network_input(n, m, draw_noise(n, m, &rng));
+    const NetworkResult r = network_adjust(in.cameras, in.points, in.observations, opt);
+    for (std::size_t k = 0; k < n.epochs.size(); k += 7) {
+      const Vector3d e = r.points[k].enu - n.epochs[k];
+      d2 += e.dot(r.points[k].cov.ldlt().solve(e)), ++count;
+    }
+  }
+  std::printf("chained points: mean whitened d² %.2f over %d (3 expected)\n", d2 / count, count);
+  // The epochs of one draw share the datum: ~kDraws·3 independent values; 3 ± 25 %.
+  EXPECT_NEAR(d2 / count, 3.0, 0.75);
+}
+
+/// The figures of a Monte Carlo over missions of `n` with correlated errors of `model`.
+struct HonestyFigures {
+  double actual_m = 0;     ///< rms over missions of the calibration-only intersection error
+  double predicted_m = 0;  ///< rms over missions of the intersection σ the network predicts
+  double bound_m = 0;      ///< the correlated Cramér–Rao bound's intersection σ
+  double z_rms = 0;        ///< rms z-score of f and the camera centres
+  double z_worst = 0;      ///< the largest |z|
+};
+
+struct MonteCarloRun {
+  HonestyFigures correlated, white;
+};
+
+/// ≥ 20 missions: for each, network_adjust weighted by the true model and by white noise (today's
+/// network), plain least squares; each estimate's calibration-only intersection error over the flight
+/// volume (its δθ as a rank-one covariance, tests/support/correlated_crb.hpp) and its z-scores.
+MonteCarloRun honesty_monte_carlo(const CrbNetwork& n, const GaussMarkovPpk& model, int missions,
+                                  std::uint64_t seed) {
+  const CameraJointCovariance bound = cramer_rao_bound(n, ppk_joint_covariance(n.epoch_time_s, model));
+  const std::vector<Vector3d> volume = flight_volume(n, 200, 78);
+  NetworkOptions base;
+  base.loss = RobustLoss::none;
+  base.resolve_without_outliers = false;
+  base.ppk_outlier_probability = 1e-300;  // no PPK prior is ever dropped
+  NetworkOptions correlated = base;
+  correlated.ppk_error = network_model(model);
+  DeterministicRandom rng(seed);
+  MonteCarloRun run;
+  int z_count = 0;
+  for (int d = 0; d < missions; ++d) {
+    const NetworkNoise noise = draw_noise(n, model, &rng);
+    for (int which = 0; which < 2; ++which) {
+      HonestyFigures& f = which == 0 ? run.correlated : run.white;
+      const NetworkInput in = network_input(n, model, noise);
+      const NetworkResult r =
+          network_adjust(in.cameras, in.points, in.observations, which == 0 ? correlated : base);
+      CameraJointCovariance predicted = bound, error = bound;
+      predicted.joint = MatrixXd::Zero(bound.joint.rows(), bound.joint.cols());
+      VectorXd err(bound.joint.rows());
+      for (std::size_t c = 0; c < n.cameras.size(); ++c) {
+        const CalibrationResult& cal = r.cameras[c].calibration;
+        const VectorXd e = free_values(n, c, cal.camera) - free_values(n, c, n.cameras[c].truth);
+        err.segment(bound.offset[c], e.size()) = e;
+        const std::vector<CameraParameter>& mine = n.cameras[c].free;
+        for (std::size_t a = 0; a < mine.size(); ++a)
+          for (std::size_t b = 0; b < mine.size(); ++b)
+            predicted.joint(bound.offset[c] + static_cast<Eigen::Index>(a),
+                            bound.offset[c] + static_cast<Eigen::Index>(b)) =
+                r.joint_covariance(r.joint_offset[c] + cal.parameter_index(mine[a]),
+                                   r.joint_offset[c] + cal.parameter_index(mine[b]));
+        // Cross-camera blocks.
+        for (std::size_t c2 = 0; c2 < n.cameras.size(); ++c2) {
+          if (c2 == c) continue;
+          const CalibrationResult& cal2 = r.cameras[c2].calibration;
+          const std::vector<CameraParameter>& other = n.cameras[c2].free;
+          for (std::size_t a = 0; a < mine.size(); ++a)
+            for (std::size_t b = 0; b < other.size(); ++b)
+              predicted.joint(bound.offset[c] + static_cast<Eigen::Index>(a),
+                              bound.offset[c2] + static_cast<Eigen::Index>(b)) =
+                  r.joint_covariance(r.joint_offset[c] + cal.parameter_index(mine[a]),
+                                     r.joint_offset[c2] + cal2.parameter_index(other[b]));
+        }
+        // z-scores of f and the centre (CE, CN, CU), the free set's first and last three.
+        const VectorXd s = r.cameras[c].details.sigma_unscaled;
+        for (CameraParameter p :
+             {CameraParameter::f, kCenterParameters[0], kCenterParameters[1], kCenterParameters[2]}) {
+          std::size_t a = 0;
+          while (a < mine.size() && mine[a] != p) ++a;
+          const double z = e[static_cast<Eigen::Index>(a)] / s[cal.parameter_index(p)];
+          f.z_rms += z * z;
+          f.z_worst = std::max(f.z_worst, std::abs(z));
+          if (which == 0) ++z_count;
+        }
+      }
+      error.joint = err * err.transpose();
+      f.actual_m += std::pow(intersection_sigma_m(n, error, volume), 2) / missions;
+      f.predicted_m += std::pow(intersection_sigma_m(n, predicted, volume), 2) / missions;
+    }
+  }
+  for (HonestyFigures* f : {&run.correlated, &run.white}) {
+    f->actual_m = std::sqrt(f->actual_m), f->predicted_m = std::sqrt(f->predicted_m);
+    f->z_rms = std::sqrt(f->z_rms / z_count);
+    f->bound_m = intersection_sigma_m(n, bound, volume);
+  }
+  return run;
+}
+
+void print(const char* what, const HonestyFigures& f) {
+  std::printf(
+      "  %-10s intersection error rms %.3f cm, predicted %.3f cm (x%.2f), bound %.3f cm (x%.2f); z rms "
+      "%.2f, worst %.1f\n",
+      what, 100 * f.actual_m, 100 * f.predicted_m, f.actual_m / f.predicted_m, 100 * f.bound_m,
+      f.actual_m / f.bound_m, f.z_rms, f.z_worst);
+}
+
+TEST(NetworkGaussMarkov, SigmaHoldsUnderCorrelatedErrors) {
+  // The acceptance setting: five ascents (~143 s of flight, 2 Hz fixes: ~240 epochs), two control
+  // poles, white 0.3 / 0.5 cm + GM 0.8 / 1.4 cm at τ = 10, 30 and 100 s; 40 missions each.
+  const auto t0 = std::chrono::steady_clock::now();
+  AscentNetworkOptions o;
+  o.rate_hz = 2, o.control_poles = 2;
+  const CrbNetwork n = ascent_network(o);
+  ASSERT_GE(n.epoch_time_s.back() - n.epoch_time_s.front(), 100.0);
+  constexpr int kMissions = 40;
+  std::uint64_t seed = 300;
+  for (double tau : {10.0, 30.0, 100.0}) {
+    const MonteCarloRun run = honesty_monte_carlo(n, measured_model(tau), kMissions, seed++);
+    std::printf("τ = %.0f s, %d missions, %zu epochs, 2 control poles:\n", tau, kMissions, n.epochs.size());
+    print("correlated", run.correlated);
+    print("white", run.white);
+    const HonestyFigures& c = run.correlated;
+    EXPECT_LT(c.actual_m / c.predicted_m, 1.25) << tau;
+    EXPECT_GT(c.actual_m / c.predicted_m, 1 / 1.25) << tau;
+    EXPECT_GE(c.z_rms, 0.8) << tau;
+    EXPECT_LE(c.z_rms, 1.25) << tau;
+    EXPECT_LT(c.actual_m / c.bound_m, 1.15) << tau;
+    // Today's white network on the same missions: its σ do not hold (so this test can fail).
+    EXPECT_GT(run.white.actual_m / run.white.predicted_m, 2.0) << tau;
+    // Better, not only honest.
+    EXPECT_LT(c.actual_m, 0.8 * run.white.actual_m) << tau;
+  }
+  std::printf("Monte Carlo took %.1f s\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+TEST(NetworkGaussMarkov, SurveyedStationsLowerTheErrorAgain) {
+  // τ = 30 s, two control poles, then the stations surveyed to 5 mm as well: the correlated network's
+  // error falls again, and stays honest.
+  AscentNetworkOptions o;
+  o.rate_hz = 2, o.control_poles = 2;
+  const GaussMarkovPpk m = measured_model(30);
+  const MonteCarloRun poles = honesty_monte_carlo(ascent_network(o), m, 24, 401);
+  o.station_sigma_m = 0.005;
+  const MonteCarloRun stations = honesty_monte_carlo(ascent_network(o), m, 24, 401);
+  std::printf("τ = 30 s: 2 poles, then 2 poles + stations 5 mm:\n");
+  print("correlated", poles.correlated);
+  print("+stations", stations.correlated);
+  print("white", stations.white);
+  EXPECT_LT(stations.correlated.actual_m, 0.9 * poles.correlated.actual_m);
+  EXPECT_LT(stations.correlated.actual_m / stations.correlated.predicted_m, 1.25);
+  EXPECT_GT(stations.correlated.actual_m / stations.correlated.predicted_m, 1 / 1.25);
+}
+
+}  // namespace
+}  // namespace rangecal::test
