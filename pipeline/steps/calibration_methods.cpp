@@ -118,10 +118,18 @@ CalibrationResult run_bundle(const CalibrationProblem& p) {
   const std::vector<CameraParameter> free = expand_free_parameters(p.free);
   Camera start;
   std::string start_method = "tsai";
+  bool from_tsai = false;
   try {
-    start = tsai_calibrate(to_points(p.observations), tsai_sensor(p)).camera;
+    const TsaiResult t = tsai_calibrate(to_points(p.observations), tsai_sensor(p));
+    // Tsai's own fallbacks (a start off the f–distance ridge, k1 dropped) keep Tsai from failing,
+    // but a camera that needed them is a poor start for the bundle: DLT's then.
+    from_tsai = t.start.source == TsaiStartSource::linear && t.fallback.empty();
+    start = t.camera;
     start.id = p.camera_id;
   } catch (const Error&) {
+    from_tsai = false;
+  }
+  if (!from_tsai) {
     // Tsai needs its radial alignment constraint to hold; DLT has no such need.
     DltOptions o;
     o.seed = p.seed;
