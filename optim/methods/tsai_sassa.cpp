@@ -119,8 +119,21 @@ TsaiSassaResult tsai_sassa_from(const std::vector<PointCorrespondence>& pts, con
 
   auto& cal = res.calibration;
   cal.method = "tsai_sassa";
-  cal.camera = res.camera;
   VectorXd r;
+  if (!reprojection_residual(pts, res.camera, &r)) {
+    // The objective (eq. 13 over sensor mm) does not see a distortion that fails to invert over the
+    // image: the last camera that projects every point is kept — the search's, else θ0 with k1 = 0
+    // (every point in front of it, tsai_f_tz_start) — and the result says so.
+    VectorXd th = theta0;
+    th[2] = 0;
+    const bool search_ok = opt.polish && reprojection_residual(pts, res.camera_search, &r);
+    res.camera = search_ok ? res.camera_search : tsai_sassa_camera(sensor, step1, th);
+    cal.warnings.push_back(std::string("the ") + (opt.polish ? "polished" : "searched") +
+                           " camera does not project every point (its distortion does not invert over them); "
+                           "kept " +
+                           (search_ok ? "the search's camera" : "the start θ0 with k1 = 0"));
+  }
+  cal.camera = res.camera;
   if (reprojection_residual(pts, res.camera, &r)) {
     double s1 = 0, mx = 0;
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -146,7 +159,10 @@ TsaiSassaResult tsai_sassa_from(const std::vector<PointCorrespondence>& pts, con
 TsaiSassaResult tsai_sassa_calibrate(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
                                      const TsaiSassaOptions& opt) {
   TsaiStep1 s1 = tsai_step1(pts, sensor);
-  const auto [f0, Tz0] = tsai_linear_f_tz(pts, sensor, &s1);
+  // Tsai's linear f, Tz; on the f–distance ridge of a narrow field the lens's nominal f instead
+  // (vision/calibration/tsai.hpp tsai_f_tz_start).
+  const TsaiStart start = tsai_f_tz_start(pts, sensor, &s1, opt.nominal_f_mm);
+  const double f0 = start.f_mm, Tz0 = start.Tz;
   VectorXd th0;
   if (opt.all_parameters) {
     th0.resize(static_cast<Eigen::Index>(kSearchedAll.size()));
@@ -154,7 +170,9 @@ TsaiSassaResult tsai_sassa_calibrate(const std::vector<PointCorrespondence>& pts
   } else {
     th0 = (VectorXd(3) << f0, Tz0, 0.0).finished();
   }
-  return tsai_sassa_from(pts, sensor, s1, th0, opt);
+  TsaiSassaResult res = tsai_sassa_from(pts, sensor, s1, th0, opt);
+  res.start = start;
+  return res;
 }
 
 }  // namespace rangecal

@@ -3,7 +3,8 @@
 // linearly, vision/calibration/tsai.hpp), then f, Tz, k1 by simulated-annealing sparrow search (SA-SSA,
 // optim/search/sparrow_search.hpp) minimising the eq. 13 residual, finished by a local Levenberg–Marquardt
 // polish. As seeds/SSA.md requires, the search runs in normalised coordinates θ = θ0 + S·z around
-// the initial estimate θ0 (Tsai's linear f, Tz and k1 = 0), and ‖z‖ of its result is reported so
+// the initial estimate θ0 (Tsai's linear f, Tz — or, where that solve is ill-conditioned, the lens's
+// nominal f — and k1 = 0), and ‖z‖ of its result is reported so
 // the origin bias of SSA (a pull toward θ0) is visible. The result records the search and the
 // polish separately (calibration details), so methods.csv shows what the search itself achieved.
 //
@@ -34,6 +35,10 @@ struct TsaiSassaOptions {
     return o;
   }();
   bool all_parameters = false;
+  /// The lens's nominal focal length (mm; ≤ 0: unknown). Where Tsai's linear f, Tz solve is
+  /// ill-conditioned (the f–distance ridge of a narrow field) the search starts from it
+  /// (tsai_f_tz_start, vision/calibration/tsai.hpp).
+  double nominal_f_mm = 0;
   /// Half-ranges S (same order as the searched parameters); empty → defaults:
   /// f ±20 % of f0, Tz ±20 % of the mean point depth Zc (Tz itself can be ~0 when the world origin
   /// is near the camera), k1 ±0.05/r_max² (5 % distortion at the image corner),
@@ -49,6 +54,7 @@ struct TsaiSassaOptions {
 
 struct TsaiSassaResult {
   TsaiStep1 step1;
+  TsaiStart start;  ///< how θ0's f, Tz were found (tsai_sassa_calibrate; default for tsai_sassa_from)
   std::vector<CameraParameter> parameters;  ///< searched parameters, order of theta0/half_range
   Eigen::VectorXd theta0;                   ///< initial estimate (Tsai's linear f, Tz; k1 = 0; step 1 values)
   Eigen::VectorXd half_range;               ///< S

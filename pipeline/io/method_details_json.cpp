@@ -1,5 +1,6 @@
 #include "pipeline/io/method_details_json.hpp"
 
+#include <cmath>
 #include <vector>
 
 namespace rangecal {
@@ -9,19 +10,44 @@ std::vector<double> values(const Eigen::VectorXd& v) {
   return std::vector<double>(v.data(), v.data() + v.size());
 }
 
+const char* start_source_name(TsaiStartSource s) {
+  switch (s) {
+    case TsaiStartSource::linear:
+      return "linear";
+    case TsaiStartSource::nominal_focal_length:
+      return "nominal_focal_length";
+    case TsaiStartSource::depth_profile:
+      return "depth_profile";
+  }
+  return "linear";
+}
+
+nlohmann::json start_json(const TsaiStart& s) {
+  return {
+      {"source", start_source_name(s.source)},
+      {"f_mm", s.f_mm},
+      {"Tz_m", s.Tz},
+      {"f_linear_relative_sigma", std::isfinite(s.f_linear_rel_sigma) ? nlohmann::json(s.f_linear_rel_sigma)
+                                                                      : nlohmann::json("singular")}};
+}
+
 }  // namespace
 
 nlohmann::json tsai_details_json(const TsaiResult& t) {
-  return {{"f_linear_mm", t.f_linear_mm},
-          {"Tz_linear_m", t.Tz_linear},
-          {"step1_linear_rms_mm", t.step1.linear_rms_mm},
-          {"step1_ty_ratio", t.step1.ty_ratio},
-          {"step1_eq12_origin", values(t.step1.eq12_origin)},
-          {"step1_pose_origin", values(t.step1.pose_origin)},
-          {"step2_iterations", t.iterations},
-          {"step2_converged", t.converged},
-          {"rms_sensor_mm", t.rms_sensor_mm},
-          {"covariance", "not computed (Tsai's method gives no uncertainty; see the bundle method)"}};
+  nlohmann::json d = {
+      {"f_linear_mm", t.f_linear_mm},
+      {"Tz_linear_m", t.Tz_linear},
+      {"step2_start", start_json(t.start)},
+      {"step1_linear_rms_mm", t.step1.linear_rms_mm},
+      {"step1_ty_ratio", t.step1.ty_ratio},
+      {"step1_eq12_origin", values(t.step1.eq12_origin)},
+      {"step1_pose_origin", values(t.step1.pose_origin)},
+      {"step2_iterations", t.iterations},
+      {"step2_converged", t.converged},
+      {"rms_sensor_mm", t.rms_sensor_mm},
+      {"covariance", "not computed (Tsai's method gives no uncertainty; see the bundle method)"}};
+  if (!t.fallback.empty()) d["step2_fallback"] = t.fallback;
+  return d;
 }
 
 nlohmann::json tsai_sassa_details_json(const TsaiSassaResult& t, const TsaiSassaOptions& opt) {
@@ -39,6 +65,7 @@ nlohmann::json tsai_sassa_details_json(const TsaiSassaResult& t, const TsaiSassa
                                  {"seed", opt.search.seed}};
   nlohmann::json d = {{"parameters", parameter_names(t.parameters)},
                       {"theta0", values(t.theta0)},
+                      {"theta0_start", start_json(t.start)},
                       {"half_range", values(t.half_range)},
                       {"step1",
                        {{parameter_name(CameraParameter::sx), t.step1.sx},

@@ -11,10 +11,13 @@
 
 namespace rangecal {
 
-/// Tsai: linear f and Tz, step 1's rms, step 2's iterations and convergence, rms on the sensor.
+/// Tsai: linear f and Tz, where step 2 started (the linear solve, the nominal focal length or the
+/// depth profile, with the linear f's relative σ), step 1's rms and frames, step 2's iterations,
+/// convergence and any fallback, rms on the sensor.
 nlohmann::json tsai_details_json(const TsaiResult& t);
 
-/// SA-sparrow search and LM polish (seeds/SSA.md): θ0, S, the searched parameters, step 1, the
+/// SA-sparrow search and LM polish (seeds/SSA.md): θ0 (and where its f, Tz came from), S, the
+/// searched parameters, step 1, the
 /// search (θ, z, ‖z‖, objective, rms, evaluations, population, iterations, anneal, T0, seed) and the
 /// polish (θ, objective, iterations, residual evaluations, converged, distance moved in z).
 nlohmann::json tsai_sassa_details_json(const TsaiSassaResult& t, const TsaiSassaOptions& options);

@@ -66,18 +66,25 @@ TsaiSensor tsai_sensor(const CalibrationProblem& p) {
 // ---------------------------------------------------------------------------------------------
 // The methods.
 
+// Where Tsai's linear f, Tz step is ill-conditioned, step 2 starts from the lens's nominal focal
+// length (vision/calibration/tsai.hpp tsai_f_tz_start).
 CalibrationResult run_tsai(const CalibrationProblem& p) {
-  const TsaiResult t = tsai_calibrate(to_points(p.observations), tsai_sensor(p));
+  TsaiOptions o;
+  o.nominal_f_mm = p.nominal_focal_mm;
+  const TsaiResult t = tsai_calibrate(to_points(p.observations), tsai_sensor(p), o);
   CalibrationResult r = finish("tsai", p, t.camera, {});
   r.details = tsai_details_json(t);
+  if (!t.fallback.empty()) r.warnings.push_back("tsai: " + t.fallback);
   return r;
 }
 
 // seed 002 §3.2.3: Tsai step 1, then f, Tz, k1 by SA-sparrow search, finished by an LM polish
-// that the result records. The search seed is the mission's seed.
+// that the result records. The search seed is the mission's seed; the search starts from the lens's
+// nominal focal length where Tsai's linear f, Tz step is ill-conditioned.
 CalibrationResult run_tsai_sassa(const CalibrationProblem& p) {
   TsaiSassaOptions o;
   o.search.seed = p.seed;
+  o.nominal_f_mm = p.nominal_focal_mm;
   const TsaiSassaResult t = tsai_sassa_calibrate(to_points(p.observations), tsai_sensor(p), o);
   CalibrationResult r = finish("tsai_sassa", p, t.camera, {});
   r.details = tsai_sassa_details_json(t, o);
@@ -111,10 +118,18 @@ CalibrationResult run_bundle(const CalibrationProblem& p) {
   const std::vector<CameraParameter> free = expand_free_parameters(p.free);
   Camera start;
   std::string start_method = "tsai";
+  bool from_tsai = false;
   try {
-    start = tsai_calibrate(to_points(p.observations), tsai_sensor(p)).camera;
+    const TsaiResult t = tsai_calibrate(to_points(p.observations), tsai_sensor(p));
+    // Tsai's own fallbacks (a start off the f–distance ridge, k1 dropped) keep Tsai from failing,
+    // but a camera that needed them is a poor start for the bundle: DLT's then.
+    from_tsai = t.start.source == TsaiStartSource::linear && t.fallback.empty();
+    start = t.camera;
     start.id = p.camera_id;
   } catch (const Error&) {
+    from_tsai = false;
+  }
+  if (!from_tsai) {
     // Tsai needs its radial alignment constraint to hold; DLT has no such need.
     DltOptions o;
     o.seed = p.seed;

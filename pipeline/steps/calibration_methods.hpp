@@ -6,7 +6,8 @@
 //               (optim/methods/tsai_sassa.hpp).
 //   dlt_lmqn    seed 000: DLT with RANSAC, linear distortion, LM / quasi-Newton hybrid
 //               (optim/methods/dlt_lmqn.hpp).
-//   bundle      Ceres LM over the free parameters from the Tsai start (DLT if Tsai fails), priors,
+//   bundle      Ceres LM over the free parameters from the Tsai start (DLT if Tsai fails or needed its
+//               fallbacks, vision/calibration/tsai.hpp), priors,
 //               robust loss, outliers, covariance and warnings (optim/bundle/bundle_adjustment.hpp).
 // Parameters not free stay at: u0, v0 = the prior (else the image centre), sx = 1, distortion 0
 // (hold_fixed_intrinsics, vision/camera/camera_parameters.hpp; docs/optimisation.md).

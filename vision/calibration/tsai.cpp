@@ -16,10 +16,6 @@ namespace rangecal {
 namespace {
 
 const char* const kMethod = "tsai";
-// Below this |Ty| / max|yc| (ty_strength) step 1 is solved in translated world frames. Measured on a
-// 35 mm, 1280×800 camera: Tsai's eq. 12 loses accuracy below ≈ 0.04 with 1 px noise (≈ 0.004 with
-// 0.1 px); above 0.1 it is as good as it gets.
-constexpr double kMinTyRatio = 0.1;
 
 struct SensorPoint {
   double xdp;  // Xd' = (u − u0)·dx = sx·xd (mm)
@@ -83,11 +79,13 @@ Eigen::Matrix3d rpy_rotation(const Eigen::Vector3d& row1, const Eigen::Vector3d&
       .toRotationMatrix();
 }
 
-// How strongly Ty is determined in the given world frame, without dividing by it: the radial
-// alignment constraint (Tsai 1987 eq. 11) multiplied out is homogeneous,
-//   Xd'·(r4 Xw + r5 Yw + r6 Zw + Ty) − Yd·(sx r1 Xw + sx r2 Yw + sx r3 Zw + sx Tx) = 0,
+// How strongly Ty is determined, without dividing by it: the radial alignment constraint (Tsai 1987
+// eq. 11) multiplied out is homogeneous,
+//   Xd'·(r4 X + r5 Y + r6 Z + Ty) − Yd·(sx r1 X + sx r2 Y + sx r3 Z + sx Tx) = 0,
 // in v = (sx r1, sx r2, sx r3, sx Tx, r4, r5, r6, Ty) up to scale; v is the right singular vector of
-// the smallest singular value (columns equilibrated). Then yc_i ∝ v5..7·Xw_i + v8 and
+// the smallest singular value (columns equilibrated), solved with the world coordinates taken about
+// the centroid c of the points (centred, so that a world origin kilometres away costs no digits).
+// Then yc_i ∝ v5..7·(Xw_i − c) + v8, and in the user's frame Ty ∝ v8 − v5..7·c:
 //   ratio = |Ty| / max_i |yc_i|,
 // which is 0 when the world origin lies on the camera's XZ plane — where eq. 12, divided by Ty, has
 // no solution — and O(1) when the origin is as far off that plane as the farthest point.
@@ -96,28 +94,29 @@ struct TyStrength {
   std::size_t largest = 0;  ///< index of the point with the largest |yc_i|
 };
 
-TyStrength ty_strength(const std::vector<PointCorrespondence>& pts, const std::vector<SensorPoint>& sp) {
+TyStrength ty_strength(const std::vector<PointCorrespondence>& pts, const std::vector<SensorPoint>& sp,
+                       const Eigen::Vector3d& c) {
   const std::size_t n = pts.size();
   Eigen::MatrixXd M(n, 8);
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d& X = pts[i].world;
+    const Eigen::Vector3d X = pts[i].world - c;
     const double xd = sp[i].xdp, yd = sp[i].yd;
     M.row(i) << -X.x() * yd, -X.y() * yd, -X.z() * yd, -yd, X.x() * xd, X.y() * xd, X.z() * xd, xd;
   }
   Eigen::VectorXd scale(8);
   for (Eigen::Index j = 0; j < 8; ++j) {
-    const double c = M.col(j).norm();
-    scale(j) = c > 0 ? 1.0 / c : 1.0;
+    const double col = M.col(j).norm();
+    scale(j) = col > 0 ? 1.0 / col : 1.0;
   }
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(M * scale.asDiagonal(), Eigen::ComputeFullV);
   const Eigen::VectorXd v = scale.asDiagonal() * svd.matrixV().col(7);
   TyStrength out;
   double largest = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double yc = std::abs(v.segment<3>(4).dot(pts[i].world) + v(7));
+    const double yc = std::abs(v.segment<3>(4).dot(pts[i].world - c) + v(7));
     if (yc > largest) largest = yc, out.largest = i;
   }
-  if (largest > 0 && v.allFinite()) out.ratio = std::abs(v(7)) / largest;
+  if (largest > 0 && v.allFinite()) out.ratio = std::abs(v(7) - v.segment<3>(4).dot(c)) / largest;
   return out;
 }
 
@@ -201,29 +200,33 @@ TsaiStep1 tsai_step1(const std::vector<PointCorrespondence>& pts, const TsaiSens
   resolve_principal_point(sensor, &s1.u0_px, &s1.v0_px);
   const auto sp = to_sensor(pts, sensor, s1.u0_px, s1.v0_px);
 
-  // Eq. 12 divides by Ty: with the world origin on or near the camera's XZ plane it is singular, or
-  // amplifies the noise without bound. Tsai's method as published is kept where Ty is strong in the
-  // given frame. Elsewhere eq. 12 is solved with the world coordinates taken about the point with the
-  // largest |yc| (its Ty is that yc, as strong as any point in view allows), and R, Tx, Ty are
-  // recovered about the centroid of the world points: Tsai's recovery keeps Tx, Ty of its frame while
-  // the SVD moves R, so the origin of that frame is a pivot; the centroid is the pivot that does not
-  // depend on where the world origin happens to lie (a far one would otherwise cost accuracy).
-  const TyStrength strength = ty_strength(pts, sp);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) centroid += p.world;
+  centroid /= static_cast<double>(pts.size());
+  const TyStrength strength = ty_strength(pts, sp, centroid);
   s1.ty_ratio = strength.ratio;
-  if (strength.ratio >= kMinTyRatio) {
+  if (orthonormalisation == TsaiOrthonormalisation::willson_rpy) {
+    // The reference program's published run: eq. 12 and the recovery in the user's frame.
     const Vector8d v = solve_eq12(pts, sp, Eigen::Vector3d::Zero(), &s1.linear_rms_mm);
     recover_pose(pts, sp, v, Eigen::Vector3d::Zero(), orthonormalisation, &s1);
     return s1;
   }
+  // Tsai 1987 §III.B (the remark after eq. 16): the world origin must lie in the field of view and
+  // away from the v = v0 line, since eq. 12 is divided by Ty and its recovery (eqs. 17–18) pivots R
+  // about that origin. The user's origin may be anywhere — behind the camera, at it (Ty = 0), or
+  // kilometres off the optical axis, where a small error in R becomes a large one in Tx, Ty — so the
+  // linear step never uses it. Eq. 12 is solved with the world coordinates taken about the point
+  // with the largest |yc| (in view, and as far from the v = v0 line as the points allow), its solution
+  // is re-expressed about the centroid of the points (in view: a convex combination of points in
+  // view), R, Tx, Ty are recovered there and mapped back exactly. Rotating the world axes needs no
+  // such care: it is a linear re-parametrisation of L and leaves the least-squares solution as it is.
   // World coordinates about a point a: Xa = Xw − a, and Xc = R·Xw + T = R·Xa + (T + R·a), so
   // Ta = T + R·a; between two such frames Tb = Ta + R·(b − a), and T = Ta − R·a. The camera centre
   // C = −Rᵀ·T = −Rᵀ·Ta + a is simply shifted. v holds (sx·Tx, Ty) in slots 4 and 8 (scaled by 1/Ty
   // of its frame) with R's rows 1–2 in slots 1–3 and 5–7, hence the re-expression below.
   s1.eq12_origin = pts[strength.largest].world;
   Vector8d v = solve_eq12(pts, sp, s1.eq12_origin, &s1.linear_rms_mm);
-  s1.pose_origin.setZero();
-  for (const auto& p : pts) s1.pose_origin += p.world;
-  s1.pose_origin /= static_cast<double>(pts.size());
+  s1.pose_origin = centroid;
   const Eigen::Vector3d ab = s1.pose_origin - s1.eq12_origin;
   v(3) += v.head<3>().dot(ab);
   v(7) += v.segment<3>(4).dot(ab);
@@ -233,43 +236,176 @@ TsaiStep1 tsai_step1(const std::vector<PointCorrespondence>& pts, const TsaiSens
   return s1;
 }
 
-std::pair<double, double> tsai_linear_f_tz(const std::vector<PointCorrespondence>& pts,
-                                           const TsaiSensor& sensor, TsaiStep1* s1) {
-  const auto sp = to_sensor(pts, sensor, s1->u0_px, s1->v0_px);
-  const std::size_t n = pts.size();
-  // Tsai 1987 eq. 15: yd·(wz + Tz) = f·yc, and likewise with xd = Xd'/sx; 2 rows per point.
+namespace {
+
+// Camera coordinates of the points under step 1 (xc, yc) and R's row 3 (wz = r7 X + r8 Y + r9 Z,
+// zc = wz + Tz), with the observed undistorted-free sensor coordinates (xd = Xd'/sx, yd).
+struct StepTwoPoint {
+  double xc, yc, wz, xd, yd;
+};
+
+std::vector<StepTwoPoint> step_two_points(const std::vector<PointCorrespondence>& pts,
+                                          const TsaiSensor& sensor, const TsaiStep1& s1) {
+  const auto sp = to_sensor(pts, sensor, s1.u0_px, s1.v0_px);
+  std::vector<StepTwoPoint> out(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d& X = pts[i].world;
+    out[i] = {s1.R.row(0).dot(X) + s1.Tx, s1.R.row(1).dot(X) + s1.Ty, s1.R.row(2).dot(X), sp[i].xdp / s1.sx,
+              sp[i].yd};
+  }
+  return out;
+}
+
+// Tsai 1987 eq. 15, yd·(wz + Tz) = f·yc and likewise with xd (2 rows per point), by least squares.
+// Returns false (f, Tz untouched) when the system is singular; *rel_sigma_f is the standard error
+// of f from the residual, relative to |f|: large on the f–distance ridge of a narrow field.
+bool linear_f_tz(const std::vector<StepTwoPoint>& q, double* f, double* Tz, double* rel_sigma_f) {
+  const std::size_t n = q.size();
   Eigen::MatrixXd A(2 * n, 2);
   Eigen::VectorXd b(2 * n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d& X = pts[i].world;
-    const double xc = s1->R.row(0).dot(X) + s1->Tx;
-    const double yc = s1->R.row(1).dot(X) + s1->Ty;
-    const double wz = s1->R.row(2).dot(X);
-    const double xd = sp[i].xdp / s1->sx, yd = sp[i].yd;
-    A.row(2 * i) << xc, -xd;
-    b(2 * i) = wz * xd;
-    A.row(2 * i + 1) << yc, -yd;
-    b(2 * i + 1) = wz * yd;
+    A.row(2 * i) << q[i].xc, -q[i].xd;
+    b(2 * i) = q[i].wz * q[i].xd;
+    A.row(2 * i + 1) << q[i].yc, -q[i].yd;
+    b(2 * i + 1) = q[i].wz * q[i].yd;
   }
-  const Eigen::VectorXd ft = solve_least_squares(A, b, "the linear f, Tz solve (Tsai 1987 eq. 15)");
-  double f = ft(0);
-  const double Tz = ft(1);
-  if (f < 0) {
-    // The sign test picked the wrong Ty: turning the camera 180° about its axis negates rows 1–2 of R,
-    // Tx, Ty and f together and keeps R proper.
-    s1->R.row(0) *= -1;
-    s1->R.row(1) *= -1;
-    s1->Tx = -s1->Tx;
-    s1->Ty = -s1->Ty;
-    f = -f;
+  Eigen::VectorXd ft;
+  try {
+    ft = solve_least_squares(A, b, "the linear f, Tz solve (Tsai 1987 eq. 15)");
+  } catch (const Error&) {
+    return false;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!(s1->R.row(2).dot(pts[i].world) + Tz > 0))
+  if (!ft.allFinite()) return false;
+  *f = ft(0);
+  *Tz = ft(1);
+  const double s2 = (A * ft - b).squaredNorm() / std::max<double>(1.0, 2.0 * n - 2.0);
+  const Eigen::Matrix2d N = A.transpose() * A;
+  *rel_sigma_f = std::sqrt(std::max(0.0, s2 * N(1, 1) / N.determinant())) / std::max(std::abs(*f), 1e-300);
+  return true;
+}
+
+// The eq. 13 cost without distortion at depth offset Tz, with f either given or (f_fixed ≤ 0) at
+// its least-squares value for that Tz (closed form: f = Σ(xd·a + yd·b)/Σ(a² + b²), a = xc/zc,
+// b = yc/zc, of either sign). +∞ with a point at zc ≤ 0.
+double profile_cost(const std::vector<StepTwoPoint>& q, double Tz, double f_fixed, double* f_out) {
+  double sab = 0, saa = 0;
+  for (const auto& p : q) {
+    const double zc = p.wz + Tz;
+    if (!(zc > 0)) return std::numeric_limits<double>::infinity();
+    const double a = p.xc / zc, b = p.yc / zc;
+    sab += p.xd * a + p.yd * b;
+    saa += a * a + b * b;
+  }
+  const double f = f_fixed > 0 ? f_fixed : (saa > 0 ? sab / saa : 0.0);
+  double ss = 0;
+  for (const auto& p : q) {
+    const double zc = p.wz + Tz;
+    ss += std::pow(p.xd - f * p.xc / zc, 2) + std::pow(p.yd - f * p.yc / zc, 2);
+  }
+  *f_out = f;
+  return ss;
+}
+
+// Tz minimising profile_cost, searched over the nearest point's depth zmin = min zc from 1e-3 to
+// 1e5 × the extent of the points (log grid, then golden section in the best bracket): the whole
+// feasible range in front of the camera, so no start is needed. Returns Tz and sets *f.
+double profile_tz(const std::vector<StepTwoPoint>& q, double extent, double f_fixed, double* f) {
+  double wz_min = std::numeric_limits<double>::infinity();
+  for (const auto& p : q) wz_min = std::min(wz_min, p.wz);
+  const auto cost = [&](double t, double* fo) { return profile_cost(q, std::exp(t) - wz_min, f_fixed, fo); };
+  const int n_grid = 240;
+  const double t0 = std::log(1e-3 * extent), t1 = std::log(1e5 * extent), dt = (t1 - t0) / n_grid;
+  int best = 0;
+  double best_cost = std::numeric_limits<double>::infinity(), fo = 0;
+  for (int k = 0; k <= n_grid; ++k) {
+    const double c = cost(t0 + k * dt, &fo);
+    if (c < best_cost) best_cost = c, best = k;
+  }
+  double a = t0 + std::max(best - 1, 0) * dt, b = t0 + std::min(best + 1, n_grid) * dt;
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  for (int it = 0; it < 60; ++it) {
+    const double c1 = b - g * (b - a), c2 = a + g * (b - a);
+    if (cost(c1, &fo) < cost(c2, &fo))
+      b = c2;
+    else
+      a = c1;
+  }
+  const double t = 0.5 * (a + b);
+  cost(t, f);
+  return std::exp(t) - wz_min;
+}
+
+// Turning the camera 180° about its axis negates rows 1–2 of R, Tx, Ty (and so f) together and
+// keeps R proper: the fix when step 1's sign test picked the wrong Ty.
+void turn_about_axis(TsaiStep1* s1) {
+  s1->R.row(0) *= -1;
+  s1->R.row(1) *= -1;
+  s1->Tx = -s1->Tx;
+  s1->Ty = -s1->Ty;
+}
+
+bool all_in_front(const std::vector<StepTwoPoint>& q, double Tz) {
+  return std::all_of(q.begin(), q.end(), [&](const StepTwoPoint& p) { return p.wz + Tz > 0; });
+}
+
+// Above this relative standard error of the linear f, eq. 15 is on the f–distance ridge of a narrow
+// field (tests/unit/optim/tsai_property_test.cpp).
+constexpr double kMaxLinearFSigma = 0.1;
+
+}  // namespace
+
+std::pair<double, double> tsai_linear_f_tz(const std::vector<PointCorrespondence>& pts,
+                                           const TsaiSensor& sensor, TsaiStep1* s1) {
+  const auto q = step_two_points(pts, sensor, *s1);
+  double f = 0, Tz = 0, rel = 0;
+  if (!linear_f_tz(q, &f, &Tz, &rel))
+    throw_calibration_error(kMethod,
+                            "singular system in the linear f, Tz solve (Tsai 1987 eq. 15): the points do not "
+                            "determine the unknowns");
+  if (f < 0) turn_about_axis(s1), f = -f;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    if (!(q[i].wz + Tz > 0))
       throw_calibration_error(kMethod, "point " + std::to_string(i) +
                                            " lies behind the camera in the linear solution (inconsistent or "
                                            "mirrored correspondences)");
-  }
   return {f, Tz};
+}
+
+TsaiStart tsai_f_tz_start(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
+                          TsaiStep1* s1, double nominal_f_mm) {
+  const auto q = step_two_points(pts, sensor, *s1);
+  TsaiStart st;
+  double f = 0, Tz = 0;
+  if (linear_f_tz(q, &f, &Tz, &st.f_linear_rel_sigma)) {
+    st.f_linear_mm = std::abs(f);
+    st.Tz_linear = Tz;
+    if (st.f_linear_rel_sigma <= kMaxLinearFSigma && all_in_front(q, Tz)) {
+      if (f < 0) turn_about_axis(s1);
+      st.f_mm = std::abs(f), st.Tz = Tz, st.source = TsaiStartSource::linear;
+      return st;
+    }
+  }
+  // The ridge: f and the distance trade along it, and the linear solve (which weights the points by
+  // their depth) may leave it on the wrong side of the camera. The depth profile of eq. 13 gives the
+  // sign of f (so of Ty) and, with no lens given, the start itself.
+  double extent = 0;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) c += p.world / static_cast<double>(pts.size());
+  for (const auto& p : pts) extent = std::max(extent, (p.world - c).norm());
+  st.Tz = profile_tz(q, extent, 0.0, &st.f_mm);
+  if (!(std::isfinite(st.f_mm) && st.f_mm != 0))
+    throw_calibration_error(kMethod, "no focal length fits the points in front of the camera (f = " +
+                                         std::to_string(st.f_mm) + " mm): inconsistent correspondences");
+  if (st.f_mm < 0) turn_about_axis(s1), st.f_mm = -st.f_mm;
+  st.source = TsaiStartSource::depth_profile;
+  if (nominal_f_mm > 0 && std::isfinite(nominal_f_mm)) {
+    // The lens's marking fixes the position along the ridge; Tz is then the best depth for it.
+    double f_fixed = 0;
+    st.Tz = profile_tz(step_two_points(pts, sensor, *s1), extent, nominal_f_mm, &f_fixed);
+    st.f_mm = nominal_f_mm;
+    st.source = TsaiStartSource::nominal_focal_length;
+  }
+  return st;
 }
 
 double tsai_eq13_cost(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
@@ -368,6 +504,21 @@ double solve_step2(const std::vector<PointCorrespondence>& pts, const TsaiSensor
 
 }  // namespace
 
+namespace {
+
+// Σ pixel reprojection error² of `cam` over the points; false when a point does not project.
+bool projected_sum_of_squares(const std::vector<PointCorrespondence>& pts, const Camera& cam, double* ss) {
+  *ss = 0;
+  for (const auto& pt : pts) {
+    Eigen::Vector2d uv;
+    if (!project(cam, pt.world, &uv)) return false;
+    *ss += (uv - pt.pixel).squaredNorm();
+  }
+  return std::isfinite(*ss);
+}
+
+}  // namespace
+
 TsaiResult tsai_calibrate(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
                           const TsaiOptions& options) {
   return tsai_step2(pts, sensor, tsai_step1(pts, sensor, options.orthonormalisation), options);
@@ -380,9 +531,10 @@ TsaiResult tsai_step2(const std::vector<PointCorrespondence>& pts, const TsaiSen
   require_finite(pts, kMethod);
   if (options.estimate_k1)
     require_min_points(pts, 8, kMethod, "step 1 uses 7 unknowns; f, Tz, k1 need an 8th independent point");
-  const auto ft = tsai_linear_f_tz(pts, sensor, &res.step1);
-  res.f_linear_mm = ft.first;
-  res.Tz_linear = ft.second;
+  res.start = tsai_f_tz_start(pts, sensor, &res.step1, options.nominal_f_mm);
+  res.f_linear_mm = res.start.f_linear_mm;
+  res.Tz_linear = res.start.Tz_linear;
+  const std::pair<double, double> ft(res.start.f_mm, res.start.Tz);
   const TsaiStep1& s1 = res.step1;
   const std::size_t n = pts.size();
 
@@ -397,22 +549,31 @@ TsaiResult tsai_step2(const std::vector<PointCorrespondence>& pts, const TsaiSen
   const Eigen::Vector3d scale(ft.first != 0 ? std::abs(ft.first) : 1.0,
                               ft.second != 0 ? std::abs(ft.second) : 1.0, 1.0 / std::max(rmax2, 1e-12));
   Eigen::Vector3d p(ft.first, ft.second, 0.0);
-  double cost = 0;
-  if (options.estimate_k1)
-    cost = solve_step2<3>(pts, sensor, s1, scale, options.max_iterations, &p, &res);
-  else
+  double cost = options.estimate_k1
+                    ? solve_step2<3>(pts, sensor, s1, scale, options.max_iterations, &p, &res)
+                    : solve_step2<2>(pts, sensor, s1, scale, options.max_iterations, &p, &res);
+  double ss = 0;
+  if (!(p(0) > 0) || !p.allFinite() ||
+      !projected_sum_of_squares(pts, tsai_camera(sensor, s1, p(0), p(1), p(2)), &ss)) {
+    // With few or nearly degenerate points the LM over k1 can leave the region where the model
+    // projects every point (a distortion that does not invert over the image, or a point behind
+    // the camera): f and Tz alone from the same start, and failing that the start itself (every
+    // point in front of it by construction, tsai_f_tz_start).
+    res.fallback = "k1 held at 0: with k1 free the solution did not project every point";
+    p = Eigen::Vector3d(ft.first, ft.second, 0.0);
     cost = solve_step2<2>(pts, sensor, s1, scale, options.max_iterations, &p, &res);
-  if (!(p(0) > 0) || !p.allFinite())
-    throw_calibration_error(kMethod, "nonlinear step diverged (f = " + std::to_string(p(0)) + " mm)");
+    if (!(p(0) > 0) || !p.allFinite() ||
+        !projected_sum_of_squares(pts, tsai_camera(sensor, s1, p(0), p(1), 0), &ss)) {
+      res.fallback = "step 2 kept its start (k1 = 0): the nonlinear solution did not project every point";
+      p = Eigen::Vector3d(ft.first, ft.second, 0.0);
+      cost = tsai_eq13_cost(pts, sensor, s1, p(0), p(1), 0.0, nullptr);
+      res.converged = false;
+      if (!projected_sum_of_squares(pts, tsai_camera(sensor, s1, p(0), p(1), 0), &ss))
+        throw_calibration_error(kMethod, "a point does not project with the solved camera (behind it)");
+    }
+  }
   res.camera = tsai_camera(sensor, s1, p(0), p(1), p(2));
   res.rms_sensor_mm = std::sqrt(cost / (2.0 * n));
-  double ss = 0;
-  for (const auto& pt : pts) {
-    Eigen::Vector2d uv;
-    if (!project(res.camera, pt.world, &uv))
-      throw_calibration_error(kMethod, "a point does not project with the solved camera (behind it)");
-    ss += (uv - pt.pixel).squaredNorm();
-  }
   res.rms_px = std::sqrt(ss / n);
   return res;
 }

@@ -134,9 +134,10 @@ TEST(Tsai, WillsonSampleReproducesReferenceThreeParameterStage) {
             << " T=" << c.pose.T.transpose() << " sse=" << r.rms_px * r.rms_px * 300 << "\n";
 }
 
-// Our default (Tsai's Tx = L4·Ty/sx, SVD-nearest rotation) differs from the reference only by those
-// two conventions: Tx by the factor sx (1.6e-4), R by < 5e-5 rad, which slides f and Tz ≈ 0.2 % along
-// the valley while Tz/f stays within 0.02 %. Tolerances stated accordingly.
+// Our default (Tsai's Tx = L4·Ty/sx, SVD-nearest rotation, step 1 solved in frames about the points
+// rather than the target's origin) differs from the reference by those conventions: Tx by the
+// factor sx (1.6e-4) and ≈ 5 mm of 1950, Ty by ≈ 6 mm, R by < 5e-5 rad, which slides f and Tz ≈ 0.2 %
+// along the valley while Tz/f stays within 0.02 %. Tolerances stated accordingly.
 TEST(Tsai, WillsonSampleDefaultConventionsStayClose) {
   const auto pts = willson_ncc();
   const TsaiResult r = tsai_calibrate(pts, willson_sensor());
@@ -145,8 +146,8 @@ TEST(Tsai, WillsonSampleDefaultConventionsStayClose) {
   EXPECT_NEAR(c.pose.T.z(), 1946.629897, 1946.629897 * 5e-3);
   EXPECT_NEAR(c.pose.T.z() / c.intr.f_mm, 28.556096, 28.556096 * 2e-4);
   EXPECT_NEAR(c.intr.dist.k1, -6.039083e-4, 6.039083e-4 * 2e-3);
-  EXPECT_NEAR(c.pose.T.x(), -97.408705 / 1.000158, 2e-3);
-  EXPECT_NEAR(c.pose.T.y(), -79.794913, 2e-3);
+  EXPECT_NEAR(c.pose.T.x(), -97.408705 / 1.000158, 1e-2);
+  EXPECT_NEAR(c.pose.T.y(), -79.794913, 1e-2);
   const double deg = 180.0 / M_PI;
   EXPECT_NEAR(std::atan2(c.pose.R(2, 1), c.pose.R(2, 2)) * deg, 29.843070, 5e-3);
   EXPECT_NEAR(-std::asin(c.pose.R(2, 0)) * deg, 1.103189, 5e-3);
@@ -245,9 +246,10 @@ TEST_P(TsaiWeakSpot, NoiseFreeRecoversTruth) {
 }
 
 // Monte Carlo over 30 draws of 0.1 px noise: the errors at the weak spot against those of the same
-// scene with the origin well placed (where Tsai's method is unchanged). Tsai reports no σ, so σ is
-// this RMS error of the well-placed origin; every weak-spot draw stays within 4σ per parameter and
-// the weak-spot RMS within 1.2σ (measured 0.93–1.0: the translated frames do not lose accuracy).
+// scene with the origin well placed. Tsai reports no σ, so σ is this RMS error of the well-placed
+// origin; every weak-spot draw stays within 4σ per parameter and the weak-spot RMS within 1.2σ. Both
+// are solved in the same frames about the points, so the ratio is 1.0 to rounding (it was 0.93–1.0
+// when the well-placed origin still ran Tsai's published frame).
 TEST_P(TsaiWeakSpot, NoisyAsAccurateAsAWellPlacedOrigin) {
   const Camera truth = weak_spot_camera(GetParam().T);
   const Camera well = weak_spot_camera(kWellPlacedT);
@@ -266,7 +268,6 @@ TEST_P(TsaiWeakSpot, NoisyAsAccurateAsAWellPlacedOrigin) {
     const TsaiResult rw = tsai_calibrate(weak_spot_points(truth, 0.1, seed), sensor_of(truth));
     const TsaiResult rg = tsai_calibrate(weak_spot_points(well, 0.1, seed), sensor_of(well));
     ASSERT_LT(rw.step1.ty_ratio, 0.1);
-    ASSERT_EQ(rg.step1.eq12_origin, Eigen::Vector3d::Zero());
     const auto ew = errors(rw, truth), eg = errors(rg, well);
     ss_weak += ew.cwiseAbs2();
     ss_well += eg.cwiseAbs2();
@@ -315,54 +316,42 @@ TEST(Tsai, WeakSpotResultDoesNotDependOnTheOriginPlacement) {
 INSTANTIATE_TEST_SUITE_P(Placements, TsaiWeakSpot, ::testing::ValuesIn(kWeakPlacements),
                          [](const auto& info) { return std::string(info.param.name); });
 
-// The values are GCC's (the Release build). Tsai's linear step on the noisy range scene is
-// ill-conditioned enough that another compiler's rounding (clang -O1 with the sanitizers, measured)
-// moves f by 0.13 mm (1e-3 relative), k1 by 0.3 % and the camera 6 cm along its 64 m axis, so there
-// the guard is 5e-3 relative: it still catches a change of method, not a change of rounding.
-#if defined(__clang__)
-constexpr double kRelative = 5e-3;
-#else
-constexpr double kRelative = 1e-9;
-#endif
-
-// Regression guard: away from the weak spot the result is bit-for-bit that of Tsai's method as
-// published (values printed by the implementation before the translated frames were added; asserted
-// to 1e-9 relative with GCC, see kRelative): the paper-like range scene with 0.1 px noise, and Willson's real
-// sample data.
-TEST(Tsai, AwayFromTheWeakSpotResultIsUnchanged) {
-  auto expect_camera = [](const TsaiResult& r, double f, double k1, double sx, const Eigen::Vector3d& T,
-                          const std::vector<double>& R, double f_linear, double Tz_linear) {
-    auto near = [](double a, double b) { EXPECT_NEAR(a, b, kRelative * std::max(std::abs(b), 1.0)); };
-    EXPECT_EQ(r.step1.eq12_origin, Eigen::Vector3d::Zero());
-    EXPECT_EQ(r.step1.pose_origin, Eigen::Vector3d::Zero());
-    EXPECT_GE(r.step1.ty_ratio, 0.1);
-    near(r.camera.intr.f_mm, f);
-    EXPECT_NEAR(r.camera.intr.dist.k1, k1, kRelative * std::abs(k1));
-    near(r.camera.intr.sx, sx);
-    // T relative to the scene's distance, along which f and the camera trade off: 64 m for the
-    // range scene (whose origin is beside the camera, so |T| is 1.5 m), |T| for Willson's.
-    const double distance = std::max(T.norm(), 64.0);
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.camera.pose.T(k), T(k), kRelative * distance);
-    for (int k = 0; k < 9; ++k) near(r.camera.pose.R(k / 3, k % 3), R[std::size_t(k)]);
-    near(r.f_linear_mm, f_linear);
-    near(r.Tz_linear, Tz_linear);
-  };
+// Step 1 is solved in frames chosen from the points themselves (Tsai 1987: the origin in view and
+// away from the v = v0 line), so the user's world frame does not matter: the paper-like range scene
+// with 0.1 px noise, its world coordinates moved 5 km off axis, behind the camera, onto its centre,
+// and rotated, gives the same camera in each frame (to rounding).
+TEST(Tsai, ResultDoesNotDependOnTheWorldFrame) {
   const Camera range = test::range_camera(-2.0e-4, 1.0025, 3.0, -2.0);
-  const TsaiResult r1 =
-      tsai_calibrate(test::observe(range, test::range_world_points(range), 0.1, 0.0, 5), sensor_of(range));
-  expect_camera(r1, 135.0416447893769, -0.00019936045703903153, 1.0025057673072399,
-                {-0.00083185520892609457, 1.5238063206130221, -0.12420425898328942},
-                {0.99996949455617934, -0.0078102342724088933, 0.00010098351570825281, 0.00082573776773764429,
-                 0.092848087738340593, -0.99567994393804726, 0.0077671174961685113, 0.99564965366535652,
-                 0.09285170457162982},
-                117.72556087090774, -9.2006967976833476);
-  const TsaiResult r2 = tsai_calibrate(willson_ncc(), willson_sensor());
-  expect_camera(r2, 68.018811718519899, -0.00060325812085004977, 1.0001582219208625,
-                {-97.393295237526033, -79.794913405376619, 1942.2014232996032},
-                {0.99920215822641312, -0.020781588327108302, 0.034105316041340705, 0.03499098534395112,
-                 0.86719556229128381, -0.49673683947032038, -0.019252998216811309, 0.49753390068306524,
-                 0.86723084569839692},
-                66.076167671380404, 1873.5996011189286);
+  const auto pts = test::observe(range, test::range_world_points(range), 0.1, 0.0, 5);
+  const TsaiResult ref = tsai_calibrate(pts, sensor_of(range));
+  const Eigen::Vector3d C = range.pose.center();
+  const Eigen::Matrix3d Q =
+      (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  struct Frame {
+    const char* name;
+    Eigen::Matrix3d Q;
+    Eigen::Vector3d t;  // X' = Q·X + t
+  };
+  const Frame frames[] = {{"5 km off axis", Eigen::Matrix3d::Identity(), {4000.0, -3000.0, 200.0}},
+                          {"behind the camera", Eigen::Matrix3d::Identity(), {0.0, 40.0, -1.5}},
+                          {"at the camera", Eigen::Matrix3d::Identity(), -C},
+                          {"rotated and moved", Q, {-250.0, 80.0, 3.0}}};
+  for (const Frame& fr : frames) {
+    std::vector<PointCorrespondence> moved = pts;
+    for (auto& p : moved) p.world = fr.Q * p.world + fr.t;
+    const TsaiResult r = tsai_calibrate(moved, sensor_of(range));
+    EXPECT_NEAR(r.camera.intr.f_mm, ref.camera.intr.f_mm, 1e-8 * ref.camera.intr.f_mm) << fr.name;
+    EXPECT_NEAR(r.camera.intr.sx, ref.camera.intr.sx, 1e-10) << fr.name;
+    EXPECT_NEAR(r.camera.intr.dist.k1, ref.camera.intr.dist.k1, 1e-7 * std::abs(ref.camera.intr.dist.k1))
+        << fr.name;
+    EXPECT_LT(test::rotation_angle_between(r.camera.pose.R * fr.Q, ref.camera.pose.R), 1e-10) << fr.name;
+    EXPECT_LT((r.camera.pose.center() - (fr.Q * ref.camera.pose.center() + fr.t)).norm(), 1e-7) << fr.name;
+  }
+  // …and that camera is the truth to within the noise: 0.1 px over a 1280-px, 135 mm view.
+  EXPECT_LT(test::rotation_angle_between(ref.camera.pose.R, range.pose.R), 2e-4);
+  EXPECT_LT((ref.camera.pose.center() - C).norm(), 0.5);
+  EXPECT_NEAR(ref.camera.intr.f_mm / range.intr.f_mm, 1.0, 5e-3);
 }
 
 void expect_calibration_error(const std::vector<PointCorrespondence>& pts, const TsaiSensor& s,
