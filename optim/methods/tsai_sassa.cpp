@@ -134,11 +134,16 @@ TsaiSassaResult tsai_sassa_from(const std::vector<PointCorrespondence>& pts, con
   cal.reprojection.n_used = static_cast<int>(pts.size());
   for (Eigen::Index j = 0; j < d; ++j)
     if (std::abs(res.search.z[j]) > 0.98)
-      cal.warnings.push_back("the sparrow search ended at the edge of its range in " +
-                             std::string(parameter_name(res.parameters[std::size_t(j)])) +
-                             " (|z| > 0.98): the half-range S is too narrow or θ0 too far off");
+      res.warnings.push_back({CalibrationWarningKind::search_at_range_edge,
+                              {res.parameters[std::size_t(j)]},
+                              "the sparrow search ended at the edge of its range in " +
+                                  std::string(parameter_name(res.parameters[std::size_t(j)])) +
+                                  " (|z| > 0.98): the half-range S is too narrow or θ0 too far off"});
   if (opt.polish && !res.polish.converged)
-    cal.warnings.push_back("the LM polish stopped without converging (" + res.polish.stop_reason + ")");
+    res.warnings.push_back({CalibrationWarningKind::polish_not_converged,
+                            {},
+                            "the LM polish stopped without converging (" + res.polish.stop_reason + ")"});
+  cal.warnings = warning_texts(res.warnings);
 
   return res;
 }

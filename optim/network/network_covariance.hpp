@@ -49,6 +49,7 @@ struct NetworkCovariance {
   int parameters = 0;
   bool rank_deficient = false;
   std::vector<std::string> warnings;
+  std::vector<Eigen::Index> named;  ///< the joint columns the warnings name (rank_tested_inverse)
 };
 
 /// The covariance at `blocks` (rotations re-based) for the selection. `scene_distance_m` and
