@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "config/error.hpp"
+#include "optim/estimation/reprojection_stats.hpp"
 
 namespace rangecal {
 namespace {
@@ -122,14 +123,10 @@ TsaiSassaResult tsai_sassa_from(const std::vector<PointCorrespondence>& pts, con
   cal.camera = res.camera;
   VectorXd r;
   if (reprojection_residual(pts, res.camera, &r)) {
-    double s1 = 0, mx = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const double e = r.segment<2>(2 * i).norm();
-      s1 += e, mx = std::max(mx, e);
-    }
-    cal.reprojection.rms_px = std::sqrt(r.squaredNorm() / static_cast<double>(pts.size()));
-    cal.reprojection.mean_px = s1 / static_cast<double>(pts.size());
-    cal.reprojection.max_px = mx;
+    std::vector<Eigen::Vector2d> residual_px(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      residual_px[i] = r.segment<2>(2 * static_cast<Eigen::Index>(i));
+    cal.reprojection = reprojection_stats(residual_px, std::vector<char>(pts.size(), 1));
   }
   cal.reprojection.n_used = static_cast<int>(pts.size());
   for (Eigen::Index j = 0; j < d; ++j)

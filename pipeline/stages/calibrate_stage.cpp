@@ -9,6 +9,7 @@
 #include "config/error.hpp"
 #include "config/number_format.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
+#include "optim/estimation/symmetric_part.hpp"
 #include "optim/network/network_adjustment.hpp"
 #include "pipeline/io/calibrate_record.hpp"
 #include "pipeline/io/calibration_json.hpp"
@@ -238,7 +239,7 @@ void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origi
     net.camera.id = id;
     net.details = bundle_details_json(r.cameras[c].details);
     net.details["network"] = statistics;
-    net.covariance = 0.5 * (net.covariance + net.covariance.transpose()).eval();
+    net.covariance = symmetric_part(net.covariance);
     net.site_origin = origin;
     cc.compared.erase(std::remove_if(cc.compared.begin(), cc.compared.end(),
                                      [](const CalibrationResult& x) { return x.method == "network"; }),

@@ -11,6 +11,7 @@
 #include "config/error.hpp"
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/estimation/reprojection_stats.hpp"
+#include "optim/estimation/symmetric_part.hpp"
 #include "optim/methods/dlt_lmqn.hpp"
 #include "optim/methods/tsai_sassa.hpp"
 #include "optim/network/network_adjustment.hpp"
@@ -255,7 +256,7 @@ CalibrationRun run_calibration_method(const std::string& method, const Calibrati
   for (CalibrationWarning& w : out.warnings) w.camera = problem.camera_id;
   r.warnings = warning_texts(out.warnings);
   // Exact symmetry (round-off makes C and Cᵀ differ in the last bit; readers check symmetry).
-  if (r.covariance.size() > 0) r.covariance = 0.5 * (r.covariance + r.covariance.transpose()).eval();
+  if (r.covariance.size() > 0) r.covariance = symmetric_part(r.covariance);
   r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
