@@ -198,7 +198,7 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   cal.camera = cam;
   cal.clock_offset_s = st.clock[0];
   cal.parameters = d.free;
-  cal.warnings = cov.warnings;
+  out.warnings = rank_deficiency_warnings(cov.warnings, cov.named, d.free, initial.id);
   d.rank_deficient = cov.rank_deficient;
   if (!cov.rank_deficient) {
     out.covariance_unscaled = cov.covariance;
@@ -223,9 +223,11 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
 void finish_bundle_result(double max_speed_mps, double correlation_warning, BundleResult* result) {
   CalibrationResult& cal = result->calibration;
   const BundleDetails& details = result->details;
-  for (std::string& warning : poorly_determined_warnings(cal, max_speed_mps, correlation_warning))
-    cal.warnings.push_back(std::move(warning));
-  for (std::string& warning : fit_warnings(details)) cal.warnings.push_back(std::move(warning));
+  for (CalibrationWarning& warning : poorly_determined_warnings(cal, max_speed_mps, correlation_warning))
+    result->warnings.push_back(std::move(warning));
+  for (CalibrationWarning& warning : fit_warnings(details)) result->warnings.push_back(std::move(warning));
+  for (CalibrationWarning& warning : result->warnings) warning.camera = cal.camera_id;
+  cal.warnings = warning_texts(result->warnings);
   result->chi2 = details.chi2;
   result->dof = details.dof;
   result->variance_factor = details.variance_factor;

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "optim/bundle/bundle_observation.hpp"
+#include "optim/bundle/calibration_warning.hpp"
 #include "optim/bundle/whitening.hpp"
 #include "optim/estimation/robust_loss.hpp"
 #include "vision/camera/calibration_result.hpp"
@@ -107,6 +108,8 @@ struct BundleResult {
   std::vector<double> whitened_norm;         ///< ‖W·e‖ per point (σ units)
   std::vector<bool> outlier;                 ///< flagged by the threshold above
   int iterations = 0;                        ///< = details.iterations
+  /// calibration.warnings typed (optim/bundle/calibration_warning.hpp): the same, in the same order.
+  std::vector<CalibrationWarning> warnings;
 };
 
 /// Calibrates one camera. `initial` gives the starting values of the free parameters and the
@@ -120,7 +123,8 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
 
 /// The last step of a camera's result, the per-camera bundle's and each network camera's: the
 /// warnings on poorly determined parameters and on the fit (optim/bundle/bundle_diagnostics.hpp)
-/// appended to its calibration's, and the details' summary copied to the result's own fields.
+/// appended to its typed warnings, each stamped with calibration.camera_id, calibration.warnings
+/// their texts, and the details' summary copied to the result's own fields.
 /// `max_speed_mps` is the camera's fastest lamp point (m/s).
 void finish_bundle_result(double max_speed_mps, double correlation_warning, BundleResult* result);
 

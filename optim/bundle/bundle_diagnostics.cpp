@@ -66,9 +66,9 @@ std::string poorly_determined_because(P p, double s, const CameraIntrinsics& in,
 
 }  // namespace
 
-std::vector<std::string> poorly_determined_warnings(const CalibrationResult& cal, double max_speed_mps,
-                                                    double correlation_warning) {
-  std::vector<std::string> out;
+std::vector<CalibrationWarning> poorly_determined_warnings(const CalibrationResult& cal, double max_speed_mps,
+                                                           double correlation_warning) {
+  std::vector<CalibrationWarning> out;
   const int p = static_cast<int>(cal.parameters.size());
   if (cal.covariance.rows() != p) return out;
   const CameraIntrinsics& in = cal.camera.intr;
@@ -79,39 +79,50 @@ std::vector<std::string> poorly_determined_warnings(const CalibrationResult& cal
     const std::string why = poorly_determined_because(cal.parameters[k], std::sqrt(cal.covariance(k, k)), in,
                                                       rmax, max_speed_mps);
     if (!why.empty())
-      out.push_back("parameter " + std::string(parameter_name(cal.parameters[k])) +
-                    " is poorly determined: " + why);
+      out.push_back(
+          {CalibrationWarningKind::poorly_determined,
+           {cal.parameters[k]},
+           "parameter " + std::string(parameter_name(cal.parameters[k])) + " is poorly determined: " + why});
   }
   for (int a = 0; a < p; ++a)
     for (int b = a + 1; b < p; ++b) {
       const double rho = cal.correlation(cal.parameters[a], cal.parameters[b]);
       if (std::abs(rho) > correlation_warning)
-        out.push_back("parameters " + std::string(parameter_name(cal.parameters[a])) + " and " +
-                      parameter_name(cal.parameters[b]) + " are correlated (ρ = " + g3(rho) +
-                      "): the data cannot separate them; fix one or add a prior");
+        out.push_back({CalibrationWarningKind::correlated,
+                       {cal.parameters[a], cal.parameters[b]},
+                       "parameters " + std::string(parameter_name(cal.parameters[a])) + " and " +
+                           parameter_name(cal.parameters[b]) + " are correlated (ρ = " + g3(rho) +
+                           "): the data cannot separate them; fix one or add a prior"});
     }
   return out;
 }
 
-std::vector<std::string> fit_warnings(const BundleDetails& d) {
-  std::vector<std::string> out;
+std::vector<CalibrationWarning> fit_warnings(const BundleDetails& d) {
+  std::vector<CalibrationWarning> out;
   if (d.clock_offset_s && std::abs(*d.clock_offset_s) > kLargeClockOffsetS) {
     const double c = *d.clock_offset_s;
     out.push_back(
-        "clock offset " + g3(c * 1e3) + " ms is large for the first-order model X − v·δ (it misses ½·a·δ², " +
-        g3(0.5 * 1.5 * c * c * 1e3) +
-        " mm at 1.5 m/s²): shift the frame time stamps by it and rerun align, detect and calibrate");
+        {CalibrationWarningKind::large_clock_offset,
+         {CameraParameter::clock_offset},
+         "clock offset " + g3(c * 1e3) +
+             " ms is large for the first-order model X − v·δ (it misses ½·a·δ², " +
+             g3(0.5 * 1.5 * c * c * 1e3) +
+             " mm at 1.5 m/s²): shift the frame time stamps by it and rerun align, detect and calibrate"});
   }
   if (d.dof > 0) {
     // χ² test at the 1 % level (Wilson–Hilferty approximation of the χ² quantile).
     const double k = d.dof, z = 2.326;
     const double q99 = k * std::pow(1 - 2 / (9 * k) + z * std::sqrt(2 / (9 * k)), 3);
     if (d.chi2 > q99)
-      out.push_back("a-posteriori variance factor " + g3(d.variance_factor) +
-                    " exceeds 1: the assumed pixel/PPK noise is too optimistic or the model misses "
-                    "something; σ scaled by √factor are in details.sigma_scaled");
+      out.push_back({CalibrationWarningKind::variance_factor,
+                     {},
+                     "a-posteriori variance factor " + g3(d.variance_factor) +
+                         " exceeds 1: the assumed pixel/PPK noise is too optimistic or the model misses "
+                         "something; σ scaled by √factor are in details.sigma_scaled"});
   } else {
-    out.push_back("no redundancy (dof = 0): the variance factor and outlier test are meaningless");
+    out.push_back({CalibrationWarningKind::no_redundancy,
+                   {},
+                   "no redundancy (dof = 0): the variance factor and outlier test are meaningless"});
   }
   return out;
 }

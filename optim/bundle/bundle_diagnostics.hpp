@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/bundle/calibration_warning.hpp"
 
 namespace rangecal {
 
@@ -21,12 +22,13 @@ inline constexpr double kLargeClockOffsetS = 0.05;
 /// — f more than 1 % of f; u0, v0 more than 5 % of the image; sx more than 0.01; a distortion term
 /// whose 1σ moves the image corner by more than 1 px; a rotation more than 1 mrad; a centre
 /// coordinate more than 1 m; a clock offset moving the fastest lamp point (`max_speed_mps`) more
-/// than kClockWarningM — then every pair with |ρ| > correlation_warning.
-std::vector<std::string> poorly_determined_warnings(const CalibrationResult& cal, double max_speed_mps,
-                                                    double correlation_warning);
+/// than kClockWarningM — then every pair with |ρ| > correlation_warning. Kinds poorly_determined
+/// (the parameter) and correlated (the pair).
+std::vector<CalibrationWarning> poorly_determined_warnings(const CalibrationResult& cal, double max_speed_mps,
+                                                           double correlation_warning);
 
 /// On the fit as a whole: a clock offset beyond kLargeClockOffsetS; a χ² beyond its 1 % quantile
 /// (the noise model is too optimistic or the model misses something); no redundancy (dof = 0).
-std::vector<std::string> fit_warnings(const BundleDetails& details);
+std::vector<CalibrationWarning> fit_warnings(const BundleDetails& details);
 
 }  // namespace rangecal

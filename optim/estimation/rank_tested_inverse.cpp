@@ -9,12 +9,19 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-/// The names of the parameters k with selected(k), comma-separated.
+/// The parameters k with selected(k), in order.
 template <typename Selected>
-std::string name_list(const std::vector<std::string>& names, Selected selected) {
+std::vector<Eigen::Index> select(Eigen::Index p, Selected selected) {
+  std::vector<Eigen::Index> out;
+  for (Eigen::Index k = 0; k < p; ++k)
+    if (selected(k)) out.push_back(k);
+  return out;
+}
+
+/// The names of `which`, comma-separated.
+std::string name_list(const std::vector<std::string>& names, const std::vector<Eigen::Index>& which) {
   std::string list;
-  for (std::size_t k = 0; k < names.size(); ++k)
-    if (selected(static_cast<Eigen::Index>(k))) list += (list.empty() ? "" : ", ") + names[k];
+  for (Eigen::Index k : which) list += (list.empty() ? "" : ", ") + names[static_cast<std::size_t>(k)];
   return list;
 }
 
@@ -26,11 +33,11 @@ RankTestedInverse rank_tested_inverse(const MatrixXd& N, const VectorXd& physica
   const Eigen::Index p = N.rows();
   VectorXd jacobi(p);
   for (Eigen::Index k = 0; k < p; ++k) jacobi[k] = N(k, k) > 0 ? 1 / std::sqrt(N(k, k)) : 0;
-  const std::string undetermined = name_list(names, [&](Eigen::Index k) { return !(N(k, k) > 0); });
-  if (!undetermined.empty()) {
+  out.named = select(p, [&](Eigen::Index k) { return !(N(k, k) > 0); });
+  if (!out.named.empty()) {
     out.rank_deficient = true;
-    out.warnings.push_back("covariance is rank-deficient: the data do not depend on " + undetermined +
-                           " at all (fix it or add observations that do)");
+    out.warnings.push_back("covariance is rank-deficient: the data do not depend on " +
+                           name_list(names, out.named) + " at all (fix it or add observations that do)");
     return out;
   }
   if (p == 0) return out;
@@ -43,8 +50,8 @@ RankTestedInverse rank_tested_inverse(const MatrixXd& N, const VectorXd& physica
     out.rank_deficient = true;
     const VectorXd nullv =
         !physical_ok ? VectorXd(physical.eigenvectors().col(0)) : VectorXd(scaled.eigenvectors().col(0));
-    out.warnings.push_back("covariance is rank-deficient: " +
-                           name_list(names, [&](Eigen::Index k) { return std::abs(nullv[k]) > 0.2; }) +
+    out.named = select(p, [&](Eigen::Index k) { return std::abs(nullv[k]) > 0.2; });
+    out.warnings.push_back("covariance is rank-deficient: " + name_list(names, out.named) +
                            " cannot be determined from these data; fix some of them or add a prior");
     return out;
   }

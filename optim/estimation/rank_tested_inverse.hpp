@@ -19,6 +19,7 @@ struct RankTestedInverse {
   Eigen::MatrixXd covariance;  ///< N⁻¹; empty when rank-deficient (or N is 0 × 0)
   bool rank_deficient = false;
   std::vector<std::string> warnings;  ///< the rank-deficiency message, naming the parameters
+  std::vector<Eigen::Index> named;    ///< the parameters that message names (N's order)
 };
 
 /// N⁻¹ of the symmetric normal matrix `N` with the rank tests above. `physical_range` holds each

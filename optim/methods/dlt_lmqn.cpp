@@ -70,7 +70,8 @@ DltLmqnResult dlt_lmqn_calibrate(const std::vector<BundleObservation>& obs, cons
   dopt.seed = o.seed;
   dopt.inlier_threshold_px = o.ransac_threshold_px;
   res.dlt = dlt_calibrate(pts, sensor, dopt);
-  const Camera base = starting_camera(res.dlt, pts, sensor, o);
+  res.start = starting_camera(res.dlt, pts, sensor, o);
+  const Camera& base = res.start;
   const std::vector<Eigen::Matrix2d> W = whitening_matrices(base, obs, o.pixel_sigma_px);
 
   for (CameraParameter p : o.free)

@@ -6,7 +6,8 @@
 // bundle (each pixel residual whitened by C = σ_px²·I + J_X·Σ_X·J_Xᵀ, optim/bundle/bundle_adjustment.hpp)
 // over the free parameters, in z = (x − x0)/scale with the vocabulary's search scales
 // (vision/camera/camera_parameters.hpp) because LM's damping μI is not scale invariant. The
-// covariance is (JᵀJ)⁻¹ of the whitened Jacobian at the solution.
+// whitening C is taken once, at the DLT start (`start`), and kept: the covariance is (JᵀJ)⁻¹ of the
+// Jacobian at the solution whitened by those weights, the covariance of the objective minimised.
 //
 // Outliers: RANSAC gates on the distortion-free DLT model at 4 px (the PPK noise of the lamp alone
 // projects to ~1 px at range, so a 2 px gate would reject good points); once LM-QN has fitted the
@@ -40,6 +41,7 @@ struct DltLmqnOptions {
 struct DltLmqnResult {
   DltResult dlt;                            ///< the linear start
   LmQnResult lmqn;                          ///< the last LM-QN solve (in z)
+  Camera start;                             ///< the DLT start; the whitening is taken there
   Camera camera;                            ///< the calibrated camera
   std::vector<std::size_t> used;            ///< observations in the final fit, ascending
   std::vector<std::size_t> rejected;        ///< the others, ascending

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "config/error.hpp"
+#include "optim/estimation/reprojection_stats.hpp"
 
 namespace rangecal {
 namespace {
@@ -128,30 +129,33 @@ TsaiSassaResult tsai_sassa_from(const std::vector<PointCorrespondence>& pts, con
     th[2] = 0;
     const bool search_ok = opt.polish && reprojection_residual(pts, res.camera_search, &r);
     res.camera = search_ok ? res.camera_search : tsai_sassa_camera(sensor, step1, th);
-    cal.warnings.push_back(std::string("the ") + (opt.polish ? "polished" : "searched") +
-                           " camera does not project every point (its distortion does not invert over them); "
-                           "kept " +
-                           (search_ok ? "the search's camera" : "the start θ0 with k1 = 0"));
+    res.warnings.push_back({CalibrationWarningKind::projection_fallback,
+                            {},
+                            std::string("the ") + (opt.polish ? "polished" : "searched") +
+                                " camera does not project every point (its distortion does not invert over "
+                                "them); kept " +
+                                (search_ok ? "the search's camera" : "the start θ0 with k1 = 0")});
   }
   cal.camera = res.camera;
   if (reprojection_residual(pts, res.camera, &r)) {
-    double s1 = 0, mx = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const double e = r.segment<2>(2 * i).norm();
-      s1 += e, mx = std::max(mx, e);
-    }
-    cal.reprojection.rms_px = std::sqrt(r.squaredNorm() / static_cast<double>(pts.size()));
-    cal.reprojection.mean_px = s1 / static_cast<double>(pts.size());
-    cal.reprojection.max_px = mx;
+    std::vector<Eigen::Vector2d> residual_px(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      residual_px[i] = r.segment<2>(2 * static_cast<Eigen::Index>(i));
+    cal.reprojection = reprojection_stats(residual_px, std::vector<char>(pts.size(), 1));
   }
   cal.reprojection.n_used = static_cast<int>(pts.size());
   for (Eigen::Index j = 0; j < d; ++j)
     if (std::abs(res.search.z[j]) > 0.98)
-      cal.warnings.push_back("the sparrow search ended at the edge of its range in " +
-                             std::string(parameter_name(res.parameters[std::size_t(j)])) +
-                             " (|z| > 0.98): the half-range S is too narrow or θ0 too far off");
+      res.warnings.push_back({CalibrationWarningKind::search_at_range_edge,
+                              {res.parameters[std::size_t(j)]},
+                              "the sparrow search ended at the edge of its range in " +
+                                  std::string(parameter_name(res.parameters[std::size_t(j)])) +
+                                  " (|z| > 0.98): the half-range S is too narrow or θ0 too far off"});
   if (opt.polish && !res.polish.converged)
-    cal.warnings.push_back("the LM polish stopped without converging (" + res.polish.stop_reason + ")");
+    res.warnings.push_back({CalibrationWarningKind::polish_not_converged,
+                            {},
+                            "the LM polish stopped without converging (" + res.polish.stop_reason + ")"});
+  cal.warnings = warning_texts(res.warnings);
 
   return res;
 }

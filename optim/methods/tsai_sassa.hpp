@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "optim/bundle/calibration_warning.hpp"
 #include "optim/search/lm_qn.hpp"
 #include "optim/search/sparrow_search.hpp"
 #include "vision/calibration/point_correspondence.hpp"
@@ -69,6 +70,8 @@ struct TsaiSassaResult {
   /// the edge of its range, a polish that did not converge). The search and polish figures are in
   /// the fields above (pipeline I/O writes them into calibration.json's details).
   CalibrationResult calibration;
+  /// calibration.warnings typed (optim/bundle/calibration_warning.hpp): the same, in the same order.
+  std::vector<CalibrationWarning> warnings;
 };
 
 /// The whole method from correspondences. Throws rangecal::Error (calibration) on degenerate

@@ -222,7 +222,8 @@ void camera_covariance(const NetworkLayout& layout, std::size_t camera, const Ne
   BundleDetails& details = out->details;
   CalibrationResult& cal = out->calibration;
   if (cov.rank_deficient || cov.joint.size() == 0) {
-    cal.warnings = cov.warnings;
+    out->warnings = rank_deficiency_warnings(cov.warnings, cov.named, layout.free[camera], cal.camera_id,
+                                             static_cast<Eigen::Index>(layout.offset[camera]));
     return;
   }
   const int n_free = layout.setups[camera].n_free;

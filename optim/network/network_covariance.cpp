@@ -250,6 +250,7 @@ void invert_camera_system(const NetworkLayout& l, double scene_distance_m, doubl
   out->joint = std::move(inverse.covariance);
   out->rank_deficient = inverse.rank_deficient;
   out->warnings = std::move(inverse.warnings);
+  out->named = std::move(inverse.named);
 }
 
 /// A single-view point's posterior given its camera: X̄ − K·e, Σ − K·J_X·Σ + K·J_θ·Σ_cc·J_θᵀ·Kᵀ

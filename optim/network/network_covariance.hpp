@@ -63,6 +63,7 @@ struct NetworkCovariance {
   int parameters = 0;
   bool rank_deficient = false;
   std::vector<std::string> warnings;
+  std::vector<Eigen::Index> named;  ///< the joint columns the warnings name (rank_tested_inverse)
 };
 
 /// One Gauss–Newton step of the whole network at `blocks` for the selection (plain least squares):

@@ -25,7 +25,32 @@ nlohmann::json camera_json(const CalibrateCameraRecord& c) {
   j["dlt_profile_max_px"] = c.dlt_profile_max_px;
   j["method_time_s"] = nlohmann::json::object();
   for (const auto& [m, s] : c.method_time_s) j["method_time_s"][m] = s;
+  j["warnings"] = nlohmann::json::array();
+  for (const WarningCodeRecord& w : c.warnings)
+    j["warnings"].push_back({{"kind", warning_kind_name(w.kind)},
+                             {"camera", w.camera},
+                             {"parameters", parameter_names(w.parameters)}});
   return j;
+}
+
+WarningCodeRecord parse_warning_code(const JsonView& v) {
+  v.require_object("an object {kind, camera, parameters}");
+  WarningCodeRecord w;
+  const JsonView kind = v.at("kind", "a warning kind");
+  const auto k = warning_kind_from_name(kind.string("a warning kind"));
+  if (!k) kind.fail_expected("a warning kind (optim/bundle/calibration_warning.hpp)");
+  w.kind = *k;
+  w.camera = v.at("camera", "a camera id").string("a camera id");
+  if (const auto ps = v.find("parameters")) {
+    const std::size_t n = ps->require_array("an array of parameter names");
+    for (std::size_t i = 0; i < n; ++i) {
+      const JsonView e = ps->element(i);
+      const auto p = parameter_from_name(e.string("a parameter name"));
+      if (!p) e.fail_expected("a parameter name (vision/camera/camera_parameters.hpp)");
+      w.parameters.push_back(*p);
+    }
+  }
+  return w;
 }
 
 // A number that may be written as null (NaN); `fallback` when the key is missing.
@@ -72,10 +97,20 @@ CalibrateCameraRecord parse_camera(const JsonView& v) {
     for (const auto& [m, s] : t->json().items())
       c.method_time_s[m] = JsonView(s, v.file(), t->path() + "." + m, ErrorKind::input).number("seconds");
   }
+  if (const auto ws = v.find("warnings")) {
+    const std::size_t n = ws->require_array("an array of {kind, camera, parameters}");
+    for (std::size_t i = 0; i < n; ++i) c.warnings.push_back(parse_warning_code(ws->element(i)));
+  }
   return c;
 }
 
 }  // namespace
+
+std::vector<WarningCodeRecord> warning_codes(const std::vector<CalibrationWarning>& warnings) {
+  std::vector<WarningCodeRecord> codes;
+  for (const CalibrationWarning& w : warnings) codes.push_back({w.kind, w.camera, w.parameters});
+  return codes;
+}
 
 nlohmann::json calibrate_record_json(const CalibrateRecord& r) {
   nlohmann::json j = nlohmann::json::object();

@@ -4,7 +4,8 @@
 //   cameras.<id>     per camera of the config, {pairs, control_poles, failed} when its calibration
 //                    failed, else {pairs, control_poles, method, rms_px, n_used, n_rejected,
 //                    opencv_fit_max_px, opencv_undistort_max_px, dlt_only_rms_px, dlt_only_max_px,
-//                    dlt_profile_max_px, method_time_s {method: s}}
+//                    dlt_profile_max_px, method_time_s {method: s},
+//                    warnings [{kind, camera, parameters}]}
 //   network          the network's statistics (pipeline/io/network_json.hpp), when it ran
 //   method_choice    {method, shared_epochs, why}: the default rule's choice (docs/config.md
 //                    "Default method"), when the config named no method
@@ -15,8 +16,19 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "optim/bundle/calibration_warning.hpp"
 
 namespace rangecal {
+
+/// One of calibration.json's warnings as a code (optim/bundle/calibration_warning.hpp): its kind,
+/// the camera and the parameters it is about; the text is calibration.json's, at the same index.
+struct WarningCodeRecord {
+  CalibrationWarningKind kind = CalibrationWarningKind::poorly_determined;
+  std::string camera;
+  std::vector<CameraParameter> parameters;
+};
 
 /// One camera's line: what went in, and what the method made of it (or why it failed).
 struct CalibrateCameraRecord {
@@ -32,7 +44,11 @@ struct CalibrateCameraRecord {
   double opencv_fit_max_px = 0, opencv_undistort_max_px = 0;
   double dlt_only_rms_px = 0, dlt_only_max_px = 0, dlt_profile_max_px = 0;
   std::map<std::string, double> method_time_s;  ///< wall time of each per-camera method run (s, 0.1 ms)
+  std::vector<WarningCodeRecord> warnings;      ///< calibration.json's warnings, coded, in its order
 };
+
+/// The codes of `warnings`, in order.
+std::vector<WarningCodeRecord> warning_codes(const std::vector<CalibrationWarning>& warnings);
 
 /// The default rule's choice (docs/config.md "Default method").
 struct MethodChoiceRecord {

@@ -16,10 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// run.json: version, config hash, warnings per stage, and the calibrate stage's failure reasons,
-// network statistics and default-method choice.
-void read_run_json(const std::string& path, ReportData* data,
-                   std::vector<std::pair<std::string, std::string>>* failures) {
+// run.json: version, config hash, warnings per stage, and the calibrate stage's record (failure
+// reasons and warning codes per camera, network statistics, default-method choice).
+void read_run_json(const std::string& path, ReportData* data, CalibrateRecord* calibrate) {
   const nlohmann::json doc = parse_json_text(read_file_text(path), path, ErrorKind::input);
   if (!doc.is_object()) throw_input_error(path, 0, "", "expected a JSON object (run.json)");
   if (doc.contains("program") && doc["program"].is_object() && doc["program"].contains("version") &&
@@ -49,9 +48,8 @@ void read_run_json(const std::string& path, ReportData* data,
     }
     data->stage_warnings.push_back(sw);
     if (name != "calibrate" || !stage.contains("counts")) continue;
-    const CalibrateRecord record = parse_calibrate_record(stage["counts"], path, "stages.calibrate.counts");
-    for (const auto& [cam, c] : record.cameras)
-      if (!c.failed.empty()) failures->emplace_back(cam, c.failed);
+    *calibrate = parse_calibrate_record(stage["counts"], path, "stages.calibrate.counts");
+    const CalibrateRecord& record = *calibrate;
     if (!record.network.is_null())
       data->network_statistics =
           parse_network_statistics_json(record.network, path, "stages.calibrate.counts.network");
@@ -80,9 +78,9 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
   ReportData data;
   data.mission = mission;
 
-  std::vector<std::pair<std::string, std::string>> failures;
+  CalibrateRecord calibrate;
   const std::string run_json = mission_output(output_dir, kRunJson);
-  if (fs::exists(run_json)) read_run_json(run_json, &data, &failures);
+  if (fs::exists(run_json)) read_run_json(run_json, &data, &calibrate);
 
   const std::string track = mission_output(output_dir, kLampTrackCsv);
   if (fs::exists(track)) {
@@ -113,8 +111,10 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
     if (fs::exists(residuals)) cam.residuals = read_residuals_csv(residuals);
     const std::string methods = camera_output(output_dir, id, kMethodsCsv);
     if (fs::exists(methods)) cam.methods = parse_methods_csv(read_file_text(methods), methods);
-    for (const auto& [fid, why] : failures)
-      if (fid == id) cam.calibration_failure = why;
+    if (const auto rec = calibrate.cameras.find(id); rec != calibrate.cameras.end()) {
+      cam.calibration_failure = rec->second.failed;
+      cam.warning_codes = rec->second.warnings;
+    }
     data.cameras.push_back(std::move(cam));
   }
   // Network calibrations are correlated: the predictions take network.json's cross blocks, in the

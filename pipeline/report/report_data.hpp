@@ -13,6 +13,7 @@
 #include "gnss/formats/pole_survey_csv.hpp"
 #include "gnss/time/utc_time.hpp"
 #include "gnss/track/lamp_track.hpp"
+#include "pipeline/io/calibrate_record.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/intersection_csv.hpp"
 #include "pipeline/io/lamp_track_adjusted_csv.hpp"
@@ -39,6 +40,9 @@ struct CameraReportData {
   std::optional<std::vector<MethodRow>> methods;  ///< absent: methods.csv missing (no `compare`)
   /// run.json calibrate counts "cameras.<cam>.failed": why the calibrate stage gave up on the camera.
   std::string calibration_failure;
+  /// run.json calibrate counts "cameras.<cam>.warnings": calibration.json's warnings as codes, in
+  /// its order (empty when run.json has none).
+  std::vector<WarningCodeRecord> warning_codes;
   /// Image size (px) for the plots: calibration.json's, else 0 until the caller sets the config's.
   int width_px = 0;
   int height_px = 0;

@@ -485,10 +485,11 @@ std::string datum_floor_sentence(const FlightVolumeSigma& v) {
   return s + "</p>\n";
 }
 
-// Whether one of the calibration's warnings says a parameter is poorly determined or correlated.
-bool warns_of_weak_parameters(const CalibrationResult& cal) {
-  for (const std::string& x : cal.warnings)
-    if (x.find("correlated") != std::string::npos || x.find("poorly determined") != std::string::npos)
+// Whether one of the camera's calibration warnings is of a poorly determined or correlated
+// parameter (its code in run.json).
+bool warns_of_weak_parameters(const CameraReportData& c) {
+  for (const WarningCodeRecord& w : c.warning_codes)
+    if (w.kind == CalibrationWarningKind::poorly_determined || w.kind == CalibrationWarningKind::correlated)
       return true;
   return false;
 }
@@ -592,9 +593,9 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
   std::vector<CameraVerdict> verdicts(d.cameras.size());
   for (std::size_t i = 0; i < d.cameras.size(); ++i)
     if (d.cameras[i].calibration)
-      verdicts[i] = judge_camera(
-          {figs[i].consistency, figs[i].centre_sigma_px, warns_of_weak_parameters(*d.cameras[i].calibration)},
-          st, d.bar_mean_dR_m);
+      verdicts[i] =
+          judge_camera({figs[i].consistency, figs[i].centre_sigma_px, warns_of_weak_parameters(d.cameras[i])},
+                       st, d.bar_mean_dR_m);
   std::string s = "<section id=\"verdict\">\n<h2>Verdict</h2>\n" + verdict_table(d, figs, verdicts) +
                   method_sentence(d) +
                   check_pole_sentence(judge_check_poles(d.intersection, d.bar_mean_dR_m), d.bar_mean_dR_m);

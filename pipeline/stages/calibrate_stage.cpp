@@ -9,6 +9,7 @@
 #include "config/error.hpp"
 #include "config/number_format.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
+#include "optim/estimation/symmetric_part.hpp"
 #include "optim/network/network_adjustment.hpp"
 #include "pipeline/io/calibrate_record.hpp"
 #include "pipeline/io/calibration_json.hpp"
@@ -113,7 +114,9 @@ double wall_time_record(const CalibrationResult& r) {
 /// warning). Throws the configured method's rangecal::Error.
 CameraCalibration calibrate_one_camera(const CalibrateConfig& calibrate, const CameraInputs& in) {
   CameraCalibration cc;
-  cc.main = calibrate_camera(calibrate.method, in.problem);
+  CalibrationRun main = run_calibration_method(calibrate.method, in.problem);
+  cc.main = std::move(main.result);
+  cc.record.warnings = warning_codes(main.warnings);
   cc.record.pairs = in.pairs.size();
   cc.record.control_poles = in.problem.observations.size() - in.pairs.size();
   if (in.pairs.empty())
@@ -237,7 +240,7 @@ void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origi
     net.camera.id = id;
     net.details = bundle_details_json(r.cameras[c].details);
     net.details["network"] = statistics;
-    net.covariance = 0.5 * (net.covariance + net.covariance.transpose()).eval();
+    net.covariance = symmetric_part(net.covariance);
     net.site_origin = origin;
     cc.compared.erase(std::remove_if(cc.compared.begin(), cc.compared.end(),
                                      [](const CalibrationResult& x) { return x.method == "network"; }),
@@ -249,6 +252,7 @@ void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origi
     derive_exports_and_residuals(pass->inputs[c], &cc);
     // The export fits and method times stay those of the per-camera pass (docs/outputs.md).
     record_fit(net, &pass->record.cameras[id]);
+    pass->record.cameras[id].warnings = warning_codes(r.cameras[c].warnings);
     for (const std::string& w : net.warnings) pass->warnings.push_back(id + ": " + w);
   }
   for (const std::string& w : r.warnings) pass->warnings.push_back("network: " + w);

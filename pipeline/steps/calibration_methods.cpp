@@ -11,6 +11,7 @@
 #include "config/error.hpp"
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/estimation/reprojection_stats.hpp"
+#include "optim/estimation/symmetric_part.hpp"
 #include "optim/methods/dlt_lmqn.hpp"
 #include "optim/methods/tsai_sassa.hpp"
 #include "optim/network/network_adjustment.hpp"
@@ -68,53 +69,56 @@ TsaiSensor tsai_sensor(const CalibrationProblem& p) {
 
 // Where Tsai's linear f, Tz step is ill-conditioned, step 2 starts from the lens's nominal focal
 // length (vision/calibration/tsai.hpp tsai_f_tz_start).
-CalibrationResult run_tsai(const CalibrationProblem& p) {
+CalibrationRun run_tsai(const CalibrationProblem& p) {
   TsaiOptions o;
   o.nominal_f_mm = p.nominal_focal_mm;
   const TsaiResult t = tsai_calibrate(to_points(p.observations), tsai_sensor(p), o);
   CalibrationResult r = finish("tsai", p, t.camera, {});
   r.details = tsai_details_json(t);
-  if (!t.fallback.empty()) r.warnings.push_back("tsai: " + t.fallback);
-  return r;
+  std::vector<CalibrationWarning> warnings;
+  if (!t.fallback.empty())
+    warnings.push_back({CalibrationWarningKind::projection_fallback, {}, "tsai: " + t.fallback});
+  return {r, warnings};
 }
 
 // seed 002 §3.2.3: Tsai step 1, then f, Tz, k1 by SA-sparrow search, finished by an LM polish
 // that the result records. The search seed is the mission's seed; the search starts from the lens's
 // nominal focal length where Tsai's linear f, Tz step is ill-conditioned.
-CalibrationResult run_tsai_sassa(const CalibrationProblem& p) {
+CalibrationRun run_tsai_sassa(const CalibrationProblem& p) {
   TsaiSassaOptions o;
   o.search.seed = p.seed;
   o.nominal_f_mm = p.nominal_focal_mm;
   const TsaiSassaResult t = tsai_sassa_calibrate(to_points(p.observations), tsai_sensor(p), o);
   CalibrationResult r = finish("tsai_sassa", p, t.camera, {});
   r.details = tsai_sassa_details_json(t, o);
-  r.warnings = t.calibration.warnings;
-  return r;
+  return {r, t.warnings};
 }
 
-CalibrationResult run_dlt_lmqn(const CalibrationProblem& p) {
+CalibrationRun run_dlt_lmqn(const CalibrationProblem& p) {
   DltLmqnOptions o;
   o.free = expand_free_parameters(p.free);
   o.fixed_principal_point_px = default_principal_point(p);
   o.pixel_sigma_px = p.pixel_sigma_px;
   o.seed = p.seed;
   const DltLmqnResult d = dlt_lmqn_calibrate(p.observations, p.sensor, o);
-  CalibrationResult r = finish("dlt_lmqn", p, d.camera, d.rejected);
+  CalibrationRun run{finish("dlt_lmqn", p, d.camera, d.rejected), {}};
+  CalibrationResult& r = run.result;
   if (d.covariance.size() > 0) {
     r.covariance = d.covariance;
     r.parameters = d.parameters;
     const int ce = r.parameter_index(CameraParameter::CE);
     if (ce >= 0) r.center_covariance_m2 = r.covariance.block<3, 3>(ce, ce);
   } else {
-    r.warnings.push_back(
-        "dlt_lmqn: the free parameters are not all determined by this geometry "
-        "(normal matrix rank-deficient); no covariance");
+    run.warnings.push_back({CalibrationWarningKind::no_covariance,
+                            {},
+                            "dlt_lmqn: the free parameters are not all determined by this geometry "
+                            "(normal matrix rank-deficient); no covariance"});
   }
   r.details = dlt_lmqn_details_json(d);
-  return r;
+  return run;
 }
 
-CalibrationResult run_bundle(const CalibrationProblem& p) {
+CalibrationRun run_bundle(const CalibrationProblem& p) {
   const std::vector<CameraParameter> free = expand_free_parameters(p.free);
   Camera start;
   std::string start_method = "tsai";
@@ -161,14 +165,14 @@ CalibrationResult run_bundle(const CalibrationProblem& p) {
   r.camera_id = p.camera_id;
   r.details = bundle_details_json(b.details);
   r.details["start"] = start_method;
-  return r;
+  return {r, b.warnings};
 }
 
 // One camera alone in the network: every pair its own point under its PPK prior, started from the
 // per-camera bundle — the same estimator (docs/optimisation.md "Network bundle"); the calibrate
 // stage joins the cameras through their shared epochs instead (network_problem.hpp).
-CalibrationResult run_network_one_camera(const CalibrationProblem& p) {
-  const CalibrationResult start = run_bundle(p);
+CalibrationRun run_network_one_camera(const CalibrationProblem& p) {
+  const CalibrationResult start = run_bundle(p).result;
   const std::vector<Correspondence> pairs(p.observations.size() - p.control_pole_ids.size());
   NetworkCameraInput in{&p, &pairs, start.camera, start.clock_offset_s};
   const NetworkProblem n = make_network_problem({in}, LampTrack{}, 0);
@@ -177,7 +181,7 @@ CalibrationResult run_network_one_camera(const CalibrationProblem& p) {
   out.camera.id = p.camera_id;
   out.camera_id = p.camera_id;
   out.details = bundle_details_json(r.cameras[0].details);
-  return out;
+  return {out, r.cameras[0].warnings};
 }
 
 // A lamp track whose points lie in one plane (e.g. every ascent at the same depth) leaves f and the
@@ -214,7 +218,7 @@ void require_depth_beyond_noise(const std::string& method, const CalibrationProb
 }
 
 /// A method's function; nullptr: known, but not a method for a lamp track.
-using MethodFunction = CalibrationResult (*)(const CalibrationProblem&);
+using MethodFunction = CalibrationRun (*)(const CalibrationProblem&);
 
 /// The method table: row i runs kCalibrationMethodNames[i] (pipeline/steps/calibration_method_names.hpp).
 constexpr std::array<MethodFunction, kCalibrationMethodNames.size()> kMethodFunctions = {
@@ -246,7 +250,7 @@ ReprojectionStats reprojection_stats(const std::vector<Eigen::Vector2d>& residua
   return s;
 }
 
-CalibrationResult calibrate_camera(const std::string& method, const CalibrationProblem& problem) {
+CalibrationRun run_calibration_method(const std::string& method, const CalibrationProblem& problem) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto name = std::find(kCalibrationMethodNames.begin(), kCalibrationMethodNames.end(), method);
   if (name == kCalibrationMethodNames.end())
@@ -258,15 +262,24 @@ CalibrationResult calibrate_camera(const std::string& method, const CalibrationP
                 "'planar' calibrates from several views of a planar target (seed 001); a lamp track is one "
                 "view of non-coplanar points — use bundle, tsai, tsai_sassa or dlt_lmqn");
   require_depth_beyond_noise(method, problem);
-  CalibrationResult r = run(problem);
+  CalibrationRun out = run(problem);
+  CalibrationResult& r = out.result;
   if (method != "bundle" && method != "network" &&
       contains(expand_free_parameters(problem.free), CameraParameter::clock_offset))
-    r.warnings.push_back("clock_offset is estimated by the bundle method only; " + method +
-                         " takes the frame time stamps as exact (clock offset 0)");
+    out.warnings.push_back({CalibrationWarningKind::clock_offset_not_estimated,
+                            {CameraParameter::clock_offset},
+                            "clock_offset is estimated by the bundle method only; " + method +
+                                " takes the frame time stamps as exact (clock offset 0)"});
+  for (CalibrationWarning& w : out.warnings) w.camera = problem.camera_id;
+  r.warnings = warning_texts(out.warnings);
   // Exact symmetry (round-off makes C and Cᵀ differ in the last bit; readers check symmetry).
-  if (r.covariance.size() > 0) r.covariance = 0.5 * (r.covariance + r.covariance.transpose()).eval();
+  if (r.covariance.size() > 0) r.covariance = symmetric_part(r.covariance);
   r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return r;
+  return out;
+}
+
+CalibrationResult calibrate_camera(const std::string& method, const CalibrationProblem& problem) {
+  return run_calibration_method(method, problem).result;
 }
 
 }  // namespace rangecal

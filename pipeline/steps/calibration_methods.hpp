@@ -15,17 +15,27 @@
 #include <string>
 #include <vector>
 
+#include "optim/bundle/calibration_warning.hpp"
 #include "pipeline/steps/calibration_method_names.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 #include "vision/camera/calibration_result.hpp"
 
 namespace rangecal {
 
+/// A method's result with its warnings typed (optim/bundle/calibration_warning.hpp):
+/// result.warnings are their texts, in the same order.
+struct CalibrationRun {
+  CalibrationResult result;
+  std::vector<CalibrationWarning> warnings;
+};
+
 /// Runs `method` on `problem`. The result's reprojection statistics cover the observations the
 /// method used; `rejected` lists the others; `details` what the method did
 /// (pipeline/io/method_details_json.hpp). Throws rangecal::Error: usage for an unknown method
 /// (or `planar`, which needs views of a planar target, not a lamp track); calibration when the
 /// geometry is degenerate or the method fails.
+CalibrationRun run_calibration_method(const std::string& method, const CalibrationProblem& problem);
+/// run_calibration_method's result alone.
 CalibrationResult calibrate_camera(const std::string& method, const CalibrationProblem& problem);
 
 /// Per-observation reprojection residual (projected − observed, px) of `cam`, each world point

@@ -60,4 +60,15 @@ SyntheticNetwork synthetic_network(int n_cameras, int n_epochs, std::uint64_t se
   return n;
 }
 
+void lay_out_network(NetworkScene* scene, std::optional<double> clock_s) {
+  NetworkScene& n = *scene;
+  n.layout = make_network_layout(n.data.cameras, n.data.points, n.data.observations);
+  n.blocks = starting_blocks(n.layout);
+  if (clock_s)
+    for (BundleParameterBlocks& c : n.blocks.cameras) c.clock[0] = *clock_s;
+  n.selection = {
+      std::vector<char>(n.data.observations.size(), 1), std::vector<char>(n.data.points.size(), 1), {}, {}};
+  refresh_single_view(n.layout, n.blocks, &n.selection);
+}
+
 }  // namespace rangecal::test

@@ -5,9 +5,11 @@
 // PPK fixes with 1 cm noise per axis, 0.05 px centroids. The cameras start off the truth by 2–4 cm,
 // 0.3 mrad and f × 1.002, as from a per-camera bundle. Deterministic by seed.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "optim/network/network_adjustment.hpp"
+#include "optim/network/network_parameters.hpp"
 
 namespace rangecal::test {
 
@@ -19,5 +21,18 @@ struct SyntheticNetwork {
 };
 
 SyntheticNetwork synthetic_network(int n_cameras, int n_epochs, std::uint64_t seed);
+
+/// A synthetic network laid out for the network's steps (optim/network/network_parameters.hpp).
+/// The layout points into `data`: build it in place (lay_out_network) and do not copy it.
+struct NetworkScene {
+  SyntheticNetwork data;
+  NetworkLayout layout;
+  NetworkParameterBlocks blocks;
+  NetworkSelection selection;
+};
+
+/// Lays out `scene->data` as it stands: the starting blocks (every camera's clock at `clock_s` when
+/// given), every observation and prior selected, the single-view weights at the starting cameras.
+void lay_out_network(NetworkScene* scene, std::optional<double> clock_s = std::nullopt);
 
 }  // namespace rangecal::test

@@ -25,22 +25,12 @@ TEST(NetworkOutliers, Chi2QuantilesMatchTheTables) {
   EXPECT_NEAR(chi2_upper_quantile(3, 1e-4), 21.10751347600523, 1e-8);
 }
 
-struct Network {
-  test::SyntheticNetwork data;
-  NetworkLayout layout;
-  NetworkParameterBlocks blocks;
-  NetworkSelection selection;
-};
+using Network = test::NetworkScene;
 
 /// In place: the layout points into `n->data`.
 void build(Network* network) {
-  Network& n = *network;
-  n.data = test::synthetic_network(4, 60, 13);
-  n.layout = make_network_layout(n.data.cameras, n.data.points, n.data.observations);
-  n.blocks = starting_blocks(n.layout);
-  n.selection = {
-      std::vector<char>(n.data.observations.size(), 1), std::vector<char>(n.data.points.size(), 1), {}, {}};
-  refresh_single_view(n.layout, n.blocks, &n.selection);
+  network->data = test::synthetic_network(4, 60, 13);
+  test::lay_out_network(network);
 }
 
 /// A point seen by every camera.

@@ -1,7 +1,7 @@
 // The covariance with the two-scale rank test (optim/estimation/rank_tested_inverse.hpp): the inverse
 // of a well-conditioned normal matrix against Eigen's LU inverse; a parameter the data do not touch,
 // two parameters in one direction, and a column of rounding noise that Jacobi scaling alone would
-// rescue, each reported by name with no covariance.
+// rescue, each reported by name (and by index, RankTestedInverse::named) with no covariance.
 #include "optim/estimation/rank_tested_inverse.hpp"
 
 #include <gtest/gtest.h>
@@ -27,6 +27,17 @@ MatrixXd random_jacobian(int rows, std::uint64_t seed) {
   return J * VectorXd((VectorXd(4) << 10.0, 1e4, 3.0, 0.5).finished()).asDiagonal();
 }
 
+/// `r` is rank-deficient with no covariance and the one warning `text`, which names the parameters
+/// `named` (their indices, as RankTestedInverse::named gives them).
+void expect_rank_deficient(const RankTestedInverse& r, const std::string& text,
+                           const std::vector<Eigen::Index>& named) {
+  EXPECT_TRUE(r.rank_deficient);
+  EXPECT_EQ(r.covariance.size(), 0);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.warnings[0], text);
+  EXPECT_EQ(r.named, named);
+}
+
 TEST(RankTestedInverse, EqualsTheInverseOfAWellConditionedMatrix) {
   const MatrixXd J = random_jacobian(30, 3);
   const MatrixXd N = J.transpose() * J;
@@ -44,25 +55,19 @@ TEST(RankTestedInverse, EqualsTheInverseOfAWellConditionedMatrix) {
 TEST(RankTestedInverse, NamesAParameterTheDataDoNotTouch) {
   MatrixXd J = random_jacobian(30, 4);
   J.col(1).setZero();
-  const RankTestedInverse r = rank_tested_inverse(J.transpose() * J, VectorXd::Ones(4), kNames, 1e-14);
-  EXPECT_TRUE(r.rank_deficient);
-  EXPECT_EQ(r.covariance.size(), 0);
-  ASSERT_EQ(r.warnings.size(), 1u);
-  EXPECT_EQ(r.warnings[0],
-            "covariance is rank-deficient: the data do not depend on k1 at all (fix it or add observations "
-            "that do)");
+  expect_rank_deficient(rank_tested_inverse(J.transpose() * J, VectorXd::Ones(4), kNames, 1e-14),
+                        "covariance is rank-deficient: the data do not depend on k1 at all (fix it or add "
+                        "observations that do)",
+                        {1});
 }
 
 TEST(RankTestedInverse, NamesTwoParametersInOneDirection) {
   MatrixXd J = random_jacobian(30, 5);
   J.col(3) = -0.25 * J.col(2);  // CN only ever moves with CE
-  const RankTestedInverse r = rank_tested_inverse(J.transpose() * J, VectorXd::Ones(4), kNames, 1e-14);
-  EXPECT_TRUE(r.rank_deficient);
-  EXPECT_EQ(r.covariance.size(), 0);
-  ASSERT_EQ(r.warnings.size(), 1u);
-  EXPECT_EQ(r.warnings[0],
-            "covariance is rank-deficient: CE, CN cannot be determined from these data; fix some of them or "
-            "add a prior");
+  expect_rank_deficient(rank_tested_inverse(J.transpose() * J, VectorXd::Ones(4), kNames, 1e-14),
+                        "covariance is rank-deficient: CE, CN cannot be determined from these data; fix some "
+                        "of them or add a prior",
+                        {2, 3});
 }
 
 TEST(RankTestedInverse, ThePhysicalRangeCatchesAColumnOfRoundingNoise) {
@@ -72,12 +77,10 @@ TEST(RankTestedInverse, ThePhysicalRangeCatchesAColumnOfRoundingNoise) {
   J.col(1) *= 1e-12 / 1e4;
   const MatrixXd N = J.transpose() * J;
   const VectorXd ranges = VectorXd::Ones(4);
-  const RankTestedInverse r = rank_tested_inverse(N, ranges, kNames, 1e-14);
-  EXPECT_TRUE(r.rank_deficient);
-  ASSERT_EQ(r.warnings.size(), 1u);
-  EXPECT_EQ(r.warnings[0],
-            "covariance is rank-deficient: k1 cannot be determined from these data; fix some of them or add "
-            "a prior");
+  expect_rank_deficient(rank_tested_inverse(N, ranges, kNames, 1e-14),
+                        "covariance is rank-deficient: k1 cannot be determined from these data; fix some of "
+                        "them or add a prior",
+                        {1});
   // With k1's range as small as its column is weak, the same matrix is invertible.
   VectorXd matched = ranges;
   matched[1] = 1e16;

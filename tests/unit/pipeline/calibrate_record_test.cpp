@@ -27,6 +27,8 @@ CalibrateRecord example() {
   a.dlt_only_max_px = 4.25;
   a.dlt_profile_max_px = 0.03;
   a.method_time_s = {{"bundle", 0.1234}, {"tsai", 0.0021}};
+  a.warnings = {{CalibrationWarningKind::correlated, "cam1", {CameraParameter::f, CameraParameter::CU}},
+                {CalibrationWarningKind::variance_factor, "cam1", {}}};
   CalibrateCameraRecord& b = r.cameras["cam2"];
   b.pairs = 12;
   b.control_poles = 0;
@@ -59,6 +61,13 @@ TEST(CalibrateRecord, RoundTripsEveryField) {
   EXPECT_EQ(a.dlt_only_max_px, 4.25);
   EXPECT_EQ(a.dlt_profile_max_px, 0.03);
   EXPECT_EQ(a.method_time_s, (std::map<std::string, double>{{"bundle", 0.1234}, {"tsai", 0.0021}}));
+  ASSERT_EQ(a.warnings.size(), 2u);
+  EXPECT_EQ(a.warnings[0].kind, CalibrationWarningKind::correlated);
+  EXPECT_EQ(a.warnings[0].camera, "cam1");
+  EXPECT_EQ(a.warnings[0].parameters,
+            (std::vector<CameraParameter>{CameraParameter::f, CameraParameter::CU}));
+  EXPECT_EQ(a.warnings[1].kind, CalibrationWarningKind::variance_factor);
+  EXPECT_TRUE(a.warnings[1].parameters.empty());
   const CalibrateCameraRecord& b = back.cameras.at("cam2");
   EXPECT_EQ(b.pairs, 12u);
   EXPECT_EQ(b.failed, "points on one line");
@@ -85,6 +94,27 @@ TEST(CalibrateRecord, CamerasLiveApartFromTheMissionKeys) {
   const nlohmann::json k = calibrate_record_json(r);
   EXPECT_FALSE(k.contains("network"));
   EXPECT_FALSE(k.contains("method_choice"));
+}
+
+TEST(CalibrateRecord, WarningCodesAreWrittenByNameAndAnUnknownKindIsNamed) {
+  nlohmann::json j = calibrate_record_json(example());
+  EXPECT_EQ(j["cameras"]["cam1"]["warnings"][0],
+            (nlohmann::json{{"kind", "correlated"}, {"camera", "cam1"}, {"parameters", {"f", "CU"}}}));
+  EXPECT_EQ(j["cameras"]["cam1"]["warnings"][1],
+            (nlohmann::json{
+                {"kind", "variance_factor"}, {"camera", "cam1"}, {"parameters", nlohmann::json::array()}}));
+  // Every kind's name reads back as that kind.
+  for (int k = 0; k <= static_cast<int>(CalibrationWarningKind::clock_offset_not_estimated); ++k) {
+    const auto kind = static_cast<CalibrationWarningKind>(k);
+    EXPECT_EQ(warning_kind_from_name(warning_kind_name(kind)), kind) << warning_kind_name(kind);
+  }
+  j["cameras"]["cam1"]["warnings"][1]["kind"] = "correlated_somewhat";
+  try {
+    parse_calibrate_record(j, "/out/run.json", "stages.calibrate.counts");
+    FAIL() << "an unknown kind was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "stages.calibrate.counts.cameras.cam1.warnings[1].kind");
+  }
 }
 
 TEST(CalibrateRecord, NoResidualIsNullAndReadsBackAsNaN) {

@@ -167,19 +167,42 @@ TEST(ClockOffset, OneConstantVelocityWithoutStaticPointsIsReportedAsUndetermined
     named = named || (w.find("rank-deficient") != std::string::npos &&
                       w.find("clock_offset") != std::string::npos && w.find("CU") != std::string::npos);
   EXPECT_TRUE(named) << "the warning must name clock_offset and the centre";
+  // The same warning as a code: rank_deficient, naming the parameters the text names.
+  ASSERT_EQ(b.warnings.size(), b.calibration.warnings.size());
+  bool coded = false;
+  for (std::size_t i = 0; i < b.warnings.size(); ++i) {
+    EXPECT_EQ(b.warnings[i].text, b.calibration.warnings[i]);
+    const auto& ps = b.warnings[i].parameters;
+    coded = coded || (b.warnings[i].kind == CalibrationWarningKind::rank_deficient &&
+                      contains(ps, CameraParameter::clock_offset) && contains(ps, CameraParameter::CU));
+  }
+  EXPECT_TRUE(coded);
 }
 
 TEST(ClockOffset, ALargeOffsetIsFittedButFlaggedAsBeyondTheFirstOrderModel) {
   const Camera truth = test::range_camera(-3.4e-4);
   std::vector<BundleObservation> obs = late_clock_observations(truth, false, 1);
   for (BundleObservation& o : obs) o.world += o.velocity * 49 * kClockOffsetS;  // 100 ms in all
-  const CalibrationResult r = calibrate_camera("bundle", problem_of(truth, obs));
+  const CalibrationRun run = run_calibration_method("bundle", problem_of(truth, obs));
+  const CalibrationResult& r = run.result;
   EXPECT_NEAR(r.clock_offset_s, 0.1, 1e-9);
   bool said = false;
   for (const std::string& w : r.warnings)
     said = said || (w.find("is large for the first-order model") != std::string::npos &&
                     w.find("rerun align") != std::string::npos);
   EXPECT_TRUE(said);
+  // Its code, beside the identical text.
+  ASSERT_EQ(run.warnings.size(), r.warnings.size());
+  int large = 0;
+  for (std::size_t i = 0; i < run.warnings.size(); ++i) {
+    EXPECT_EQ(run.warnings[i].text, r.warnings[i]);
+    if (run.warnings[i].kind == CalibrationWarningKind::large_clock_offset) {
+      ++large;
+      EXPECT_EQ(run.warnings[i].parameters, std::vector<CameraParameter>{CameraParameter::clock_offset});
+      EXPECT_NE(r.warnings[i].find("is large for the first-order model"), std::string::npos);
+    }
+  }
+  EXPECT_EQ(large, 1);
   // 2 ms is not large.
   const CalibrationResult ok =
       calibrate_camera("bundle", problem_of(truth, late_clock_observations(truth, false, 1)));
@@ -220,12 +243,16 @@ TEST(ClockOffset, FreeWithoutVelocitiesIsACalibrationError) {
 
 TEST(ClockOffset, OtherMethodsSayTheyTakeTheStampsAsExact) {
   const Camera truth = test::range_camera(-3.4e-4);
-  const CalibrationResult r =
-      calibrate_camera("tsai", problem_of(truth, late_clock_observations(truth, false, 1)));
+  const CalibrationRun run =
+      run_calibration_method("tsai", problem_of(truth, late_clock_observations(truth, false, 1)));
+  const CalibrationResult& r = run.result;
   EXPECT_EQ(r.clock_offset_s, 0.0);
   bool said = false;
   for (const std::string& w : r.warnings) said = said || w.find("bundle method only") != std::string::npos;
   EXPECT_TRUE(said);
+  ASSERT_EQ(run.warnings.size(), 1u);
+  EXPECT_EQ(run.warnings[0].kind, CalibrationWarningKind::clock_offset_not_estimated);
+  EXPECT_EQ(run.warnings[0].text, r.warnings[0]);
 }
 
 // The clock offset end to end: the demo mission (seed 002's experiment, rendered frames, PPK .pos, every

@@ -18,6 +18,7 @@
 
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
+#include "pipeline/io/calibrate_record.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/methods_csv.hpp"
@@ -162,6 +163,40 @@ TEST(Report, HtmlHasTheTablesPlotsAndEscapedText) {
   // The histogram counts the used points.
   EXPECT_NE(html.find("(" + std::to_string(fx.cam1_pairs - fx.cam1_rejected) + " values;"),
             std::string::npos);
+}
+
+// The verdict reads what a calibration warning is about from its code in run.json
+// (stages.calibrate.counts.cameras.<cam>.warnings), never from its words: cam1's warning says
+// "correlated", but only once run.json codes it so does the verdict say what it means.
+TEST(Report, WeakParametersAreKnownByTheirCodeNotTheirText) {
+  const fs::path dir = test::scratch_dir("report_warning_codes");
+  const Fixture fx = build_output(dir);
+  const std::string meaning = "<p class=\"ok\">Harmless for the intersection. ";
+  run_report_stage(fx.cfg);
+  const std::string uncoded = test::read_text(dir / "out/report.html");
+  EXPECT_NE(uncoded.find("f and Tz correlated &lt;0.995&gt;"), std::string::npos);
+  EXPECT_EQ(uncoded.find("for the intersection. "), std::string::npos);
+
+  CalibrateRecord record;
+  record.cameras["cam2"].failed = "points on one line <degenerate>";
+  CalibrateCameraRecord& cam1 = record.cameras["cam1"];
+  cam1.method = "bundle";
+  cam1.warnings = {{CalibrationWarningKind::correlated, "cam1", {CameraParameter::f, CameraParameter::k1}}};
+  StageLog cal;
+  cal.stage = "calibrate";
+  cal.counts = calibrate_record_json(record);
+  update_run_log(fx.cfg, cal);
+  run_report_stage(fx.cfg);
+  const std::string coded = test::read_text(dir / "out/report.html");
+  // One calibrated camera, no flight-volume slice: its centre σ (well under 0.5 px) decides.
+  EXPECT_EQ(count(coded, meaning), 1u);
+
+  // Coded as another kind, the same words again say nothing about the intersection.
+  cam1.warnings = {{CalibrationWarningKind::variance_factor, "cam1", {}}};
+  cal.counts = calibrate_record_json(record);
+  update_run_log(fx.cfg, cal);
+  run_report_stage(fx.cfg);
+  EXPECT_EQ(test::read_text(dir / "out/report.html").find("for the intersection. "), std::string::npos);
 }
 
 TEST(Report, ByteIdenticalOnRerun) {
