@@ -291,9 +291,29 @@ BundleResult camera_result(const NetworkLayout& layout, const NetworkParameterBl
   return out;
 }
 
-/// The network-wide warnings on the PPK outliers and the cameras calibrated alone.
+/// The independent looks at the PPK error of the chained fixes in the final solve.
+void count_ppk_looks(const NetworkLayout& layout, const NetworkSelection& selection,
+                     NetworkStatistics* stats) {
+  std::vector<double> t;
+  for (std::size_t k : layout.gm_chain)
+    if (selection.prior[k]) t.push_back((*layout.points)[k].time_s);
+  if (t.empty()) return;
+  const Eigen::Vector3d looks = gauss_markov_looks(layout.ppk, t);
+  stats->ppk_looks_h = looks.x(), stats->ppk_looks_v = looks.z();
+}
+
+/// The network-wide warnings on the PPK outliers, the cameras calibrated alone and a datum on few
+/// independent PPK looks.
 void add_network_warnings(const NetworkLayout& layout, const NetworkStatistics& stats,
                           std::vector<std::string>* warnings) {
+  const double looks = std::min(stats.ppk_looks_h, stats.ppk_looks_v);
+  if (!layout.gm_chain.empty() && looks < kFewPpkLooks)
+    warnings->push_back("the PPK fixes give " + format_number("%.1f", stats.ppk_looks_h) +
+                        " horizontal and " + format_number("%.1f", stats.ppk_looks_v) +
+                        " vertical independent looks at their slow error (fewer than " +
+                        format_number("%g", kFewPpkLooks) +
+                        "): the datum rests on few samples; more control poles, camera stations surveyed or "
+                        "ascents spread over more time would lower the error");
   if (!stats.ppk_outliers.empty())
     warnings->push_back(
         std::to_string(stats.ppk_outliers.size()) +
@@ -363,6 +383,7 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
   const NetworkCovariance cov = network_covariance(layout, blocks, selection, scene_distance(layout),
                                                    max_speed(layout), options.rank_tolerance);
   fill_statistics(layout, selection, cov, &stats);
+  count_ppk_looks(layout, selection, &stats);
   const bool scaled = options.scale_covariance && std::isfinite(stats.variance_factor);
   if (cov.joint.size() > 0)
     out.joint_covariance = scaled ? Eigen::MatrixXd(cov.joint * stats.variance_factor) : cov.joint;

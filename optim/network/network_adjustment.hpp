@@ -103,6 +103,9 @@ struct NetworkStatistics {
   /// Cameras (indices) that share no used epoch with any other camera: calibrated from their own
   /// epochs alone, as the per-camera bundle would.
   std::vector<std::size_t> cameras_alone;
+  /// Under a correlated model: the independent looks at the PPK error that the fixes in the final
+  /// solve give, horizontal and vertical (gauss_markov_looks); 0 when white.
+  double ppk_looks_h = 0, ppk_looks_v = 0;
 };
 
 /// What the float epochs add (gnss.accept_quality with 2; docs/optimisation.md, "Float epochs"):

@@ -54,4 +54,24 @@ inline Eigen::Vector3d gauss_markov_weight(const PpkErrorModel& m, const Eigen::
   return w;
 }
 
+/// How many independent looks at the Gauss–Markov error the fixes at times `t_s` (ascending) give,
+/// per ENU axis: 1ᵀ·R⁻¹·1 with R their correlation matrix, exp(−|t_i − t_j|/τ) — the information
+/// the fixes hold about a common offset, in units of one fix (correlated_ppk.md §2c: ≈ T/(2τ) over
+/// a flight of T ≫ τ; a gap of many τ starts a new look). From the chain's residual form,
+/// 1ᵀ·R⁻¹·1 = 1 + Σ_k (1 − φ_k)/(1 + φ_k). Zero for no fixes.
+template <class Times>
+Eigen::Vector3d gauss_markov_looks(const PpkErrorModel& m, const Times& t_s) {
+  if (t_s.empty()) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d looks = Eigen::Vector3d::Ones();
+  for (std::size_t k = 1; k < t_s.size(); ++k) {
+    const Eigen::Vector3d phi = gauss_markov_transition(m, t_s[k] - t_s[k - 1]);
+    looks += (Eigen::Vector3d::Ones() - phi).cwiseQuotient(Eigen::Vector3d::Ones() + phi);
+  }
+  return looks;
+}
+
+/// Below this many independent looks the datum rests on few PPK samples (docs/accuracy_analysis.md
+/// "Correlated PPK errors"): the run warns.
+inline constexpr double kFewPpkLooks = 10;
+
 }  // namespace rangecal

@@ -119,6 +119,9 @@ nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector
   j["cameras_alone"] = alone;
   j["rank_deficient"] = s.rank_deficient;
   j["ppk_error_model"] = ppk_error_model_json(r.ppk_error, r.gauss_markov_states);
+  if (r.gauss_markov_states > 0)
+    j["ppk_error_model"]["gauss_markov"]["independent_looks"] = {{"horizontal", s.ppk_looks_h},
+                                                                 {"vertical", s.ppk_looks_v}};
   return j;
 }
 

@@ -123,6 +123,31 @@ TEST(NetworkGaussMarkov, CorrelatedNetworkIsTheCorrelatedBound) {
   }
 }
 
+TEST(NetworkGaussMarkov, IndependentLooksAreTheInformationAboutACommonOffset) {
+  // gauss_markov_looks against 1ᵀ·R⁻¹·1 formed densely here, on irregular times with a gap; and
+  // its limits: ≈ 1 + T/(2τ) over a long even record, +1 for each gap of many τ.
+  PpkErrorModel m;
+  m.gm_sd_h_m = 0.008, m.gm_sd_v_m = 0.014, m.tau_h_s = 20, m.tau_v_s = 60;
+  std::vector<double> t;
+  DeterministicRandom rng(4);
+  double now = 0;
+  for (int k = 0; k < 120; ++k) now += 0.1 + rng.uniform() + (k == 60 ? 300.0 : 0.0), t.push_back(now);
+  const Vector3d looks = gauss_markov_looks(m, t);
+  for (int a : {0, 2}) {
+    const double tau = a == 0 ? 20 : 60;
+    MatrixXd R(t.size(), t.size());
+    for (std::size_t i = 0; i < t.size(); ++i)
+      for (std::size_t j = 0; j < t.size(); ++j) R(i, j) = std::exp(-std::abs(t[i] - t[j]) / tau);
+    const VectorXd ones = VectorXd::Ones(static_cast<Eigen::Index>(t.size()));
+    EXPECT_NEAR(looks[a], ones.dot(R.ldlt().solve(ones)), 1e-8 * looks[a]) << a;
+  }
+  std::vector<double> even;
+  for (int k = 0; k < 6000; ++k) even.push_back(0.1 * k);  // 600 s at 10 Hz
+  EXPECT_NEAR(gauss_markov_looks(m, even)[0], 1 + 600.0 / 40, 0.01);
+  even.push_back(even.back() + 1e4);
+  EXPECT_NEAR(gauss_markov_looks(m, even)[0], 2 + 600.0 / 40, 0.01);
+}
+
 /// One noisy draw of `n` under `model`.
 NetworkNoise draw_noise(const CrbNetwork& n, const GaussMarkovPpk& model, DeterministicRandom* rng) {
   NetworkNoise noise;
