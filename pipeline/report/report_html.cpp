@@ -6,6 +6,7 @@
 
 #include "config/number_format.hpp"
 #include "pipeline/io/run_outcome.hpp"
+#include "pipeline/report/attitude_timing.hpp"
 #include "pipeline/report/data_funnel.hpp"
 #include "pipeline/report/flight_volume_sigma.hpp"
 #include "pipeline/report/html_escape.hpp"
@@ -687,6 +688,8 @@ std::string funnel_section(const ReportData& d) {
   s += "</table>\n";
   s += figure(svg_funnel(rows, "funnel-bars"),
               "Share kept (green) and dropped by reason (other colours) per stage");
+  if (const std::optional<AttitudeTiming> timing = attitude_timing(d.run_stages))
+    s += "<p class=\"attitude-timing\">" + html_escape(attitude_timing_sentence(*timing)) + "</p>\n";
   return s + "</section>\n";
 }
 
