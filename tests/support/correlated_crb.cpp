@@ -196,6 +196,14 @@ Eigen::Vector3d GaussMarkovPpk::total_sigma() const {
   return {h, h, v};
 }
 
+GaussMarkovPpk measured_ppk_model(double tau_s) {
+  GaussMarkovPpk m;
+  m.white_h_m = 0.003, m.white_v_m = 0.005;
+  m.gm_h_m = 0.008, m.gm_v_m = 0.014;
+  m.tau_h_s = tau_s, m.tau_v_s = tau_s;
+  return m;
+}
+
 PpkJointCovariance ppk_joint_covariance(const std::vector<double>& t, const GaussMarkovPpk& m) {
   if (t.size() > kMaxCrbEpochs)
     refuse(std::to_string(t.size()) + " epochs: the dense Σ_PPK is limited to " +

@@ -83,6 +83,10 @@ struct GaussMarkovPpk {
   Eigen::Vector3d total_sigma() const;
 };
 
+/// The measured mission's PPK errors (docs/simulator.md "A realistic preset"): white 0.3 / 0.5 cm,
+/// GM 0.8 / 1.4 cm (horizontal / vertical), time constant `tau_s` on both.
+GaussMarkovPpk measured_ppk_model(double tau_s = 30);
+
 /// Σ_PPK over all epochs (3N × 3N, epoch-major: E, N, U of epoch 0, then epoch 1, …) and its inverse.
 struct PpkJointCovariance {
   Eigen::MatrixXd cov;

@@ -53,6 +53,17 @@ Camera range_camera_at(const std::string& id, const Eigen::Vector3d& center, con
   return cam;
 }
 
+TsaiSensor tsai_sensor_of(const Camera& cam) {
+  TsaiSensor s;
+  s.width_px = cam.intr.width_px;
+  s.height_px = cam.intr.height_px;
+  s.dx_mm = cam.intr.dx_mm;
+  s.dy_mm = cam.intr.dy_mm;
+  s.u0_px = cam.intr.u0_px;
+  s.v0_px = cam.intr.v0_px;
+  return s;
+}
+
 Camera range_camera(double k1_per_mm2, double sx, double du_px, double dv_px) {
   Camera cam = range_camera_at("range_cam", {0.0, 0.0, 1.5}, {0.5, 64.0, 7.5}, k1_per_mm2,
                                {639.5 + du_px, 399.5 + dv_px});

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "vision/calibration/point_correspondence.hpp"
+#include "vision/calibration/tsai.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
 
@@ -37,6 +38,9 @@ Camera range_camera_at(const std::string& id, const Eigen::Vector3d& center, con
 /// The paper-like range camera: 1280×800, 20 µm, f = 135 mm, u0 = 639.5 + du, v0 = 399.5 + dv,
 /// given sx and k1 (mm⁻², distorted → undistorted), centre (0, 0, 1.5), looking at (0.5, 64, 7.5).
 Camera range_camera(double k1_per_mm2 = 0.0, double sx = 1.0, double du_px = 0.0, double dv_px = 0.0);
+
+/// Tsai's sensor description of `cam` (size, pixel pitch, principal point).
+TsaiSensor tsai_sensor_of(const Camera& cam);
 
 struct RangeSceneOptions {
   int points_per_ascent = 40;  ///< lamp points on each of the 3 vertical ascents (evenly in height)

@@ -27,21 +27,12 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-/// The measured mission's PPK errors: white 0.3 / 0.5 cm, GM 0.8 / 1.4 cm (horizontal / vertical), τ = 30 s.
-GaussMarkovPpk measured_model() {
-  GaussMarkovPpk m;
-  m.white_h_m = 0.003, m.white_v_m = 0.005;
-  m.gm_h_m = 0.008, m.gm_v_m = 0.014;
-  m.tau_h_s = 30, m.tau_v_s = 30;
-  return m;
-}
-
 TEST(CorrelatedCrb, DrawnErrorsHaveTheModelledCovariance) {
   // 20 epochs at 5 Hz, a 12 s gap, 20 more: lags within and across the gap. τ = 5 s so that the
   // correlation falls from 0.96 to 0.04 over the series.
   std::vector<double> t;
   for (int k = 0; k < 40; ++k) t.push_back(0.2 * k + (k >= 20 ? 12.0 : 0.0));
-  GaussMarkovPpk m = measured_model();
+  GaussMarkovPpk m = measured_ppk_model();
   m.tau_h_s = 5, m.tau_v_s = 5;
   const PpkJointCovariance model = ppk_joint_covariance(t, m);
   constexpr int kDraws = 10000;
@@ -79,7 +70,7 @@ struct SettingFigures {
 
 TEST(CorrelatedCrb, MeasuredMissionSetting) {
   const auto t0 = std::chrono::steady_clock::now();
-  const GaussMarkovPpk model = measured_model();
+  const GaussMarkovPpk model = measured_ppk_model();
   const CrbNetwork lamp_only = ascent_network();
   const PpkJointCovariance truth = ppk_joint_covariance(lamp_only.epoch_time_s, model);
   const PpkJointCovariance white = ppk_joint_covariance(lamp_only.epoch_time_s, model.as_white());
@@ -205,7 +196,7 @@ TEST(CorrelatedCrb, MonteCarloOfTheWhiteNetworkMatchesTheSandwich) {
   // relative tilt, σ ~2 µrad — carries ~6× its linear variance from second-order terms of the
   // cm-sized datum errors, and the mean d² is 21; every other direction and the intersection σ
   // stay linear.)
-  GaussMarkovPpk small = measured_model();
+  GaussMarkovPpk small = measured_ppk_model();
   small.white_h_m *= 0.1, small.white_v_m *= 0.1, small.gm_h_m *= 0.1, small.gm_v_m *= 0.1;
   const MonteCarloFigures lin = white_network_monte_carlo(small, kDraws, 2024);
   // d² ~ χ²_p per draw if the sandwich is right: its mean over the draws has sd √(2p/D); 4 sd.
@@ -216,7 +207,7 @@ TEST(CorrelatedCrb, MonteCarloOfTheWhiteNetworkMatchesTheSandwich) {
   EXPECT_NEAR(lin.e2_mean, lin.sandwich_m * lin.sandwich_m, 4 * lin.e2_sd);
   // At the measured size: the mean squared intersection error against the sandwich's, within 4 of
   // its sampling sd, and far above what the white network believes.
-  const MonteCarloFigures full = white_network_monte_carlo(measured_model(), kDraws, 2025);
+  const MonteCarloFigures full = white_network_monte_carlo(measured_ppk_model(), kDraws, 2025);
   EXPECT_NEAR(full.e2_mean, full.sandwich_m * full.sandwich_m, 4 * full.e2_sd);
   EXPECT_GT(std::sqrt(full.e2_mean), 3 * full.believed_m);
   std::printf("Monte Carlo test took %.1f s\n",

@@ -25,16 +25,6 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-/// White 0.3 / 0.5 cm, GM 0.8 / 1.4 cm (horizontal / vertical) at time constant `tau_s`: the
-/// measured mission's errors (docs/simulator.md, "Correlated PPK errors").
-GaussMarkovPpk measured_model(double tau_s = 30) {
-  GaussMarkovPpk m;
-  m.white_h_m = 0.003, m.white_v_m = 0.005;
-  m.gm_h_m = 0.008, m.gm_v_m = 0.014;
-  m.tau_h_s = tau_s, m.tau_v_s = tau_s;
-  return m;
-}
-
 /// The network's error model for fixes whose .pos covariance is the model's total
 /// (network_input): white scale = white / total per axis, the GM part as it is.
 PpkErrorModel network_model(const GaussMarkovPpk& m) {
@@ -100,7 +90,7 @@ void expect_network_equals_bound(const CrbNetwork& n, const GaussMarkovPpk& mode
 TEST(NetworkGaussMarkov, WhiteNetworkIsTheWhiteBound) {
   AscentNetworkOptions o;
   o.rate_hz = 2;  // ~240 epochs: the same geometry, a quicker solve
-  const GaussMarkovPpk white = measured_model().as_white();
+  const GaussMarkovPpk white = measured_ppk_model().as_white();
   expect_network_equals_bound(ascent_network(o), white, false, "white, lamp only");
   o.control_poles = 2, o.station_sigma_m = 0.005;
   expect_network_equals_bound(ascent_network(o), white, false, "white, 2 poles + stations");
@@ -110,7 +100,7 @@ TEST(NetworkGaussMarkov, CorrelatedNetworkIsTheCorrelatedBound) {
   AscentNetworkOptions o;
   o.rate_hz = 2;
   for (double tau : {10.0, 100.0}) {
-    const GaussMarkovPpk m = measured_model(tau);
+    const GaussMarkovPpk m = measured_ppk_model(tau);
     o.control_poles = 0, o.station_sigma_m = 0;
     expect_network_equals_bound(ascent_network(o), m, true,
                                 tau < 50 ? "τ 10 s, lamp only" : "τ 100 s, lamp only");
@@ -177,9 +167,9 @@ TEST(NetworkGaussMarkov, VanishingGaussMarkovPartIsTheWhiteNetwork) {
     if (seen[v.point] >= 2) shared.push_back(v);
   std::printf("%zu of %zu views on points seen twice\n", shared.size(), n.views.size());
   n.views = shared;
-  const GaussMarkovPpk white = measured_model().as_white();
+  const GaussMarkovPpk white = measured_ppk_model().as_white();
   DeterministicRandom rng(5);
-  const NetworkInput in = network_input(n, white, draw_noise(n, measured_model(), &rng));
+  const NetworkInput in = network_input(n, white, draw_noise(n, measured_ppk_model(), &rng));
   // Plain least squares: both are then the exact minimisers of one model (the white network
   // eliminates its single-view points analytically, the chained network carries them).
   NetworkOptions plain;
@@ -222,7 +212,7 @@ TEST(NetworkGaussMarkov, PointCovarianceMatchesItsScatter) {
   AscentNetworkOptions o;
   o.ascents = 3, o.rate_hz = 2, o.control_poles = 2;
   const CrbNetwork n = ascent_network(o);
-  const GaussMarkovPpk m = measured_model(30);
+  const GaussMarkovPpk m = measured_ppk_model(30);
   NetworkOptions opt;
   opt.loss = RobustLoss::none;
   opt.resolve_without_outliers = false;
@@ -288,16 +278,9 @@ MonteCarloRun honesty_monte_carlo(const CrbNetwork& n, const GaussMarkovPpk& mod
         const CalibrationResult& cal = r.cameras[c].calibration;
         const VectorXd e = free_values(n, c, cal.camera) - free_values(n, c, n.cameras[c].truth);
         err.segment(bound.offset[c], e.size()) = e;
+        // The network's joint covariance in the bound's order, cross-camera blocks included.
         const std::vector<CameraParameter>& mine = n.cameras[c].free;
-        for (std::size_t a = 0; a < mine.size(); ++a)
-          for (std::size_t b = 0; b < mine.size(); ++b)
-            predicted.joint(bound.offset[c] + static_cast<Eigen::Index>(a),
-                            bound.offset[c] + static_cast<Eigen::Index>(b)) =
-                r.joint_covariance(r.joint_offset[c] + cal.parameter_index(mine[a]),
-                                   r.joint_offset[c] + cal.parameter_index(mine[b]));
-        // Cross-camera blocks.
         for (std::size_t c2 = 0; c2 < n.cameras.size(); ++c2) {
-          if (c2 == c) continue;
           const CalibrationResult& cal2 = r.cameras[c2].calibration;
           const std::vector<CameraParameter>& other = n.cameras[c2].free;
           for (std::size_t a = 0; a < mine.size(); ++a)
@@ -351,7 +334,7 @@ TEST(NetworkGaussMarkov, SigmaHoldsUnderCorrelatedErrors) {
   constexpr int kMissions = 40;
   std::uint64_t seed = 300;
   for (double tau : {10.0, 30.0, 100.0}) {
-    const MonteCarloRun run = honesty_monte_carlo(n, measured_model(tau), kMissions, seed++);
+    const MonteCarloRun run = honesty_monte_carlo(n, measured_ppk_model(tau), kMissions, seed++);
     std::printf("τ = %.0f s, %d missions, %zu epochs, 2 control poles:\n", tau, kMissions, n.epochs.size());
     print("correlated", run.correlated);
     print("white", run.white);
@@ -375,7 +358,7 @@ TEST(NetworkGaussMarkov, SurveyedStationsLowerTheErrorAgain) {
   // error falls again, and stays honest.
   AscentNetworkOptions o;
   o.rate_hz = 2, o.control_poles = 2;
-  const GaussMarkovPpk m = measured_model(30);
+  const GaussMarkovPpk m = measured_ppk_model(30);
   const MonteCarloRun poles = honesty_monte_carlo(ascent_network(o), m, 24, 401);
   o.station_sigma_m = 0.005;
   const MonteCarloRun stations = honesty_monte_carlo(ascent_network(o), m, 24, 401);

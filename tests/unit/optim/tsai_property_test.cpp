@@ -137,17 +137,6 @@ Placement random_placement(std::uint64_t seed) {
   return p;
 }
 
-TsaiSensor sensor_of(const Camera& cam) {
-  TsaiSensor s;
-  s.width_px = cam.intr.width_px;
-  s.height_px = cam.intr.height_px;
-  s.dx_mm = cam.intr.dx_mm;
-  s.dy_mm = cam.intr.dy_mm;
-  s.u0_px = cam.intr.u0_px;
-  s.v0_px = cam.intr.v0_px;
-  return s;
-}
-
 // RMS image distance (px) between where `est` and the truth put the true world points: the error of
 // the estimate against the simulated truth, in the units a range reads it in.
 double image_error_px(const Camera& est, const Placement& p) {
@@ -188,14 +177,14 @@ Errors run_methods(const Placement& p, const std::string& name) {
   try {
     TsaiOptions o;
     o.nominal_f_mm = p.nominal_f_mm;
-    e.tsai = image_error_px(tsai_calibrate(p.pts, sensor_of(p.truth), o).camera, p);
+    e.tsai = image_error_px(tsai_calibrate(p.pts, test::tsai_sensor_of(p.truth), o).camera, p);
   } catch (const Error& err) {
     ADD_FAILURE() << name << ": tsai refused a well-posed problem: " << err.what();
   }
   try {
     TsaiSassaOptions o;
     o.nominal_f_mm = p.nominal_f_mm;
-    const TsaiSassaResult r = tsai_sassa_calibrate(p.pts, sensor_of(p.truth), o);
+    const TsaiSassaResult r = tsai_sassa_calibrate(p.pts, test::tsai_sensor_of(p.truth), o);
     e.tsai_sassa = image_error_px(r.camera, p);
     e.sassa_start = r.start.source;
     e.sassa_f0 = r.theta0[0];
@@ -318,28 +307,29 @@ TEST(TsaiProperty, OnTheFocalLengthRidgeTheSearchStartsFromTheNominalFocalLength
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     const Placement p = ridge_placement(seed);
     ASSERT_GE(p.pts.size(), 100u);
-    TsaiStep1 s1 = tsai_step1(p.pts, sensor_of(p.truth));
+    TsaiStep1 s1 = tsai_step1(p.pts, test::tsai_sensor_of(p.truth));
     TsaiStep1 s1_linear = s1;
     try {
-      tsai_linear_f_tz(p.pts, sensor_of(p.truth), &s1_linear);  // Tsai's eq. 15 as published
+      tsai_linear_f_tz(p.pts, test::tsai_sensor_of(p.truth), &s1_linear);  // Tsai's eq. 15 as published
     } catch (const Error&) {
       ++behind;
     }
-    const TsaiStart with_lens = tsai_f_tz_start(p.pts, sensor_of(p.truth), &s1, p.nominal_f_mm);
+    const TsaiStart with_lens = tsai_f_tz_start(p.pts, test::tsai_sensor_of(p.truth), &s1, p.nominal_f_mm);
     linear_f.push_back(with_lens.f_linear_mm);
     if (with_lens.f_linear_rel_sigma <= 0.1) continue;
     ++ill;
     EXPECT_EQ(with_lens.source, TsaiStartSource::nominal_focal_length);
     EXPECT_EQ(with_lens.f_mm, p.nominal_f_mm);
-    TsaiStep1 s1b = tsai_step1(p.pts, sensor_of(p.truth));
-    EXPECT_EQ(tsai_f_tz_start(p.pts, sensor_of(p.truth), &s1b, 0).source, TsaiStartSource::depth_profile);
+    TsaiStep1 s1b = tsai_step1(p.pts, test::tsai_sensor_of(p.truth));
+    EXPECT_EQ(tsai_f_tz_start(p.pts, test::tsai_sensor_of(p.truth), &s1b, 0).source,
+              TsaiStartSource::depth_profile);
 
     const Errors e = run_methods(p, "ridge draw " + std::to_string(seed));
     EXPECT_EQ(e.sassa_start, TsaiStartSource::nominal_focal_length);
     EXPECT_EQ(e.sassa_f0, p.nominal_f_mm);
     ratios.push_back(e.tsai / e.bundle);
     ratios.push_back(e.tsai_sassa / e.bundle);
-    TsaiResult no_lens = tsai_calibrate(p.pts, sensor_of(p.truth));
+    TsaiResult no_lens = tsai_calibrate(p.pts, test::tsai_sensor_of(p.truth));
     EXPECT_EQ(no_lens.start.source, TsaiStartSource::depth_profile);
     ratios.push_back(image_error_px(no_lens.camera, p) / e.bundle);
   }
@@ -420,7 +410,7 @@ void expect_refused(const std::vector<PointCorrespondence>& pts, const TsaiSenso
 
 TEST(TsaiProperty, OnlyDegenerateDataAreRefused) {
   const Placement p = narrow_field_placement(0.3, 1, 700);
-  const TsaiSensor s = sensor_of(p.truth);
+  const TsaiSensor s = test::tsai_sensor_of(p.truth);
   const Eigen::Vector3d C = p.truth.pose.center();
   const Eigen::Vector3d axis = p.truth.pose.R.row(2).transpose();
   const Eigen::Vector3d across = axis.cross(Eigen::Vector3d::UnitZ()).normalized();

@@ -15,17 +15,6 @@
 namespace rangecal {
 namespace {
 
-TsaiSensor sensor_of(const Camera& cam) {
-  TsaiSensor s;
-  s.width_px = cam.intr.width_px;
-  s.height_px = cam.intr.height_px;
-  s.dx_mm = cam.intr.dx_mm;
-  s.dy_mm = cam.intr.dy_mm;
-  s.u0_px = cam.intr.u0_px;
-  s.v0_px = cam.intr.v0_px;
-  return s;
-}
-
 std::vector<PointCorrespondence> read_xyzuv(const std::string& path) {
   std::ifstream in(path);
   std::vector<PointCorrespondence> pts;
@@ -40,7 +29,7 @@ TEST(Tsai, NoiseFreeRangeSceneRecoversTruth) {
   const Camera truth = test::range_camera(-2.0e-4, 1.0025, 3.0, -2.0);
   const auto pts = test::observe(truth, test::range_world_points(truth));
   ASSERT_GE(pts.size(), 100u);
-  const TsaiResult r = tsai_calibrate(pts, sensor_of(truth));
+  const TsaiResult r = tsai_calibrate(pts, test::tsai_sensor_of(truth));
   EXPECT_TRUE(r.converged);
   EXPECT_NEAR(r.camera.intr.f_mm / truth.intr.f_mm, 1.0, 1e-6);
   EXPECT_NEAR(r.camera.intr.sx, truth.intr.sx, 1e-8);
@@ -60,14 +49,14 @@ TEST(Tsai, StepOneIsExactUnderRadialDistortion) {
   // The radial alignment constraint makes step 1 independent of k1 (Tsai 1987 §III.B).
   const Camera truth = test::range_camera(-4.0e-4, 0.997, -5.0, 4.0);
   const auto pts = test::observe(truth, test::range_world_points(truth));
-  const TsaiStep1 s1 = tsai_step1(pts, sensor_of(truth));
+  const TsaiStep1 s1 = tsai_step1(pts, test::tsai_sensor_of(truth));
   EXPECT_NEAR(s1.sx, truth.intr.sx, 1e-9);
   EXPECT_NEAR(s1.Tx, truth.pose.T.x(), 1e-7);
   EXPECT_NEAR(s1.Ty, truth.pose.T.y(), 1e-7);
   EXPECT_LT(test::rotation_angle_between(s1.R, truth.pose.R), 1e-9);
   // The eq. 13 objective is zero at the truth and positive elsewhere.
-  EXPECT_LT(tsai_eq13_cost(pts, sensor_of(truth), s1, 135.0, truth.pose.T.z(), -4.0e-4), 1e-20);
-  EXPECT_GT(tsai_eq13_cost(pts, sensor_of(truth), s1, 135.5, truth.pose.T.z(), -4.0e-4), 1e-8);
+  EXPECT_LT(tsai_eq13_cost(pts, test::tsai_sensor_of(truth), s1, 135.0, truth.pose.T.z(), -4.0e-4), 1e-20);
+  EXPECT_GT(tsai_eq13_cost(pts, test::tsai_sensor_of(truth), s1, 135.5, truth.pose.T.z(), -4.0e-4), 1e-8);
 }
 
 TEST(Tsai, GenericCameraWithDefaultPrincipalPoint) {
@@ -76,7 +65,7 @@ TEST(Tsai, GenericCameraWithDefaultPrincipalPoint) {
   truth.intr.u0_px = 319.5;
   truth.intr.v0_px = 239.5;
   const auto pts = test::observe(truth, test::frustum_points(truth, 60, 2.0, 5.0, 7));
-  TsaiSensor s = sensor_of(truth);
+  TsaiSensor s = test::tsai_sensor_of(truth);
   s.u0_px = s.v0_px = std::numeric_limits<double>::quiet_NaN();
   const TsaiResult r = tsai_calibrate(pts, s);
   EXPECT_DOUBLE_EQ(r.camera.intr.u0_px, 319.5);
@@ -226,7 +215,7 @@ TEST_P(TsaiWeakSpot, NoiseFreeRecoversTruth) {
   const Camera truth = weak_spot_camera(GetParam().T);
   const auto pts = weak_spot_points(truth, 0.0, 1);
   ASSERT_EQ(pts.size(), 80u);
-  const TsaiResult r = tsai_calibrate(pts, sensor_of(truth));
+  const TsaiResult r = tsai_calibrate(pts, test::tsai_sensor_of(truth));
   std::printf("%s: Ty ratio %.3g, f %.3g rel, k1 %.3g rel, sx %.3g, R %.3g rad, T %.3g m, rms %.3g px\n",
               GetParam().name, r.step1.ty_ratio, r.camera.intr.f_mm / truth.intr.f_mm - 1,
               r.camera.intr.dist.k1 / truth.intr.dist.k1 - 1, r.camera.intr.sx - truth.intr.sx,
@@ -265,8 +254,8 @@ TEST_P(TsaiWeakSpot, NoisyAsAccurateAsAWellPlacedOrigin) {
                               max_weak = ss_weak;
   double max_T_err = 0, ss_T_well = 0;
   for (int seed = 1; seed <= n; ++seed) {
-    const TsaiResult rw = tsai_calibrate(weak_spot_points(truth, 0.1, seed), sensor_of(truth));
-    const TsaiResult rg = tsai_calibrate(weak_spot_points(well, 0.1, seed), sensor_of(well));
+    const TsaiResult rw = tsai_calibrate(weak_spot_points(truth, 0.1, seed), test::tsai_sensor_of(truth));
+    const TsaiResult rg = tsai_calibrate(weak_spot_points(well, 0.1, seed), test::tsai_sensor_of(well));
     ASSERT_LT(rw.step1.ty_ratio, 0.1);
     const auto ew = errors(rw, truth), eg = errors(rg, well);
     ss_weak += ew.cwiseAbs2();
@@ -296,10 +285,10 @@ TEST_P(TsaiWeakSpot, NoisyAsAccurateAsAWellPlacedOrigin) {
 // translation, so only rounding differs).
 TEST(Tsai, WeakSpotResultDoesNotDependOnTheOriginPlacement) {
   const Camera first = weak_spot_camera(kWeakPlacements[0].T);
-  const TsaiResult r0 = tsai_calibrate(weak_spot_points(first, 0.1, 3), sensor_of(first));
+  const TsaiResult r0 = tsai_calibrate(weak_spot_points(first, 0.1, 3), test::tsai_sensor_of(first));
   for (const Placement& p : kWeakPlacements) {
     const Camera truth = weak_spot_camera(p.T);
-    const TsaiResult r = tsai_calibrate(weak_spot_points(truth, 0.1, 3), sensor_of(truth));
+    const TsaiResult r = tsai_calibrate(weak_spot_points(truth, 0.1, 3), test::tsai_sensor_of(truth));
     EXPECT_NEAR(r.camera.intr.f_mm, r0.camera.intr.f_mm, 1e-9 * r0.camera.intr.f_mm) << p.name;
     EXPECT_NEAR(r.camera.intr.dist.k1, r0.camera.intr.dist.k1, 1e-8 * std::abs(r0.camera.intr.dist.k1))
         << p.name;
@@ -323,7 +312,7 @@ INSTANTIATE_TEST_SUITE_P(Placements, TsaiWeakSpot, ::testing::ValuesIn(kWeakPlac
 TEST(Tsai, ResultDoesNotDependOnTheWorldFrame) {
   const Camera range = test::range_camera(-2.0e-4, 1.0025, 3.0, -2.0);
   const auto pts = test::observe(range, test::range_world_points(range), 0.1, 0.0, 5);
-  const TsaiResult ref = tsai_calibrate(pts, sensor_of(range));
+  const TsaiResult ref = tsai_calibrate(pts, test::tsai_sensor_of(range));
   const Eigen::Vector3d C = range.pose.center();
   const Eigen::Matrix3d Q =
       (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitX()))
@@ -340,7 +329,7 @@ TEST(Tsai, ResultDoesNotDependOnTheWorldFrame) {
   for (const Frame& fr : frames) {
     std::vector<PointCorrespondence> moved = pts;
     for (auto& p : moved) p.world = fr.Q * p.world + fr.t;
-    const TsaiResult r = tsai_calibrate(moved, sensor_of(range));
+    const TsaiResult r = tsai_calibrate(moved, test::tsai_sensor_of(range));
     EXPECT_NEAR(r.camera.intr.f_mm, ref.camera.intr.f_mm, 1e-8 * ref.camera.intr.f_mm) << fr.name;
     EXPECT_NEAR(r.camera.intr.sx, ref.camera.intr.sx, 1e-10) << fr.name;
     EXPECT_NEAR(r.camera.intr.dist.k1, ref.camera.intr.dist.k1, 1e-7 * std::abs(ref.camera.intr.dist.k1))
@@ -368,7 +357,7 @@ void expect_calibration_error(const std::vector<PointCorrespondence>& pts, const
 
 TEST(Tsai, DegenerateInputsAreCalibrationErrors) {
   const Camera truth = test::range_camera(-2.0e-4);
-  const TsaiSensor s = sensor_of(truth);
+  const TsaiSensor s = test::tsai_sensor_of(truth);
   const auto all = test::observe(truth, test::range_world_points(truth));
   // Fewer points than unknowns.
   expect_calibration_error({all.begin(), all.begin() + 6}, s, "too few points");
