@@ -18,7 +18,7 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-void add_camera_gradient(std::size_t c, const VectorXd& g, PointLinearisation* pl) {
+void add_camera_gradient(std::size_t c, const CameraGradient& g, PointLinearisation* pl) {
   for (auto& [camera, sum] : pl->grad_camera)
     if (camera == c) {
       sum += g;

@@ -25,6 +25,9 @@ namespace rangecal {
 /// A camera's free columns against a point's three (n_free × 3; fixed capacity, no heap).
 using CameraPointBlock = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, kBundleParameterCount, 3>;
 
+/// A camera's free columns of a gradient (fixed capacity, no heap).
+using CameraGradient = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kBundleParameterCount, 1>;
+
 /// One point's share of the normal equations.
 struct PointLinearisation {
   Eigen::Matrix3d V = Eigen::Matrix3d::Zero();  ///< V_k (m⁻²)
@@ -38,8 +41,7 @@ struct PointLinearisation {
   /// fix), and per observing camera (its free columns), as W lists the cameras.
   Eigen::Vector3d grad_point = Eigen::Vector3d::Zero();
   Eigen::Vector3d grad_state = Eigen::Vector3d::Zero();
-  std::vector<std::pair<std::size_t, Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kBundleParameterCount, 1>>>
-      grad_camera;
+  std::vector<std::pair<std::size_t, CameraGradient>> grad_camera;
 };
 
 /// V_k and W_k of point k at `blocks` over the selection; when `U` is given, the observations'
