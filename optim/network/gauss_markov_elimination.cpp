@@ -36,11 +36,15 @@ BlockBidiagonal factor(const GaussMarkovSystem& g) {
 }  // namespace
 
 std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* g, Eigen::MatrixXd* S,
-                                                    Eigen::VectorXd* state_rhs, Eigen::VectorXd* camera_rhs) {
+                                                    Eigen::VectorXd* state_rhs, Eigen::VectorXd* camera_rhs,
+                                                    double* log_det) {
   const std::size_t n = g->diagonal.size();
   std::vector<Eigen::Matrix3d> inverse_diagonal(n, Eigen::Matrix3d::Zero());
+  if (log_det) *log_det = 0;
   if (n == 0) return inverse_diagonal;
   const BlockBidiagonal L = factor(*g);
+  if (log_det)
+    for (const Eigen::Matrix3d& Ljj : L.diagonal) *log_det += 2 * Ljj.diagonal().array().log().sum();
   Eigen::MatrixXd& Y = g->B;
   const auto rows = [](std::size_t j) { return Eigen::seqN(3 * static_cast<Eigen::Index>(j), 3); };
   // Forward: Y_j = L_jj⁻¹·(B_j − L_{j,j−1}·Y_{j−1}).

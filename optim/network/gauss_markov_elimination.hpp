@@ -24,10 +24,12 @@ struct GaussMarkovSystem {
 
 /// Eliminates the states: S −= Bᵀ·G⁻¹·B (both triangles of S kept), system->B replaced by Z = G⁻¹·B.
 /// With `state_rhs` (b_g) and `camera_rhs` (b_c) for a Gauss–Newton step: b_c −= Bᵀ·G⁻¹·b_g and
-/// b_g replaced by G⁻¹·b_g. Returns the diagonal blocks of G⁻¹. Throws rangecal::Error
+/// b_g replaced by G⁻¹·b_g. With `log_det`, log|G| (from the factor's diagonal, for the restricted
+/// likelihood: ppk_error_estimation.hpp). Returns the diagonal blocks of G⁻¹. Throws rangecal::Error
 /// (calibration) when G is not positive definite.
 std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* system, Eigen::MatrixXd* S,
                                                     Eigen::VectorXd* state_rhs = nullptr,
-                                                    Eigen::VectorXd* camera_rhs = nullptr);
+                                                    Eigen::VectorXd* camera_rhs = nullptr,
+                                                    double* log_det = nullptr);
 
 }  // namespace rangecal

@@ -16,6 +16,7 @@
 #include "optim/network/network_input_checks.hpp"
 #include "optim/network/network_outliers.hpp"
 #include "optim/network/network_parameters.hpp"
+#include "optim/network/ppk_error_estimation.hpp"
 
 namespace rangecal {
 namespace {
@@ -363,45 +364,56 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
 
   // 3. Plain least squares without them, weights at the robust solution as the per-camera bundle.
   if (options.resolve_without_outliers) drop_image_outliers(layout, test, &selection);
-  if (correlated) {
-    refresh_single_view(layout, blocks, &selection);
+  // Under an estimated model the final solve is on the estimate, white or correlated.
+  NetworkLayout estimated;
+  if (options.estimate_ppk_error) {
+    out.ppk_estimate = estimate_ppk_error_model(separating, blocks, selection);
+    out.ppk_error = out.ppk_estimate->model;
+    estimated = make_network_layout(cameras, points, observations, out.ppk_error);
+    out.gauss_markov_states = static_cast<int>(estimated.gm_chain.size());
+    blocks.gm.assign(estimated.gm_chain.size(), {0.0, 0.0, 0.0});
+  }
+  const NetworkLayout& final_layout = options.estimate_ppk_error ? estimated : layout;
+  if (correlated || options.estimate_ppk_error) {
+    refresh_single_view(final_layout, blocks, &selection);
     stats.iterations +=
-        network_gauss_newton(layout, &blocks, selection, kFinalTolerance, options.max_iterations);
+        network_gauss_newton(final_layout, &blocks, selection, kFinalTolerance, options.max_iterations);
     ++n_solves;
-    test = test_image_observations(layout, blocks, selection, options.outlier_threshold);
+    test = test_image_observations(final_layout, blocks, selection, options.outlier_threshold);
   } else if (options.resolve_without_outliers) {
-    refresh_single_view(layout, blocks, &selection);
+    refresh_single_view(final_layout, blocks, &selection);
     problem.select(selection);
     stats.iterations += problem.solve(RobustLoss::none, options.loss_scale, kFinalTolerance,
                                       options.max_iterations, options.num_threads);
     ++n_solves;
-    test = test_image_observations(layout, blocks, selection, options.outlier_threshold);
+    test = test_image_observations(final_layout, blocks, selection, options.outlier_threshold);
   }
 
   // 4. Joint covariance (Schur complement) and the points', single-view weights at the solution.
-  refresh_single_view(layout, blocks, &selection);
-  const NetworkCovariance cov = network_covariance(layout, blocks, selection, scene_distance(layout),
-                                                   max_speed(layout), options.rank_tolerance);
-  fill_statistics(layout, selection, cov, &stats);
-  count_ppk_looks(layout, selection, &stats);
+  refresh_single_view(final_layout, blocks, &selection);
+  const NetworkCovariance cov =
+      network_covariance(final_layout, blocks, selection, scene_distance(final_layout),
+                         max_speed(final_layout), options.rank_tolerance);
+  fill_statistics(final_layout, selection, cov, &stats);
+  count_ppk_looks(final_layout, selection, &stats);
   const bool scaled = options.scale_covariance && std::isfinite(stats.variance_factor);
   if (cov.joint.size() > 0)
     out.joint_covariance = scaled ? Eigen::MatrixXd(cov.joint * stats.variance_factor) : cov.joint;
-  out.joint_offset = layout.offset;
-  fill_point_results(layout, selection, cov, &out.points);
+  out.joint_offset = final_layout.offset;
+  fill_point_results(final_layout, selection, cov, &out.points);
   if (stats.float_epochs_used > 0)
-    out.float_epochs = float_epoch_contribution(layout, blocks, selection, cov, stats.float_epochs_used,
+    out.float_epochs = float_epoch_contribution(final_layout, blocks, selection, cov, stats.float_epochs_used,
                                                 options.rank_tolerance);
   out.warnings = cov.warnings;
-  add_datum_floor(layout, blocks, selection, options, scaled ? stats.variance_factor : 1.0, &out);
-  add_network_warnings(layout, stats, &out.warnings);
+  add_datum_floor(final_layout, blocks, selection, options, scaled ? stats.variance_factor : 1.0, &out);
+  add_network_warnings(final_layout, stats, &out.warnings);
 
   // 5. Per camera.
   out.camera_observations.resize(cameras.size());
   for (std::size_t i = 0; i < observations.size(); ++i)
     out.camera_observations[observations[i].camera].push_back(i);
   for (std::size_t c = 0; c < cameras.size(); ++c)
-    out.cameras.push_back(camera_result(layout, blocks, c, out.camera_observations[c], test, dropped,
+    out.cameras.push_back(camera_result(final_layout, blocks, c, out.camera_observations[c], test, dropped,
                                         selection, cov, stats, n_solves, options.scale_covariance));
   return out;
 }

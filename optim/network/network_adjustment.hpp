@@ -22,6 +22,7 @@
 // per-camera bundle would: eliminating a point seen once under its prior gives the bundle's
 // effective pixel covariance σ_px²·I + J_X·Σ_X·J_Xᵀ (Woodbury identity).
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,10 @@ struct NetworkOptions {
   /// .pos covariance; with a Gauss–Markov part the epochs with a time (NetworkPoint::time_s) are
   /// chained.
   PpkErrorModel ppk_error;
+  /// Estimate the model from the mission (ppk_error_estimation.hpp) instead: `ppk_error` then only
+  /// weighs the robust solve and the outlier tests (white by default), the final solve and every σ
+  /// use the estimate.
+  bool estimate_ppk_error = false;
 };
 
 /// The network's datum floor (docs/accuracy_analysis.md, "Datum floor"): its joint covariance with
@@ -138,7 +143,9 @@ struct NetworkResult {
   double datum_floor_image_factor = 0;
   std::vector<std::string> warnings;  ///< network-wide (camera warnings are in each calibration)
   PpkErrorModel ppk_error;            ///< the model the fixes were weighed by (NetworkOptions::ppk_error)
-  int gauss_markov_states = 0;        ///< epochs in its chain (0: white)
+  /// The estimate, when NetworkOptions::estimate_ppk_error (ppk_error is then its model).
+  std::optional<PpkErrorEstimate> ppk_estimate;
+  int gauss_markov_states = 0;  ///< epochs in its chain (0: white)
 };
 
 /// Adjusts the network. Throws rangecal::Error: calibration kind for non-finite input (naming

@@ -78,45 +78,6 @@ void image_jacobian(const NetworkLayout& l, const NetworkParameterBlocks& b, std
   *r = w * (pj.uv - o.pixel);
 }
 
-/// The camera priors' information and χ² (principal point, centre), as the per-camera bundle's.
-void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, MatrixXd* U, double* chi2,
-                       int* rows, VectorXd* gradient = nullptr) {
-  for (std::size_t c = 0; c < l.setups.size(); ++c) {
-    const BundleSetup& s = l.setups[c];
-    const BundlePriors& pr = (*l.cameras)[c].options.priors;
-    const std::vector<CameraParameter>& fr = l.free[c];
-    auto column = [&](CameraParameter p) {
-      for (std::size_t k = 0; k < fr.size(); ++k)
-        if (fr[k] == p) return l.offset[c] + static_cast<int>(k);
-      return -1;
-    };
-    if (s.principal_point_prior) {
-      const double sg = pr.principal_point_sigma_px;
-      const double e[2] = {(b.cameras[c].intr[2] - pr.principal_point_px.x()) / sg,
-                           (b.cameras[c].intr[3] - pr.principal_point_px.y()) / sg};
-      const CameraParameter ps[2] = {CameraParameter::u0, CameraParameter::v0};
-      for (int a = 0; a < 2; ++a) {
-        const int j = column(ps[a]);
-        if (j >= 0) (*U)(j, j) += 1 / (sg * sg);
-        if (j >= 0 && gradient) (*gradient)[j] += e[a] / sg;
-        *chi2 += e[a] * e[a];
-      }
-      *rows += 2;
-    }
-    if (s.center_prior) {
-      for (int a = 0; a < 3; ++a) {
-        const double sg = pr.center_sigma_m[a];
-        const double e = (b.cameras[c].pose[3 + a] - pr.center_enu_m[a]) / sg;
-        const int j = column(kCenterParameters[a]);
-        if (j >= 0) (*U)(j, j) += 1 / (sg * sg);
-        if (j >= 0 && gradient) (*gradient)[j] += e / sg;
-        *chi2 += e * e;
-      }
-      *rows += 3;
-    }
-  }
-}
-
 /// The camera whose columns hold joint column j.
 std::size_t camera_of_column(const NetworkLayout& l, int j) {
   std::size_t c = 0;
@@ -353,6 +314,44 @@ void chained_point_covariances(const NetworkLayout& l, const EliminatedPoints& p
 }
 
 }  // namespace
+
+void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, MatrixXd* U, double* chi2,
+                       int* rows, VectorXd* gradient) {
+  for (std::size_t c = 0; c < l.setups.size(); ++c) {
+    const BundleSetup& s = l.setups[c];
+    const BundlePriors& pr = (*l.cameras)[c].options.priors;
+    const std::vector<CameraParameter>& fr = l.free[c];
+    auto column = [&](CameraParameter p) {
+      for (std::size_t k = 0; k < fr.size(); ++k)
+        if (fr[k] == p) return l.offset[c] + static_cast<int>(k);
+      return -1;
+    };
+    if (s.principal_point_prior) {
+      const double sg = pr.principal_point_sigma_px;
+      const double e[2] = {(b.cameras[c].intr[2] - pr.principal_point_px.x()) / sg,
+                           (b.cameras[c].intr[3] - pr.principal_point_px.y()) / sg};
+      const CameraParameter ps[2] = {CameraParameter::u0, CameraParameter::v0};
+      for (int a = 0; a < 2; ++a) {
+        const int j = column(ps[a]);
+        if (j >= 0) (*U)(j, j) += 1 / (sg * sg);
+        if (j >= 0 && gradient) (*gradient)[j] += e[a] / sg;
+        *chi2 += e[a] * e[a];
+      }
+      *rows += 2;
+    }
+    if (s.center_prior) {
+      for (int a = 0; a < 3; ++a) {
+        const double sg = pr.center_sigma_m[a];
+        const double e = (b.cameras[c].pose[3 + a] - pr.center_enu_m[a]) / sg;
+        const int j = column(kCenterParameters[a]);
+        if (j >= 0) (*U)(j, j) += 1 / (sg * sg);
+        if (j >= 0 && gradient) (*gradient)[j] += e / sg;
+        *chi2 += e * e;
+      }
+      *rows += 3;
+    }
+  }
+}
 
 PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParameterBlocks& b,
                                    const NetworkSelection& sel, std::size_t k, MatrixXd* U, double* chi2,

@@ -51,6 +51,11 @@ PointLinearisation linearise_point(const NetworkLayout& layout, const NetworkPar
                                    const NetworkSelection& selection, std::size_t k, Eigen::MatrixXd* U,
                                    double* chi2, int* rows);
 
+/// The camera priors' information into `U` (joint columns), their χ² and residual count, and with
+/// `gradient` their share of Jᵀr (principal point, centre: as the per-camera bundle's priors).
+void add_camera_priors(const NetworkLayout& layout, const NetworkParameterBlocks& blocks, Eigen::MatrixXd* U,
+                       double* chi2, int* rows, Eigen::VectorXd* gradient = nullptr);
+
 struct NetworkCovariance {
   Eigen::MatrixXd S;                       ///< reduced camera system (joint columns)
   Eigen::MatrixXd joint;                   ///< S⁻¹, a-priori; empty when rank-deficient

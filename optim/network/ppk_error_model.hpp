@@ -70,6 +70,20 @@ Eigen::Vector3d gauss_markov_looks(const PpkErrorModel& m, const Times& t_s) {
   return looks;
 }
 
+/// The model estimated from the mission itself (optim/network/ppk_error_estimation.hpp; docs/optimisation.md
+/// "Correlated PPK errors — estimation").
+struct PpkErrorEstimate {
+  PpkErrorModel model;  ///< what the network then weighs the fixes by
+  /// 1σ of each estimated parameter (same fields, same units); NaN where the parameter was held.
+  PpkErrorModel sd;
+  bool white = false;           ///< the likelihood-ratio test kept the white model (no GM part)
+  double likelihood_ratio = 0;  ///< 2·(ℓ_GM − ℓ_white), restricted log-likelihoods at their maxima
+  double record_s = 0;          ///< T: first to last fix in the chain (s)
+  /// Per axis (horizontal, vertical): T < kRecordPerTau·τ̂, so τ was held (ppk_error_estimation.hpp).
+  bool tau_held_h = false, tau_held_v = false;
+  int evaluations = 0;  ///< likelihood evaluations
+};
+
 /// Below this many independent looks the datum rests on few PPK samples (docs/accuracy_analysis.md
 /// "Correlated PPK errors"): the run warns.
 inline constexpr double kFewPpkLooks = 10;

@@ -100,6 +100,24 @@ nlohmann::json ppk_error_model_json(const PpkErrorModel& m, int states) {
   return j;
 }
 
+nlohmann::json ppk_error_estimate_json(const PpkErrorEstimate& e) {
+  const auto hv = [](double h, double v) {
+    const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+    return nlohmann::json{{"horizontal", number(h)}, {"vertical", number(v)}};
+  };
+  nlohmann::json j;
+  j["method"] = "restricted maximum likelihood";
+  j["white_kept"] = e.white;
+  j["likelihood_ratio"] = e.likelihood_ratio;
+  j["record_s"] = e.record_s;
+  j["sd"] = {{"white_scale", hv(e.sd.white_scale_h, e.sd.white_scale_v)},
+             {"gauss_markov_sd_m", hv(e.sd.gm_sd_h_m, e.sd.gm_sd_v_m)},
+             {"tau_s", hv(e.sd.tau_h_s, e.sd.tau_v_s)}};
+  j["tau_held"] = {{"horizontal", e.tau_held_h}, {"vertical", e.tau_held_v}};
+  j["evaluations"] = e.evaluations;
+  return j;
+}
+
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc) {
   const NetworkStatistics& s = r.statistics;
   nlohmann::json j;
@@ -122,6 +140,7 @@ nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector
   if (r.gauss_markov_states > 0)
     j["ppk_error_model"]["gauss_markov"]["independent_looks"] = {{"horizontal", s.ppk_looks_h},
                                                                  {"vertical", s.ppk_looks_v}};
+  if (r.ppk_estimate) j["ppk_error_model"]["estimate"] = ppk_error_estimate_json(*r.ppk_estimate);
   return j;
 }
 

@@ -23,6 +23,11 @@ namespace rangecal {
 /// The PPK error model the network weighed the fixes by (docs/outputs.md "network"): white scale and,
 /// for a correlated model, the Gauss–Markov sd, τ and the number of chained epochs (null when white).
 nlohmann::json ppk_error_model_json(const PpkErrorModel& model, int gauss_markov_states);
+
+/// The estimate of the model from the mission (PpkErrorEstimate; docs/outputs.md): each parameter's
+/// σ (null where held), whether the white model was kept, the likelihood ratio, the record length
+/// and which τ were held at the fallback (optim/network/ppk_error_estimation.hpp).
+nlohmann::json ppk_error_estimate_json(const PpkErrorEstimate& estimate);
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 
 /// The statistics object read back (the report's network section): NetworkStatistics with the PPK

@@ -160,7 +160,16 @@ GnssConfig parse_gnss(const Loader& L, const JsonView& g) {
   if (auto v = g.find("max_sd_m"))
     c.max_sd_m = Loader::positive(*v, "a positive standard deviation in metres");
   if (auto v = g.find("max_gap_s")) c.max_gap_s = Loader::positive(*v, "a positive duration in seconds");
-  if (auto v = g.find("error_model")) c.error_model = parse_error_model(*v);
+  if (auto v = g.find("error_model")) {
+    if (v->json().is_string()) {
+      const std::string word = v->json().get<std::string>();
+      if (word != "estimate" && word != "white")
+        v->fail_expected("\"estimate\", \"white\" or an object {\"white_scale\", \"gauss_markov\"}");
+      c.estimate_error_model = word == "estimate";
+    } else {
+      c.error_model = parse_error_model(*v);
+    }
+  }
   return c;
 }
 

@@ -23,6 +23,9 @@ struct GnssConfig {
   /// white scale, Gauss–Markov sd and τ, horizontal and vertical. Default: white, each fix under its
   /// own .pos covariance.
   PpkErrorModel error_model;
+  /// gnss.error_model "estimate": the model is estimated from the mission by the network
+  /// (optim/network/ppk_error_estimation.hpp); error_model then only weighs its robust first solve.
+  bool estimate_error_model = false;
 };
 
 struct LeverArmConfig {

@@ -215,9 +215,10 @@ struct NetworkSolution {
 
 /// Method `network` (docs/optimisation.md "Network bundle"): one joint adjustment of the cameras
 /// through their shared lamp-track epochs.
-NetworkSolution solve_network(const NetworkProblem& n, const LampTrack& track, const PpkErrorModel& ppk) {
+NetworkSolution solve_network(const NetworkProblem& n, const LampTrack& track, const GnssConfig& gnss) {
   NetworkOptions options;
-  options.ppk_error = ppk;
+  options.ppk_error = gnss.error_model;
+  options.estimate_ppk_error = gnss.estimate_error_model;
   // The report sets the flight volume's intersection σ beside this floor (docs/accuracy_analysis.md
   // "Datum floor"); the benchmarked network_adjust leaves it out by default.
   options.datum_floor_image_factor = kDatumFloorImageFactor;
@@ -347,7 +348,7 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
     n = build_network(pass, track, cfg.align.max_frame_offset_s);
     if (automatic) pass.record.method_choice = choose_default_method(shared_epoch_count(n));
     if (!automatic || pass.record.method_choice->method == "network") {
-      solution = solve_network(n, track, cfg.gnss.error_model);
+      solution = solve_network(n, track, cfg.gnss);
       adopt_network_results(*solution, cfg.origin, &pass);
     }
   }

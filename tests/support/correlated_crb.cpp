@@ -445,4 +445,24 @@ Eigen::VectorXd free_values(const CrbNetwork& n, std::size_t c, const Camera& ca
   return values_of(n.cameras[c], cam);
 }
 
+PpkErrorModel network_model(const GaussMarkovPpk& m) {
+  const Eigen::Vector3d total = m.total_sigma();
+  PpkErrorModel e;
+  e.white_scale_h = m.white_h_m / total.x(), e.white_scale_v = m.white_v_m / total.z();
+  e.gm_sd_h_m = m.gm_h_m, e.gm_sd_v_m = m.gm_v_m;
+  e.tau_h_s = m.tau_h_s, e.tau_v_s = m.tau_v_s;
+  return e;
+}
+
+NetworkNoise draw_network_noise(const CrbNetwork& n, const GaussMarkovPpk& model, DeterministicRandom* rng) {
+  NetworkNoise noise;
+  noise.ppk_error = draw_correlated_ppk_errors(n.epoch_time_s, model, rng);
+  const auto normal3 = [&]() { return Eigen::Vector3d(rng->normal(), rng->normal(), rng->normal()); };
+  for (std::size_t j = 0; j < n.poles.size(); ++j) noise.pole_error.push_back(n.pole_sigma_m * normal3());
+  for (const CrbCamera& c : n.cameras) noise.station_error.push_back(c.station_sigma_m * normal3());
+  for (const CrbView& v : n.views)
+    noise.pixel_noise.push_back(v.pixel_sigma_px * Eigen::Vector2d(rng->normal(), rng->normal()));
+  return noise;
+}
+
 }  // namespace rangecal::test

@@ -169,6 +169,13 @@ struct NetworkNoise {
 NetworkInput network_input(const CrbNetwork& n, const GaussMarkovPpk& weights, const NetworkNoise& noise = {},
                            const std::vector<Camera>& start = {});
 
+/// The network's error model for fixes whose .pos covariance is the model's total (network_input):
+/// white scale = white / total per axis, the GM part as it is.
+PpkErrorModel network_model(const GaussMarkovPpk& m);
+
+/// One noisy draw of `n` under `model`: PPK errors, pole and station survey errors, pixel noise.
+NetworkNoise draw_network_noise(const CrbNetwork& n, const GaussMarkovPpk& model, DeterministicRandom* rng);
+
 /// Values of camera `c`'s free parameters of `cam` (rotations: the rotation vector of
 /// cam.R·truth.Rᵀ), to compare an estimate with the truth in CameraJointCovariance's coordinates.
 Eigen::VectorXd free_values(const CrbNetwork& n, std::size_t c, const Camera& cam);

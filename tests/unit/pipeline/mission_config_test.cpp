@@ -425,6 +425,14 @@ TEST(MissionConfig, PpkErrorModelDefaultsToWhiteAndParsesBothForms) {
   EXPECT_FALSE(w.correlated());
   EXPECT_DOUBLE_EQ(w.white_scale_h, 1.5);
   EXPECT_DOUBLE_EQ(w.white_scale_v, 1.5);
+  // Estimated from the mission, or white by name.
+  j["gnss"]["error_model"] = "estimate";
+  EXPECT_TRUE(parse_mission_config(j.dump(), kPath, false).gnss.estimate_error_model);
+  j["gnss"]["error_model"] = "white";
+  const GnssConfig named = parse_mission_config(j.dump(), kPath, false).gnss;
+  EXPECT_FALSE(named.estimate_error_model);
+  EXPECT_FALSE(named.error_model.correlated());
+  EXPECT_DOUBLE_EQ(named.error_model.white_scale_h, 1);
 }
 
 TEST(MissionConfigErrors, PpkErrorModelOutOfRangeOrHalfGiven) {
@@ -447,6 +455,7 @@ TEST(MissionConfigErrors, PpkErrorModelOutOfRangeOrHalfGiven) {
   expect_error(with(R"({"gauss_markov": {"sd_m": 0.01, "tau_s": 30, "tau": 5}})"),
                "gnss.error_model.gauss_markov", "tau");
   expect_error(with(R"({"white_scale": "half"})"), "gnss.error_model.white_scale", "horizontal");
+  expect_error(with(R"("estimated")"), "gnss.error_model", "\"estimate\", \"white\" or an object");
 }
 
 }  // namespace
