@@ -306,6 +306,7 @@ void count_ppk_looks(const NetworkLayout& layout, const NetworkSelection& select
 /// The network-wide warnings on the PPK outliers, the cameras calibrated alone and a datum on few
 /// independent PPK looks.
 void add_network_warnings(const NetworkLayout& layout, const NetworkStatistics& stats,
+                          const std::optional<PpkErrorEstimate>& estimate,
                           std::vector<std::string>* warnings) {
   const double looks = std::min(stats.ppk_looks_h, stats.ppk_looks_v);
   if (!layout.gm_chain.empty() && looks < kFewPpkLooks)
@@ -315,6 +316,18 @@ void add_network_warnings(const NetworkLayout& layout, const NetworkStatistics& 
                         format_number("%g", kFewPpkLooks) +
                         "): the datum rests on few samples; more control poles, camera stations surveyed or "
                         "ascents spread over more time would lower the error");
+  if (estimate && (estimate->tau_held_h || estimate->tau_held_v)) {
+    const bool both = estimate->tau_held_h && estimate->tau_held_v;
+    const double tau = estimate->tau_held_h ? estimate->model.tau_h_s : estimate->model.tau_v_s;
+    warnings->push_back("the PPK record (" + format_number("%.0f", estimate->record_s) +
+                        " s) is shorter than 4 correlation times: the " +
+                        (both                   ? "horizontal and vertical τ were"
+                         : estimate->tau_held_h ? "horizontal τ was"
+                                                : "vertical τ was") +
+                        " not estimated but held at " + format_number("%.0f", tau) +
+                        " s (the larger of the estimate and the documented 120 s; docs/optimisation.md "
+                        "\"Correlated PPK errors — estimation\")");
+  }
   if (!stats.ppk_outliers.empty())
     warnings->push_back(
         std::to_string(stats.ppk_outliers.size()) +
@@ -406,7 +419,7 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
                                                 options.rank_tolerance);
   out.warnings = cov.warnings;
   add_datum_floor(final_layout, blocks, selection, options, scaled ? stats.variance_factor : 1.0, &out);
-  add_network_warnings(final_layout, stats, &out.warnings);
+  add_network_warnings(final_layout, stats, out.ppk_estimate, &out.warnings);
 
   // 5. Per camera.
   out.camera_observations.resize(cameras.size());

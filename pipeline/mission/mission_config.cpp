@@ -168,6 +168,7 @@ GnssConfig parse_gnss(const Loader& L, const JsonView& g) {
       c.estimate_error_model = word == "estimate";
     } else {
       c.error_model = parse_error_model(*v);
+      c.estimate_error_model = false;
     }
   }
   return c;

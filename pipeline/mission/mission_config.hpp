@@ -23,9 +23,10 @@ struct GnssConfig {
   /// white scale, Gauss–Markov sd and τ, horizontal and vertical. Default: white, each fix under its
   /// own .pos covariance.
   PpkErrorModel error_model;
-  /// gnss.error_model "estimate": the model is estimated from the mission by the network
-  /// (optim/network/ppk_error_estimation.hpp); error_model then only weighs its robust first solve.
-  bool estimate_error_model = false;
+  /// gnss.error_model "estimate" (the default): the model is estimated from the mission by the
+  /// network (optim/network/ppk_error_estimation.hpp); error_model (white) then only weighs its
+  /// robust first solve. "white" or a model given in full: that model, not estimated.
+  bool estimate_error_model = true;
 };
 
 struct LeverArmConfig {

@@ -406,13 +406,17 @@ TEST(MissionConfigErrors, TopLevelNotAnObject) {
   }
 }
 
-TEST(MissionConfig, PpkErrorModelDefaultsToWhiteAndParsesBothForms) {
-  EXPECT_FALSE(parse_mission_config(minimal().dump(), kPath, false).gnss.error_model.correlated());
+TEST(MissionConfig, PpkErrorModelDefaultsToEstimatedAndParsesBothForms) {
+  // No key: estimated from the mission, its robust first solve under the white model.
+  const GnssConfig by_default = parse_mission_config(minimal().dump(), kPath, false).gnss;
+  EXPECT_TRUE(by_default.estimate_error_model);
+  EXPECT_FALSE(by_default.error_model.correlated());
   nlohmann::json j = minimal();
   j["gnss"]["error_model"] = nlohmann::json::parse(R"({"white_scale": {"horizontal": 0.35, "vertical": 0.34},
       "gauss_markov": {"sd_m": {"horizontal": 0.008, "vertical": 0.014}, "tau_s": 30}})");
   const PpkErrorModel m = parse_mission_config(j.dump(), kPath, false).gnss.error_model;
   EXPECT_TRUE(m.correlated());
+  EXPECT_FALSE(parse_mission_config(j.dump(), kPath, false).gnss.estimate_error_model);
   EXPECT_DOUBLE_EQ(m.white_scale_h, 0.35);
   EXPECT_DOUBLE_EQ(m.white_scale_v, 0.34);
   EXPECT_DOUBLE_EQ(m.gm_sd_h_m, 0.008);
