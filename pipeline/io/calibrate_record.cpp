@@ -92,8 +92,7 @@ std::vector<WarningCodeRecord> warning_codes(const std::vector<CalibrationWarnin
 
 nlohmann::json calibrate_record_json(const CalibrateRecord& r) {
   nlohmann::json j = nlohmann::json::object();
-  j["cameras"] = nlohmann::json::object();
-  for (const auto& [id, c] : r.cameras) j["cameras"][id] = camera_json(c);
+  j["cameras"] = by_camera_json(r.cameras, camera_json);
   if (!r.network.is_null()) j["network"] = r.network;
   if (r.method_choice)
     j["method_choice"] = {{"method", r.method_choice->method},
@@ -107,11 +106,8 @@ CalibrateRecord parse_calibrate_record(const nlohmann::json& j, const std::strin
   const JsonView v(j, path, field, ErrorKind::input);
   v.require_object("an object {cameras, network, method_choice}");
   CalibrateRecord r;
-  if (const auto cams = v.find("cameras")) {
-    cams->require_object("an object {camera id: {...}}");
-    for (const auto& [id, c] : cams->json().items())
-      r.cameras[id] = parse_camera(JsonView(c, path, cams->path() + "." + id, ErrorKind::input));
-  }
+  if (const auto cams = v.find("cameras"))
+    r.cameras = parse_by_camera<CalibrateCameraRecord>(*cams, parse_camera);
   if (const auto n = v.find("network")) r.network = n->json();
   if (const auto m = v.find("method_choice")) {
     m->require_object("an object {method, shared_epochs, why}");

@@ -39,18 +39,11 @@ DetectCameraRecord parse_camera(const JsonView& v) {
 }  // namespace
 
 nlohmann::json detect_record_json(const DetectRecord& r) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& [id, c] : r.cameras) j[id] = camera_json(c);
-  return j;
+  return by_camera_json(r.cameras, camera_json);
 }
 
 DetectRecord parse_detect_record(const nlohmann::json& j, const std::string& path, const std::string& field) {
-  const JsonView v(j, path, field, ErrorKind::input);
-  v.require_object("an object {camera id: {...}}");
-  DetectRecord r;
-  for (const auto& [id, c] : j.items())
-    r.cameras[id] = parse_camera(JsonView(c, path, field + "." + id, ErrorKind::input));
-  return r;
+  return {parse_by_camera<DetectCameraRecord>(JsonView(j, path, field, ErrorKind::input), parse_camera)};
 }
 
 }  // namespace rangecal

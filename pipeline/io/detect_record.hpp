@@ -1,5 +1,5 @@
 #pragma once
-// The detect stage's record: run.json `stages.detect.counts` (docs/outputs.md, docs/detection.md).
+// The detect stage's record: run.json `stages.detect.counts` (docs/outputs.md, docs/frames_and_detection.md).
 // One writer and one reader, so the stage, the report and the console summary share the keys:
 //   <camera id>  {time_source, frames_examined, by_status {status: frames}, correspondences,
 //                 timestamp_check {best_offset_s, rms_at_zero_px, rms_at_best_px} when it ran}

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -25,6 +26,25 @@ std::string string_field(const JsonView& v, const std::string& key);
 bool bool_field(const JsonView& v, const std::string& key);
 /// An object of non-negative integers {name: n}; empty when missing.
 std::map<std::string, std::size_t> counts_field(const JsonView& v, const std::string& key);
+
+/// Per-camera records as run.json holds them: one object per camera id, written by `write`.
+template <typename Camera, typename Write>
+nlohmann::json by_camera_json(const std::map<std::string, Camera>& cameras, Write write) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [id, c] : cameras) j[id] = write(c);
+  return j;
+}
+
+/// The per-camera records of the object `v` ({camera id: {...}}), each read by `parse` from its view
+/// (path `<v's path>.<camera id>`).
+template <typename Camera, typename Parse>
+std::map<std::string, Camera> parse_by_camera(const JsonView& v, Parse parse) {
+  v.require_object("an object {camera id: {...}}");
+  std::map<std::string, Camera> cameras;
+  for (const auto& [id, c] : v.json().items())
+    cameras[id] = parse(JsonView(c, v.file(), v.path() + "." + id, ErrorKind::input));
+  return cameras;
+}
 
 /// `v`'s member `key` as a view, the object of a record part; none when missing.
 std::optional<JsonView> object_field(const JsonView& v, const std::string& key, const std::string& what);
