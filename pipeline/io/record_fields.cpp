@@ -1,5 +1,6 @@
 #include "pipeline/io/record_fields.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace rangecal {
@@ -18,6 +19,8 @@ double number_field(const JsonView& v, const std::string& key, double fallback) 
   const auto x = v.find(key);
   if (!x) return fallback;
   if (x->json().is_null()) return std::numeric_limits<double>::quiet_NaN();
+  // A record not yet written (a stage's own log) holds NaN where run.json's text holds null.
+  if (x->json().is_number_float() && std::isnan(x->json().get<double>())) return x->json().get<double>();
   return x->number("a number or null");
 }
 
