@@ -7,6 +7,7 @@
 #include "config/number_format.hpp"
 #include "pipeline/cli/commands.hpp"
 #include "pipeline/cli/stage_command.hpp"
+#include "pipeline/io/gnss_record.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/run_log.hpp"
 #include "pipeline/mission/mission_config.hpp"
@@ -19,45 +20,39 @@ std::string row(const std::string& label, const std::string& value) {
   return fmt::format("  {:<28} {}\n", label, value);
 }
 
-std::string num(const nlohmann::json& v) {
-  return v.is_null() ? "0" : v.dump();
-}
-
-/// The summary table from the stage's run.json counts.
+/// The summary table from the stage's run.json record.
 std::string gnss_summary(const MissionConfig& cfg, const StageLog& log, bool verbose) {
-  const nlohmann::json& c = log.counts;
-  std::string s = "gnss stage: " + std::to_string(c["pos_files"].size()) + " .pos file(s)\n";
-  for (const auto& f : c["pos_files"])
-    s += "  " + f["path"].get<std::string>() + ": " + num(f["epochs"]) + " epochs, " +
-         f["time_system"].get<std::string>() + " " + f["time_format"].get<std::string>() + ", " +
-         f["position_format"].get<std::string>() + (f["velocity"].get<bool>() ? ", velocity" : "") + "\n";
-  s += row("epochs read", num(c["epochs_read"]));
-  s += row("epochs kept", num(c["epochs_kept"]));
+  const GnssRecord c = parse_gnss_record(log.counts, "run.json", "stages.gnss.counts");
+  std::string s = "gnss stage: " + std::to_string(c.pos_files.size()) + " .pos file(s)\n";
+  for (const PosFileRecord& f : c.pos_files)
+    s += "  " + f.path + ": " + std::to_string(f.epochs) + " epochs, " + f.time_system + " " + f.time_format +
+         ", " + f.position_format + (f.velocity ? ", velocity" : "") + "\n";
+  s += row("epochs read", std::to_string(c.epochs_read));
+  s += row("epochs kept", std::to_string(c.epochs_kept));
   std::string byq;
-  for (const auto& [q, n] : c["dropped_quality_by_q"].items())
-    byq += (byq.empty() ? "" : ", ") + ("Q=" + q + ": " + n.dump());
-  s += row("dropped: Q not accepted", num(c["dropped_quality"]) + (byq.empty() ? "" : "  (" + byq + ")"));
-  s += row("dropped: sd > " + format_number("%.3f", cfg.gnss.max_sd_m) + " m", num(c["dropped_sd"]));
-  if (!cfg.attitude_file.empty()) s += row("dropped: no attitude", num(c["dropped_no_attitude"]));
-  s += row("gaps > " + format_number("%.3f", cfg.gnss.max_gap_s) + " s", num(c["gaps"]));
+  for (const auto& [q, n] : c.dropped_quality_by_q)
+    byq += (byq.empty() ? "" : ", ") + ("Q=" + std::to_string(q) + ": " + std::to_string(n));
+  s += row("dropped: Q not accepted",
+           std::to_string(c.dropped_quality) + (byq.empty() ? "" : "  (" + byq + ")"));
+  s += row("dropped: sd > " + format_number("%.3f", cfg.gnss.max_sd_m) + " m", std::to_string(c.dropped_sd));
+  if (!cfg.attitude_file.empty()) s += row("dropped: no attitude", std::to_string(c.dropped_no_attitude));
+  s += row("gaps > " + format_number("%.3f", cfg.gnss.max_gap_s) + " s", std::to_string(c.gap_list.size()));
   if (verbose)
-    for (const auto& g : c["gap_list"])
-      s += "    " + g["from"].get<std::string>() + " .. " + g["to"].get<std::string>() + " (" +
-           format_number("%.3f", g["duration_s"].get<double>()) + " s)\n";
-  s += row("track", c["track_start"].get<std::string>() + " .. " + c["track_end"].get<std::string>() + " (" +
-                        format_number("%.3f", c["track_span_s"].get<double>()) + " s)");
-  const auto& la = c["lever_arm"];
-  const std::string src = la["source"].get<std::string>();
+    for (const GapRecord& g : c.gap_list)
+      s += "    " + g.from + " .. " + g.to + " (" + format_number("%.3f", g.duration_s) + " s)\n";
+  s += row("track",
+           c.track_start + " .. " + c.track_end + " (" + format_number("%.3f", c.track_span_s) + " s)");
+  const LeverArmRecord& la = c.lever_arm;
   std::string lever;
-  if (src == "body_frd") {
-    lever = "body FRD (" + format_number("%.3f", la["body_frd_m"][0].get<double>()) + ", " +
-            format_number("%.3f", la["body_frd_m"][1].get<double>()) + ", " +
-            format_number("%.3f", la["body_frd_m"][2].get<double>()) + ") m with attitude";
+  if (la.source == "body_frd") {
+    lever = "body FRD (" + format_number("%.3f", la.body_frd_m[0]) + ", " +
+            format_number("%.3f", la.body_frd_m[1]) + ", " + format_number("%.3f", la.body_frd_m[2]) +
+            ") m with attitude";
   } else {
-    lever = "vertical " + format_number("%.4f", la["vertical_m"].get<double>()) + " m";
-    if (src == "total_station")
-      lever += " +/- " + format_number("%.4f", la["vertical_sd_m"].get<double>()) + " m (total station, " +
-               num(la["sessions"]) + " sessions)";
+    lever = "vertical " + format_number("%.4f", la.vertical_m) + " m";
+    if (la.source == "total_station")
+      lever += " +/- " + format_number("%.4f", la.vertical_sd_m) + " m (total station, " +
+               std::to_string(la.sessions) + " sessions)";
   }
   s += row("lever arm", lever);
   s += row("output", lamp_track_path(cfg));

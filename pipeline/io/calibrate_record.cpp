@@ -2,6 +2,7 @@
 
 #include "config/error.hpp"
 #include "config/json_view.hpp"
+#include "pipeline/io/record_fields.hpp"
 
 namespace rangecal {
 namespace {
@@ -53,45 +54,22 @@ WarningCodeRecord parse_warning_code(const JsonView& v) {
   return w;
 }
 
-// A number that may be written as null (NaN); `fallback` when the key is missing.
-double number_or_null(const JsonView& v, const std::string& key, double fallback) {
-  const auto x = v.find(key);
-  if (!x) return fallback;
-  if (x->json().is_null()) return std::numeric_limits<double>::quiet_NaN();
-  return x->number("a number or null");
-}
-
-std::size_t count_at(const JsonView& v, const std::string& key) {
-  const auto x = v.find(key);
-  return x ? static_cast<std::size_t>(x->unsigned_integer("a non-negative integer")) : 0;
-}
-
-int int_at(const JsonView& v, const std::string& key) {
-  const auto x = v.find(key);
-  return x ? static_cast<int>(x->integer("an integer")) : 0;
-}
-
-std::string string_at(const JsonView& v, const std::string& key) {
-  const auto x = v.find(key);
-  return x ? x->string("a string") : std::string();
-}
-
 CalibrateCameraRecord parse_camera(const JsonView& v) {
   v.require_object("an object {pairs, control_poles, ...}");
   CalibrateCameraRecord c;
-  c.pairs = count_at(v, "pairs");
-  c.control_poles = count_at(v, "control_poles");
-  c.failed = string_at(v, "failed");
+  c.pairs = count_field(v, "pairs");
+  c.control_poles = count_field(v, "control_poles");
+  c.failed = string_field(v, "failed");
   if (!c.failed.empty()) return c;
-  c.method = string_at(v, "method");
-  c.rms_px = number_or_null(v, "rms_px", c.rms_px);
-  c.n_used = int_at(v, "n_used");
-  c.n_rejected = int_at(v, "n_rejected");
-  c.opencv_fit_max_px = number_or_null(v, "opencv_fit_max_px", 0);
-  c.opencv_undistort_max_px = number_or_null(v, "opencv_undistort_max_px", 0);
-  c.dlt_only_rms_px = number_or_null(v, "dlt_only_rms_px", 0);
-  c.dlt_only_max_px = number_or_null(v, "dlt_only_max_px", 0);
-  c.dlt_profile_max_px = number_or_null(v, "dlt_profile_max_px", 0);
+  c.method = string_field(v, "method");
+  c.rms_px = number_field(v, "rms_px", c.rms_px);
+  c.n_used = static_cast<int>(integer_field(v, "n_used"));
+  c.n_rejected = static_cast<int>(integer_field(v, "n_rejected"));
+  c.opencv_fit_max_px = number_field(v, "opencv_fit_max_px", 0);
+  c.opencv_undistort_max_px = number_field(v, "opencv_undistort_max_px", 0);
+  c.dlt_only_rms_px = number_field(v, "dlt_only_rms_px", 0);
+  c.dlt_only_max_px = number_field(v, "dlt_only_max_px", 0);
+  c.dlt_profile_max_px = number_field(v, "dlt_profile_max_px", 0);
   if (const auto t = v.find("method_time_s")) {
     t->require_object("an object {method: seconds}");
     for (const auto& [m, s] : t->json().items())
@@ -114,8 +92,7 @@ std::vector<WarningCodeRecord> warning_codes(const std::vector<CalibrationWarnin
 
 nlohmann::json calibrate_record_json(const CalibrateRecord& r) {
   nlohmann::json j = nlohmann::json::object();
-  j["cameras"] = nlohmann::json::object();
-  for (const auto& [id, c] : r.cameras) j["cameras"][id] = camera_json(c);
+  j["cameras"] = by_camera_json(r.cameras, camera_json);
   if (!r.network.is_null()) j["network"] = r.network;
   if (r.method_choice)
     j["method_choice"] = {{"method", r.method_choice->method},
@@ -129,18 +106,15 @@ CalibrateRecord parse_calibrate_record(const nlohmann::json& j, const std::strin
   const JsonView v(j, path, field, ErrorKind::input);
   v.require_object("an object {cameras, network, method_choice}");
   CalibrateRecord r;
-  if (const auto cams = v.find("cameras")) {
-    cams->require_object("an object {camera id: {...}}");
-    for (const auto& [id, c] : cams->json().items())
-      r.cameras[id] = parse_camera(JsonView(c, path, cams->path() + "." + id, ErrorKind::input));
-  }
+  if (const auto cams = v.find("cameras"))
+    r.cameras = parse_by_camera<CalibrateCameraRecord>(*cams, parse_camera);
   if (const auto n = v.find("network")) r.network = n->json();
   if (const auto m = v.find("method_choice")) {
     m->require_object("an object {method, shared_epochs, why}");
     MethodChoiceRecord c;
-    c.method = string_at(*m, "method");
-    c.shared_epochs = count_at(*m, "shared_epochs");
-    c.why = string_at(*m, "why");
+    c.method = string_field(*m, "method");
+    c.shared_epochs = count_field(*m, "shared_epochs");
+    c.why = string_field(*m, "why");
     r.method_choice = c;
   }
   return r;

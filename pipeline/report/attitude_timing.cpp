@@ -1,35 +1,23 @@
 #include "pipeline/report/attitude_timing.hpp"
 
 #include "config/number_format.hpp"
+#include "pipeline/io/gnss_record.hpp"
 
 namespace rangecal {
-namespace {
-
-std::optional<double> number_at(const nlohmann::json& j, const char* key) {
-  if (!j.is_object() || !j.contains(key) || !j[key].is_number()) return std::nullopt;
-  return j[key].get<double>();
-}
-
-}  // namespace
 
 std::optional<AttitudeTiming> attitude_timing(const nlohmann::json& stages) {
   if (!stages.is_object() || !stages.contains("gnss") || !stages["gnss"].is_object()) return std::nullopt;
   const nlohmann::json& gnss = stages["gnss"];
   if (!gnss.contains("counts") || !gnss["counts"].is_object()) return std::nullopt;
-  const nlohmann::json& counts = gnss["counts"];
-  if (!counts.contains("attitude") || !counts["attitude"].is_object()) return std::nullopt;
-  const nlohmann::json& a = counts["attitude"];
-  const std::optional<double> lag = number_at(a, "gnss_lag_ms");
-  if (!lag) return std::nullopt;
+  const GnssRecord record = parse_gnss_record(gnss["counts"], "run.json", "stages.gnss.counts");
+  if (!record.attitude || !record.attitude->log) return std::nullopt;
   AttitudeTiming t;
-  t.gnss_lag_ms = *lag;
-  t.format = a.contains("format") && a["format"].is_string() ? a["format"].get<std::string>() : "";
-  t.lag_source = a.contains("gnss_lag_source") && a["gnss_lag_source"].is_string()
-                     ? a["gnss_lag_source"].get<std::string>()
-                     : "";
-  if (counts.contains("lever_arm")) {
-    t.motion_max_mm_per_ms = number_at(counts["lever_arm"], "motion_max_mm_per_ms");
-    t.motion_rms_mm_per_ms = number_at(counts["lever_arm"], "motion_rms_mm_per_ms");
+  t.gnss_lag_ms = record.attitude->log->gnss_lag_ms;
+  t.format = record.attitude->format;
+  t.lag_source = record.attitude->log->gnss_lag_source;
+  if (record.lever_arm.source == "body_frd") {
+    t.motion_max_mm_per_ms = record.lever_arm.motion_max_mm_per_ms;
+    t.motion_rms_mm_per_ms = record.lever_arm.motion_rms_mm_per_ms;
   }
   return t;
 }

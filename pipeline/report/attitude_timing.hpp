@@ -2,7 +2,7 @@
 // The autopilot log's timing as the report states it (report.html "Data funnel"; docs/gnss.md
 // "Receiver lag"): the GNSS receiver lag taken when the log was put on UTC, where it came from, and
 // how much a timing error moves the lamp through the lever arm — from the gnss stage's counts in
-// run.json (`stages.gnss.counts.attitude`, `.lever_arm`; docs/outputs.md).
+// run.json (`stages.gnss.counts.attitude`, `.lever_arm`; read with pipeline/io/gnss_record.hpp).
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -19,7 +19,7 @@ struct AttitudeTiming {
 };
 
 /// The timing of run.json's `stages` object; none when the mission's attitude is not an autopilot
-/// log (no receiver lag recorded).
+/// log (no receiver lag recorded). A count of the wrong type throws rangecal::Error naming its field.
 std::optional<AttitudeTiming> attitude_timing(const nlohmann::json& stages);
 
 /// One plain sentence for the report, e.g. "Attitude: dataflash log put on UTC with a GNSS receiver

@@ -1,7 +1,9 @@
 #pragma once
 // What each stage took in, kept and dropped, and why (report.html "Data funnel"), from the counts
-// the stages recorded in run.json (`stages.<name>.counts`, docs/outputs.md). A stage or a count that
-// is missing gives no row: the funnel shows what was recorded, nothing guessed.
+// the stages recorded in run.json (`stages.<name>.counts`, read with each stage's record reader in
+// pipeline/io/, docs/outputs.md). A stage that did not run or recorded no counts (it failed), a
+// camera it did not record, or an intersection skipped gives no row: the funnel shows what was
+// recorded, nothing guessed. A count of the wrong type throws rangecal::Error naming its field.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>

@@ -2,6 +2,7 @@
 
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
+#include "pipeline/io/align_record.hpp"
 #include "pipeline/io/aligned_csv.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/mission/stage_options.hpp"
@@ -20,6 +21,7 @@ StageLog run_align_stage(const MissionConfig& cfg) {
   std::size_t total = 0;
   std::vector<AlignResult> results;
   std::vector<CameraFrameSpan> spans;
+  AlignRecord record;
   for (const CameraConfig& cam : cfg.cameras) {
     const FrameSource source = open_camera_frames(cfg, cam);
     std::vector<FrameStamp> stamps;
@@ -33,8 +35,7 @@ StageLog run_align_stage(const MissionConfig& cfg) {
     opt.frames_source = source.origin();
     results.push_back(align_frames(track, stamps, opt));
     const AlignResult& r = results.back();
-    log.counts[cam.id] = to_json(r.report);
-    log.counts[cam.id]["time_source"] = source.time_source();
+    record.cameras[cam.id] = {r.report, source.time_source()};
     if (source.time_source() == FrameSource::kTimeSourceMrawHeader)
       log.warnings.push_back(
           cam.id + ": frame times come from the Photron header (camera clock to the second, " +
@@ -46,6 +47,7 @@ StageLog run_align_stage(const MissionConfig& cfg) {
           cam.id + ": no frame lies within " + std::to_string(cfg.align.max_frame_offset_s) +
           " s of a usable lamp-track epoch (check the frame time stamps and the track span)");
   }
+  log.counts = align_record_json(record);
   if (total == 0)
     throw_input_error(track_path, 0, "",
                       explain_no_alignment(UtcSpan{track.epochs.front().utc, track.epochs.back().utc}, spans,

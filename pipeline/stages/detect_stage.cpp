@@ -12,6 +12,7 @@
 #include "gnss/track/hermite_interpolation.hpp"
 #include "pipeline/io/aligned_csv.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/detect_record.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/progress_bar.hpp"
 #include "pipeline/mission/stage_options.hpp"
@@ -52,6 +53,7 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
   };
   std::vector<CameraDetections> out;
   std::size_t total_pairs = 0;
+  DetectRecord record;
   for (const CameraConfig& cam : cfg.cameras) {
     const std::string aligned_path = camera_output(cfg, cam.id, kAlignedCsv);
     require_stage_output(aligned_path, "align");
@@ -77,22 +79,18 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
     cd.pairs = lamp_pairs(aligned, cd.detections);
     std::map<std::string, int> by_status;
     for (const LampDetection& d : cd.detections) ++by_status[d.status];
-    nlohmann::json counts;
-    counts["time_source"] = source.time_source();
-    counts["frames_examined"] = cd.detections.size();
-    counts["by_status"] = by_status;
-    counts["correspondences"] = cd.pairs.size();
+    DetectCameraRecord& counts = record.cameras[cam.id];
+    counts.time_source = source.time_source();
+    counts.frames_examined = cd.detections.size();
+    counts.by_status = by_status;
+    counts.correspondences = cd.pairs.size();
     // A whole-second or leap-second error in the frame stamps: pairs that no pinhole camera
     // explains unless the track is shifted by δ (pipeline/steps/timestamp_check.hpp).
     std::vector<std::pair<UtcTime, Eigen::Vector2d>> stamped;
     for (const Correspondence& c : cd.pairs) stamped.emplace_back(c.utc, c.uv);
     const TimestampOffsetCheck tc = check_timestamp_offset(stamped, track);
-    if (tc.n_points > 0)
-      counts["timestamp_check"] = {{"best_offset_s", tc.best_offset_s},
-                                   {"rms_at_zero_px", tc.rms_at_zero_px},
-                                   {"rms_at_best_px", tc.rms_at_best_px}};
+    if (tc.n_points > 0) counts.timestamp_check = {tc.best_offset_s, tc.rms_at_zero_px, tc.rms_at_best_px};
     if (tc.offset_detected) log.warnings.push_back(cam.id + ": " + describe_timestamp_offset(tc));
-    log.counts[cam.id] = counts;
     total_pairs += cd.pairs.size();
     if (cd.pairs.empty())
       log.warnings.push_back(cam.id + ": the lamp was not found in any of its " +
@@ -107,6 +105,7 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
                              camera_output(cfg, cam.id, kDetectionsCsv) + ")");
     out.push_back(std::move(cd));
   }
+  log.counts = detect_record_json(record);
   if (total_pairs == 0 && !cfg.cameras.empty())
     throw_input_error(cfg.output_dir, 0, "", "the lamp was found in no camera's frames");
   for (std::size_t c = 0; c < cfg.cameras.size(); ++c) {

@@ -11,6 +11,7 @@
 #include "gnss/geodesy/local_enu.hpp"
 #include "gnss/track/antenna_epochs.hpp"
 #include "gnss/track/lever_arm.hpp"
+#include "pipeline/io/gnss_record.hpp"
 #include "pipeline/io/output_paths.hpp"
 
 namespace rangecal {
@@ -41,92 +42,77 @@ ResolvedLeverArm resolve_lever_arm(const LeverArmConfig& cfg) {
   return r;
 }
 
-nlohmann::json gnss_stage_counts(const LampTrackReport& rep, const std::vector<PosFile>& files,
-                                 const ResolvedLeverArm& lever) {
-  using nlohmann::json;
-  json j = json::object();
-  json pf = json::array();
+GnssRecord gnss_record(const LampTrackReport& rep, const std::vector<PosFile>& files,
+                       const ResolvedLeverArm& lever) {
+  GnssRecord r;
   for (const PosFile& f : files)
-    pf.push_back({{"path", f.path},
-                  {"epochs", f.epochs.size()},
-                  {"time_system", to_string(f.header.time_system)},
-                  {"time_format", to_string(f.header.time_format)},
-                  {"position_format", to_string(f.header.position_format)},
-                  {"velocity", f.header.has_velocity}});
-  j["pos_files"] = pf;
-  j["epochs_read"] = rep.filter.read;
-  j["epochs_kept"] = rep.track_epochs;
-  j["dropped_quality"] = rep.filter.dropped_quality;
-  json byq = json::object();
-  for (const auto& [q, n] : rep.filter.dropped_by_quality) byq[std::to_string(q)] = n;
-  j["dropped_quality_by_q"] = byq;
-  json readq = json::object();
-  for (const auto& [q, n] : rep.filter.read_by_quality) readq[std::to_string(q)] = n;
-  j["read_by_q"] = readq;
-  j["dropped_sd"] = rep.filter.dropped_sd;
-  j["dropped_no_attitude"] = rep.dropped_no_attitude;
-  j["gaps"] = rep.gaps.size();
-  json gl = json::array();
+    r.pos_files.push_back({f.path, f.epochs.size(), to_string(f.header.time_system),
+                           to_string(f.header.time_format), to_string(f.header.position_format),
+                           f.header.has_velocity});
+  r.epochs_read = rep.filter.read;
+  r.epochs_kept = rep.track_epochs;
+  r.dropped_quality = rep.filter.dropped_quality;
+  r.dropped_quality_by_q = rep.filter.dropped_by_quality;
+  r.read_by_q = rep.filter.read_by_quality;
+  r.dropped_sd = rep.filter.dropped_sd;
+  r.dropped_no_attitude = rep.dropped_no_attitude;
   for (const TimeGap& g : rep.gaps)
-    gl.push_back({{"from", format_iso8601_utc(g.from, 9)},
-                  {"to", format_iso8601_utc(g.to, 9)},
-                  {"duration_s", std::round(g.duration_s() * 1e9) / 1e9}});
-  j["gap_list"] = gl;
-  j["track_start"] = format_iso8601_utc(rep.track_start, 9);
-  j["track_end"] = format_iso8601_utc(rep.track_end, 9);
-  j["track_span_s"] = std::round(seconds_between(rep.track_start, rep.track_end) * 1e9) / 1e9;
-  json la = {{"source", lever.source}};
+    r.gap_list.push_back(
+        {format_iso8601_utc(g.from, 9), format_iso8601_utc(g.to, 9), std::round(g.duration_s() * 1e9) / 1e9});
+  r.track_start = format_iso8601_utc(rep.track_start, 9);
+  r.track_end = format_iso8601_utc(rep.track_end, 9);
+  r.track_span_s = std::round(seconds_between(rep.track_start, rep.track_end) * 1e9) / 1e9;
+  LeverArmRecord& la = r.lever_arm;
+  la.source = lever.source;
   if (lever.form == ResolvedLeverArm::Form::body_frd) {
-    la["body_frd_m"] = {lever.body_frd_m[0], lever.body_frd_m[1], lever.body_frd_m[2]};
-    la["motion_max_mm_per_ms"] = rep.lever_motion_max_mm_per_ms;
-    la["motion_rms_mm_per_ms"] = rep.lever_motion_rms_mm_per_ms;
+    la.body_frd_m = {lever.body_frd_m[0], lever.body_frd_m[1], lever.body_frd_m[2]};
+    la.motion_max_mm_per_ms = rep.lever_motion_max_mm_per_ms;
+    la.motion_rms_mm_per_ms = rep.lever_motion_rms_mm_per_ms;
   } else {
-    la["vertical_m"] = lever.vertical_m;
-    if (lever.source == "total_station") {
-      la["vertical_sd_m"] = lever.vertical_sd_m;
-      la["sessions"] = lever.sessions;
-    }
-    la["vertical_form_max_error_m"] = rep.vertical_form_max_error_m;
-    la["vertical_form_epochs_over_5mm"] = rep.vertical_form_epochs_over_5mm;
+    la.vertical_m = lever.vertical_m;
+    la.vertical_sd_m = lever.vertical_sd_m;
+    la.sessions = lever.sessions;
+    la.vertical_form_max_error_m = rep.vertical_form_max_error_m;
+    la.vertical_form_epochs_over_5mm = rep.vertical_form_epochs_over_5mm;
   }
-  j["lever_arm"] = la;
-  return j;
+  return r;
 }
 
-nlohmann::json attitude_file_counts(const AttitudeFileReport& rep, const std::string& path) {
-  using nlohmann::json;
-  json j = {{"path", path},
-            {"format", to_string(rep.kind)},
-            {"samples", rep.samples},
-            {"utc_start", format_iso8601_utc(rep.utc_start, 9)},
-            {"utc_end", format_iso8601_utc(rep.utc_end, 9)}};
-  if (!rep.log) return j;
+AttitudeRecord attitude_record(const AttitudeFileReport& rep, const std::string& path) {
+  AttitudeRecord a{path,
+                   to_string(rep.kind),
+                   rep.samples,
+                   format_iso8601_utc(rep.utc_start, 9),
+                   format_iso8601_utc(rep.utc_end, 9),
+                   std::nullopt};
+  if (!rep.log) return a;
   const AutopilotAttitudeReport& r = *rep.log;
   const BootTimeFit& f = r.fit;
-  j["file_bytes"] = r.file_bytes;
-  j["truncated_bytes"] = r.truncated_bytes;
-  j["attitude_message"] = r.attitude_message;
-  j["attitude_time_field"] = r.attitude_time_field;
-  j["attitude_messages"] = r.attitude_messages;
-  j["attitude_invalid"] = r.attitude_invalid;
-  j["attitude_not_increasing"] = r.attitude_not_increasing;
-  j["gps_message"] = r.gps_message;
-  j["gps_messages"] = r.gps_messages;
-  j["gps_skipped"] = r.gps_skipped;
-  j["gps_used"] = f.used;
-  j["gps_rejected"] = f.rejected;
-  j["gps_span_s"] = static_cast<double>(f.last_boot_us - f.first_boot_us) * 1e-6;
-  j["boot_zero_utc"] = format_iso8601_utc(f.to_utc(0), 9);
-  j["offset_ns"] = f.offset_ns;
-  j["offset_ref_boot_us"] = f.ref_boot_us;
-  j["drift_fitted"] = f.drift_fitted;
-  j["drift_ppm"] = f.drift_ppm;
-  j["residual_rms_us"] = f.residual_rms_us;
-  j["residual_max_us"] = f.residual_max_us;
-  j["reject_threshold_us"] = f.reject_threshold_us;
-  j["gnss_lag_ms"] = r.gnss_lag_ms;
-  j["gnss_lag_source"] = r.gnss_lag_given ? "attitude.gnss_lag_ms" : "default for " + r.format;
-  return j;
+  AutopilotLogRecord& l = a.log.emplace();
+  l.file_bytes = r.file_bytes;
+  l.truncated_bytes = r.truncated_bytes;
+  l.attitude_message = r.attitude_message;
+  l.attitude_time_field = r.attitude_time_field;
+  l.attitude_messages = r.attitude_messages;
+  l.attitude_invalid = r.attitude_invalid;
+  l.attitude_not_increasing = r.attitude_not_increasing;
+  l.gps_message = r.gps_message;
+  l.gps_messages = r.gps_messages;
+  l.gps_skipped = r.gps_skipped;
+  l.gps_used = f.used;
+  l.gps_rejected = f.rejected;
+  l.gps_span_s = static_cast<double>(f.last_boot_us - f.first_boot_us) * 1e-6;
+  l.boot_zero_utc = format_iso8601_utc(f.to_utc(0), 9);
+  l.offset_ns = f.offset_ns;
+  l.offset_ref_boot_us = f.ref_boot_us;
+  l.drift_fitted = f.drift_fitted;
+  l.drift_ppm = f.drift_ppm;
+  l.residual_rms_us = f.residual_rms_us;
+  l.residual_max_us = f.residual_max_us;
+  l.reject_threshold_us = f.reject_threshold_us;
+  l.gnss_lag_ms = r.gnss_lag_ms;
+  l.gnss_lag_source = r.gnss_lag_given ? "attitude.gnss_lag_ms" : "default for " + r.format;
+  return a;
 }
 
 StageLog run_gnss_stage(const MissionConfig& cfg) {
@@ -155,8 +141,9 @@ StageLog run_gnss_stage(const MissionConfig& cfg) {
 
   StageLog log;
   log.stage = "gnss";
-  log.counts = gnss_stage_counts(res.report, in.pos_files, in.lever);
-  if (in.attitude) log.counts["attitude"] = attitude_file_counts(attitude_report, cfg.attitude_file);
+  GnssRecord record = gnss_record(res.report, in.pos_files, in.lever);
+  if (in.attitude) record.attitude = attitude_record(attitude_report, cfg.attitude_file);
+  log.counts = gnss_record_json(record);
   log.warnings = res.report.warnings;
   if (attitude_report.log) {
     // What run.json's attitude counts hold, said once on the console too (docs/gnss.md).

@@ -14,6 +14,7 @@
 #include "gnss/track/attitude.hpp"
 #include "gnss/track/epoch_filter.hpp"
 #include "gnss/track/lamp_track.hpp"
+#include "pipeline/io/gnss_record.hpp"
 #include "pipeline/io/run_log.hpp"
 #include "pipeline/mission/mission_config.hpp"
 #include "pipeline/steps/lamp_track_computation.hpp"
@@ -23,13 +24,13 @@ namespace rangecal {
 /// Resolves cfg.lever_arm (reads the total-station file when configured).
 ResolvedLeverArm resolve_lever_arm(const LeverArmConfig& cfg);
 
-/// The run.json "counts" of the stage (deterministic, keys sorted).
-nlohmann::json gnss_stage_counts(const LampTrackReport& report, const std::vector<PosFile>& files,
-                                 const ResolvedLeverArm& lever);
+/// The stage's run.json record (pipeline/io/gnss_record.hpp) without its attitude part.
+GnssRecord gnss_record(const LampTrackReport& report, const std::vector<PosFile>& files,
+                       const ResolvedLeverArm& lever);
 
-/// The run.json counts of the attitude file (key "attitude"): path, reader, samples, UTC span, and
-/// for an autopilot log the message counts and the boot-time → UTC fit (docs/gnss.md).
-nlohmann::json attitude_file_counts(const AttitudeFileReport& report, const std::string& path);
+/// The record of the attitude file: path, reader, samples, UTC span, and for an autopilot log the
+/// message counts and the boot-time → UTC fit (docs/gnss.md).
+AttitudeRecord attitude_record(const AttitudeFileReport& report, const std::string& path);
 
 /// Reads cfg's .pos files, attitude (CSV, PX4 ULog or ArduPilot DataFlash, by content) and lever
 /// arm, computes the track, writes `<output_dir>/gnss/lamp_track.csv` atomically, and returns the

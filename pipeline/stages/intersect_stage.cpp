@@ -2,11 +2,13 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <set>
 
 #include "config/error.hpp"
 #include "gnss/formats/pole_survey_csv.hpp"
 #include "pipeline/io/calibration_json.hpp"
+#include "pipeline/io/intersect_record.hpp"
 #include "pipeline/io/intersection_csv.hpp"
 #include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
@@ -23,9 +25,9 @@ bool any_camera_has_picks(const MissionConfig& cfg) {
 }
 
 /// Metres rounded to 1 µm for run.json (readable); a figure that was not computed (no pole to
-/// average) is null, never NaN, so that nothing downstream prints "nan".
-nlohmann::json um(double v) {
-  return std::isfinite(v) ? nlohmann::json(std::round(v * 1e6) / 1e6) : nlohmann::json(nullptr);
+/// average) is NaN, which run.json holds as null, so that nothing downstream prints "nan".
+double um(double v) {
+  return std::isfinite(v) ? std::round(v * 1e6) / 1e6 : std::numeric_limits<double>::quiet_NaN();
 }
 
 int cameras_with_picks(const MissionConfig& cfg) {
@@ -39,15 +41,15 @@ int cameras_with_picks(const MissionConfig& cfg) {
 /// picks; it then needs a check pole triangulated (its ΔR is the headline), or, when the calibrated
 /// cameras picked no check pole, at least one surveyed pole.
 std::string intersection_shortfall(const MissionConfig& cfg, const std::vector<SurveyedPole>& survey,
-                                   const std::set<std::string>& picked_ids, const nlohmann::json& used,
-                                   const IntersectionResult& result) {
+                                   const std::set<std::string>& picked_ids,
+                                   const std::vector<std::string>& used, const IntersectionResult& result) {
   if (cameras_with_picks(cfg) < 2) return "";
   bool check_picked = false;
   for (const SurveyedPole& p : survey)
     check_picked = check_picked || (p.role == PoleRole::check && picked_ids.count(p.id));
   if (check_picked ? result.check.n > 0 : result.check.n + result.control.n > 0) return "";
   std::string cams;
-  for (const auto& c : used) cams += (cams.empty() ? "" : ", ") + c.get<std::string>();
+  for (const std::string& c : used) cams += (cams.empty() ? "" : ", ") + c;
   const std::string what = check_picked ? "no check pole" : "no surveyed pole";
   const std::string why =
       used.size() < 2 ? "only " + std::to_string(used.size()) + " calibrated camera has pole picks (" + cams +
@@ -56,17 +58,17 @@ std::string intersection_shortfall(const MissionConfig& cfg, const std::vector<S
   return what + " was triangulated, so the intersection check has no dR: " + why;
 }
 
-nlohmann::json means_json(const IntersectionMeans& m) {
-  nlohmann::json j;
-  j["n"] = m.n;
-  j["mean_abs_dE_m"] = um(m.mean_abs_d.x());
-  j["mean_abs_dN_m"] = um(m.mean_abs_d.y());
-  j["mean_abs_dU_m"] = um(m.mean_abs_d.z());
-  j["mean_dR_m"] = um(m.mean_dR);
-  j["max_dR_m"] = um(m.max_dR);
-  j["rms_dR_m"] = um(m.rms_dR);
-  j["mean_sigma_m"] = um(m.mean_sigma_m);
-  return j;
+IntersectMeansRecord means_record(const IntersectionMeans& m) {
+  IntersectMeansRecord r;
+  r.n = m.n;
+  r.mean_abs_dE_m = um(m.mean_abs_d.x());
+  r.mean_abs_dN_m = um(m.mean_abs_d.y());
+  r.mean_abs_dU_m = um(m.mean_abs_d.z());
+  r.mean_dR_m = um(m.mean_dR);
+  r.max_dR_m = um(m.max_dR);
+  r.rms_dR_m = um(m.rms_dR);
+  r.mean_sigma_m = um(m.mean_sigma_m);
+  return r;
 }
 
 }  // namespace
@@ -89,15 +91,18 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
   if (cfg.poles_file.empty() || !any_camera_has_picks(cfg)) {
     // A mission without poles is a valid mission: the full run goes on (see the header).
     log.warnings.push_back("no poles: intersection skipped");
-    log.counts["skipped"] =
+    IntersectRecord record;
+    record.skipped =
         cfg.poles_file.empty() ? "no \"poles\" in the config" : "no camera has \"pole_observations\"";
+    log.counts = intersect_record_json(record);
     return log;
   }
 
   const std::vector<SurveyedPole> survey = read_pole_survey(cfg.poles_file, cfg.origin);
   std::vector<IntersectCamera> cameras;
   std::vector<std::string> missing;
-  nlohmann::json used = nlohmann::json::array();
+  IntersectRecord record;
+  std::vector<std::string>& used = record.cameras_used;
   std::set<std::string> picked_ids;
   bool all_network = true;  // every used calibration comes from the one network of network.json
   std::vector<std::string> ids;
@@ -148,7 +153,7 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
           "the calibrations come from the network but " + mission_output(cfg, kNetworkJson) +
           " does not hold their joint covariance: sigma_m takes the cameras as independent");
   }
-  log.counts["joint_covariance"] = !cross.empty();
+  record.joint_covariance = !cross.empty();
   const IntersectionResult result =
       intersect_poles(cameras, survey, cfg.intersect.pick_sigma_px, cross.empty() ? nullptr : &cross);
   for (const std::string& w : result.warnings) log.warnings.push_back(w);
@@ -157,20 +162,14 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
 
   int unsurveyed = 0;
   for (const PoleIntersection& p : result.poles) unsurveyed += p.surveyed ? 0 : 1;
-  log.counts["cameras_used"] = used;
-  log.counts["pick_sigma_px"] = cfg.intersect.pick_sigma_px;
-  log.counts["poles_picked"] = picked_ids.size();
-  log.counts["poles_triangulated"] = result.poles.size();
-  log.counts["check_poles"] = result.check.n;
-  log.counts["control_poles"] = result.control.n;
-  log.counts["unsurveyed_poles"] = unsurveyed;
-  // The headline figures (docs/outputs.md summary: intersection mean and max dR) over check poles.
-  log.counts["mean_dR_m"] = um(result.check.mean_dR);
-  log.counts["max_dR_m"] = um(result.check.max_dR);
-  log.counts["mean_sigma_m"] = um(result.check.mean_sigma_m);
-  log.counts["check"] = means_json(result.check);
-  log.counts["control"] = means_json(result.control);
-  log.counts["warnings"] = log.warnings.size();
+  record.pick_sigma_px = cfg.intersect.pick_sigma_px;
+  record.poles_picked = picked_ids.size();
+  record.poles_triangulated = result.poles.size();
+  record.unsurveyed_poles = unsurveyed;
+  record.check = means_record(result.check);
+  record.control = means_record(result.control);
+  record.warnings = log.warnings.size();
+  log.counts = intersect_record_json(record);
   if (const std::string s = intersection_shortfall(cfg, survey, picked_ids, used, result); !s.empty())
     log.shortfalls.push_back(s);
   return log;

@@ -24,25 +24,6 @@ const char* to_string(FrameRejection r) {
   return "unknown";
 }
 
-nlohmann::json to_json(const AlignReport& r) {
-  nlohmann::json j;
-  j["epochs"] = r.epochs;
-  j["frames"] = r.frames;
-  j["epochs_outside_frames"] = r.epochs_outside_frames;
-  j["frames_picked"] = r.frames_picked;
-  j["frames_aligned"] = r.frames_aligned;
-  j["rejected_offset"] = r.rejected_offset;
-  j["rejected_gap"] = r.rejected_gap;
-  j["rejected_outside_track"] = r.rejected_outside_track;
-  j["mean_dt_s"] = r.mean_dt_s;
-  j["mean_abs_dt_s"] = r.mean_abs_dt_s;
-  j["max_abs_dt_s"] = r.max_abs_dt_s;
-  j["max_speed_mps"] = r.max_speed_mps;
-  j["worst_position_error_m"] = r.worst_position_error_m;
-  j["worst_position_error_frame"] = r.worst_position_error_frame;
-  return j;
-}
-
 namespace {
 
 std::string frame_label(std::size_t i, const FrameStamp& f) {

@@ -18,13 +18,13 @@
 //     max over kept frames of |velocity at the frame| × |Δt|.
 #include <Eigen/Core>
 #include <cstdint>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "gnss/time/span_comparison.hpp"
 #include "gnss/time/utc_time.hpp"
 #include "gnss/track/lamp_track.hpp"
+#include "pipeline/io/align_record.hpp"
 #include "pipeline/io/aligned_csv.hpp"
 
 namespace rangecal {
@@ -57,32 +57,10 @@ struct RejectedFrame {
   std::string detail;  ///< human-readable, with the numbers
 };
 
-/// Counts and time-mismatch statistics for run.json (see to_json).
-struct AlignReport {
-  std::size_t epochs = 0;                 ///< lamp-track epochs in
-  std::size_t frames = 0;                 ///< frame stamps in
-  std::size_t epochs_outside_frames = 0;  ///< epochs outside the frames' time span (step 1)
-  std::size_t frames_picked = 0;          ///< distinct frames picked by some epoch
-  std::size_t frames_aligned = 0;         ///< kept
-  std::size_t rejected_offset = 0;
-  std::size_t rejected_gap = 0;
-  std::size_t rejected_outside_track = 0;
-  double mean_dt_s = 0;      ///< mean Δt over kept frames (s, signed)
-  double mean_abs_dt_s = 0;  ///< mean |Δt| (s)
-  double max_abs_dt_s = 0;   ///< max |Δt| (s)
-  double max_speed_mps = 0;  ///< max lamp speed at a kept frame (m/s)
-  /// max over kept frames of speed × |Δt| (m): the error interpolation avoids.
-  double worst_position_error_m = 0;
-  std::int64_t worst_position_error_frame = -1;  ///< the frame where it occurs (−1: none)
-};
-
-/// The report as a JSON object (keys as the field names) for StageLog::counts in run.json.
-nlohmann::json to_json(const AlignReport& r);
-
 struct AlignResult {
   std::vector<AlignedFrame> aligned;    ///< in frame order
   std::vector<RejectedFrame> rejected;  ///< in frame order
-  AlignReport report;
+  AlignReport report;                   ///< pipeline/io/align_record.hpp
 };
 
 /// Aligns one camera's frames to the lamp track (method in the header comment). `frames` must be

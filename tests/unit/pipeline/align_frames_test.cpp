@@ -7,6 +7,7 @@
 #include <map>
 
 #include "config/error.hpp"
+#include "pipeline/io/align_record.hpp"
 #include "pipeline/io/aligned_csv.hpp"
 #include "support/expect_error.hpp"
 #include "support/paths.hpp"
@@ -231,7 +232,9 @@ TEST(AlignStage, GapEdgeFallsBackToTheFrameOnTheUsableSide) {
 TEST(AlignStage, ReportAsJson) {
   const LampTrack tr = make_track(3.0);
   const AlignResult r = align_frames(tr, make_frames(1000.0, 400'000, 0, 3000, 3), AlignOptions{});
-  const nlohmann::json j = to_json(r.report);
+  AlignRecord record;
+  record.cameras["cam1"].report = r.report;
+  const nlohmann::json j = align_record_json(record).at("cam1");
   EXPECT_EQ(j.at("frames_aligned").get<std::size_t>(), r.aligned.size());
   EXPECT_DOUBLE_EQ(j.at("max_abs_dt_s").get<double>(), r.report.max_abs_dt_s);
   EXPECT_DOUBLE_EQ(j.at("worst_position_error_m").get<double>(), r.report.worst_position_error_m);
