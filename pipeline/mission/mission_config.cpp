@@ -397,6 +397,15 @@ RunConfig parse_run(const JsonView& r) {
 
 }  // namespace
 
+const std::vector<std::string>& default_calibrate_free() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v = default_free_parameters();
+    v.insert(v.begin() + 2, {parameter_name(CameraParameter::u0), parameter_name(CameraParameter::v0)});
+    return v;
+  }();
+  return names;
+}
+
 MissionConfig parse_mission_config(const std::string& json_text, const std::string& path, bool check_files) {
   MissionConfig cfg;
   std::error_code ec;

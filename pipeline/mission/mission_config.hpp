@@ -77,14 +77,22 @@ struct DetectConfig {
   int threads = 0;      ///< 0 = all hardware threads
 };
 
+/// calibrate.free when the config does not give it (docs/config.md "The principal point"): f, k1,
+/// u0, v0, pose — the principal point free under its prior (cameras[i].priors; the image centre,
+/// σ 30 px, when none is given). The library's own default (default_free_parameters, f, k1, pose)
+/// holds it fixed; on simulated two-camera missions a fixed centre is the better estimate only when
+/// the true principal point lies within ~2 px (network) or ~3.5 px (per camera) of it
+/// (docs/accuracy_analysis.md "The principal point's default").
+const std::vector<std::string>& default_calibrate_free();
+
 struct CalibrateConfig {
   /// tsai | tsai_sassa | dlt_lmqn | bundle | network | planar; empty (not given): the calibrate
   /// stage picks `network` when two or more cameras see common lamp-track epochs, else `bundle`
   /// (docs/config.md "Default method").
   std::string method;
-  std::vector<std::string> free = default_free_parameters();  ///< bundle free parameters
-  std::vector<std::string> compare;                           ///< extra methods for methods.csv
-  bool use_control_poles = false;                             ///< add `control` poles as calibration points
+  std::vector<std::string> free = default_calibrate_free();  ///< bundle free parameters
+  std::vector<std::string> compare;                          ///< extra methods for methods.csv
+  bool use_control_poles = false;                            ///< add `control` poles as calibration points
   double control_sigma_m = 0.005;  ///< surveyed `control` pole-top σ per axis (m): total station / RTK
   std::uint64_t seed = 1;          ///< seed of every random search (RANSAC, SSA)
 };

@@ -29,6 +29,12 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
   p.nominal_focal_mm = cam.nominal_focal_mm;
   p.priors = cam.priors;
   p.free = calibrate.free;
+  // A free principal point is held by its prior; without one given, the prior is the image centre
+  // under principal_point_sigma_px (docs/config.md "The principal point").
+  const std::vector<CameraParameter> free = expand_free_parameters(p.free);
+  if (!p.priors.principal_point_px &&
+      (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0)))
+    p.priors.principal_point_px = Eigen::Vector2d(p.sensor.center_u_px(), p.sensor.center_v_px());
   p.pixel_sigma_px = kDefaultPixelSigmaPx;
   p.seed = calibrate.seed;
   for (const Correspondence& c : pairs) {

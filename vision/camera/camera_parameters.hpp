@@ -114,9 +114,9 @@ inline bool is_translation(CameraParameter p) {
 std::vector<CameraParameter> expand_free_parameters(const std::vector<std::string>& free,
                                                     const std::string& file = "",
                                                     const std::string& field = "calibrate.free");
-/// The default free set (docs/optimisation.md): f, k1, pose. With a narrow field of view the principal point,
-/// rotation, f and Tz are nearly inseparable, so u0, v0 stay at the image centre (or their prior)
-/// and sx at 1 unless the user frees them (docs/optimisation.md).
+/// The bundle's default free set (docs/optimisation.md): f, k1, pose; u0, v0 stay at the image centre
+/// (or their prior) and sx at 1. A mission's calibrate.free frees u0, v0 as well, under a prior
+/// (docs/config.md "The principal point": a wrong fixed centre biases the intersection).
 const std::vector<std::string>& default_free_parameters();
 
 /// The names expand_free_parameters accepts, in canonical order, groups after the intrinsics and

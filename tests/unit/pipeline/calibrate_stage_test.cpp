@@ -12,6 +12,7 @@
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/steps/calibration_methods.hpp"
+#include "pipeline/steps/calibration_problem.hpp"
 #include "support/paths.hpp"
 #include "support/single_camera_mission.hpp"
 #include "support/synthetic_camera.hpp"
@@ -78,6 +79,45 @@ TEST(CalibrateStage, BundleAndDltLmqnReportSigmaForEveryFreeParameter) {
     // With 1 cm world noise at 64 m the estimate stays within 4σ of the truth.
     EXPECT_LT(std::abs(r.camera.intr.f_mm - truth.intr.f_mm), 4 * r.sigma(CameraParameter::f)) << m;
   }
+}
+
+TEST(CalibrateStage, DefaultFreesThePrincipalPointUnderAnImageCentrePrior) {
+  // docs/config.md "The principal point": by default u0, v0 are free under a prior at the image
+  // centre (σ 30 px) unless the camera's priors give one; fixed (f, k1, pose) there is no prior.
+  const Camera truth = test::range_camera(-3.4e-4, 1.0, 12.0, -9.0);  // 15 px off centre
+  const auto pts = test::observe(truth, test::range_world_points(truth));
+  std::vector<Correspondence> pairs;
+  for (const auto& c : pts) {
+    Correspondence k;
+    k.enu = c.world, k.uv = c.pixel, k.sd_enu = Eigen::Vector3d::Constant(0.001);
+    pairs.push_back(k);
+  }
+  CameraConfig cam;
+  cam.id = "cam1";
+  cam.sensor.width_px = 1280, cam.sensor.height_px = 800;
+  cam.sensor.pixel_size_um[0] = cam.sensor.pixel_size_um[1] = 20;
+  cam.nominal_focal_mm = 135;
+  const CalibrationProblem p = make_calibration_problem(cam, CalibrateConfig{}, pairs);
+  ASSERT_TRUE(p.priors.principal_point_px.has_value());
+  EXPECT_EQ(*p.priors.principal_point_px, Eigen::Vector2d(639.5, 399.5));
+  EXPECT_DOUBLE_EQ(p.priors.principal_point_sigma_px, 30);
+  // Noise-free data bring the principal point to the truth; the prior pulls it by < 0.5 px.
+  const CalibrationResult r = calibrate_camera("bundle", p);
+  EXPECT_NEAR(r.camera.intr.u0_px, truth.intr.u0_px, 0.5);
+  EXPECT_NEAR(r.camera.intr.v0_px, truth.intr.v0_px, 0.5);
+  // Held at the centre instead, the 15 px are absorbed by the other parameters: the reprojection
+  // shows it (the noise-free free solution fits to ~0).
+  CalibrateConfig fixed;
+  fixed.free = {"f", "k1", "pose"};
+  const CalibrationProblem q = make_calibration_problem(cam, fixed, pairs);
+  EXPECT_FALSE(q.priors.principal_point_px.has_value());
+  const CalibrationResult s = calibrate_camera("bundle", q);
+  EXPECT_DOUBLE_EQ(s.camera.intr.u0_px, 639.5);
+  EXPECT_GT(s.reprojection.rms_px, 10 * r.reprojection.rms_px);
+  // A prior the camera gives is kept.
+  cam.priors.principal_point_px = Eigen::Vector2d(650, 390);
+  EXPECT_EQ(*make_calibration_problem(cam, CalibrateConfig{}, pairs).priors.principal_point_px,
+            Eigen::Vector2d(650, 390));
 }
 
 TEST(CalibrateStage, DegenerateGeometryIsACalibrationError) {

@@ -119,7 +119,8 @@ TEST(MissionConfig, DefaultsOfOptionalKeys) {
   // Not given: the calibrate stage chooses (network when cameras share epochs, else bundle).
   EXPECT_EQ(c.calibrate.method, "");
   EXPECT_DOUBLE_EQ(c.calibrate.control_sigma_m, 0.005);
-  EXPECT_EQ(c.calibrate.free, (std::vector<std::string>{"f", "k1", "pose"}));
+  // The principal point free under its prior by default (docs/config.md "The principal point").
+  EXPECT_EQ(c.calibrate.free, (std::vector<std::string>{"f", "k1", "u0", "v0", "pose"}));
   EXPECT_TRUE(c.calibrate.compare.empty());
   EXPECT_FALSE(c.calibrate.use_control_poles);
   EXPECT_EQ(c.calibrate.seed, 1u);
