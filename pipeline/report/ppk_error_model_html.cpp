@@ -10,6 +10,9 @@
 namespace rangecal {
 namespace {
 
+/// The fewest pairs a bin of the chart needs (and a tenth of the fullest bin's).
+constexpr long kMinPairs = 30;
+
 std::string td(const std::string& html, const char* cls = "num") {
   return std::string("<td class=\"") + cls + "\">" + html + "</td>";
 }
@@ -76,32 +79,39 @@ std::string autocorrelation_figure(const ReportData& d, const PpkErrorModel& m, 
   const AutocorrelationLags lags = autocorrelation_lags(m, t);
   const std::vector<AutocorrelationBin> bins =
       empirical_autocorrelation(t, series, lags.bin_s, lags.max_lag_s);
+  // A bin of few pairs (lags as long as a whole flight) is one or two products, not an estimate.
+  long most = 0;
+  for (const AutocorrelationBin& b : bins) most = std::max(most, b.pairs);
+  const long min_pairs = std::max(kMinPairs, most / 10);
   std::vector<double> lag, rho, model_lag, model_rho;
-  for (const AutocorrelationBin& b : bins) lag.push_back(b.lag_s), rho.push_back(b.rho);
+  for (const AutocorrelationBin& b : bins)
+    if (b.pairs >= min_pairs) lag.push_back(b.lag_s), rho.push_back(b.rho);
+  // The model over the lags shown (the whole range when no bin is).
+  const double reach = lag.empty() ? lags.max_lag_s : std::min(lags.max_lag_s, lag.back() + lags.bin_s);
   const double sw = (vertical ? m.white_scale_v : m.white_scale_h) * median_pos_sd(d, vertical);
   const bool curve = std::isfinite(sw) || !m.correlated();
   for (int k = 0; curve && k <= 100; ++k) {
-    model_lag.push_back(lags.max_lag_s * k / 100);
+    model_lag.push_back(reach * k / 100);
     model_rho.push_back(model_autocorrelation(vertical ? m.gm_sd_v_m : m.gm_sd_h_m,
                                               vertical ? m.tau_v_s : m.tau_h_s, std::isfinite(sw) ? sw : 0,
                                               model_lag.back()));
   }
   const std::string axis = vertical ? "vertical (U)" : "horizontal (E, N pooled)";
   const std::string id = vertical ? "ppk-acf-v" : "ppk-acf-h";
+  const std::string model_caption =
+      curve
+          ? "; red: the model's &#961;(lag) = &#963;<sub>g</sub>&#178; e<sup>&#8722;lag/&#964;</sup> / "
+            "(&#963;<sub>w</sub>&#178; + &#963;<sub>g</sub>&#178;), &#963;<sub>w</sub> = s &#215; the median "
+            ".pos sd (" +
+                format_number("%.2f", std::isfinite(sw) ? sw * 100 : 0) + " cm)"
+          : "; no model curve: gnss/lamp_track.csv (the .pos sd) is missing";
   return "<figure>" +
          svg_autocorrelation(lag, rho, model_lag, model_rho, "ρ, " + std::string(vertical ? "U" : "E, N"), id,
                              "PPK corrections' autocorrelation, " + axis) +
          "<figcaption>Autocorrelation of the corrections, " + axis + ", in bins of " +
          format_number("%.2f", lags.bin_s) + " s up to " + format_number("%.0f", lags.max_lag_s) +
-         " s (pairs within one series; flagged epochs left out)" +
-         (curve ? std::string("; red: the model's &#961;(lag) = &#963;<sub>g</sub>&#178; "
-                              "e<sup>&#8722;lag/&#964;</sup> / "
-                              "(&#963;<sub>w</sub>&#178; + &#963;<sub>g</sub>&#178;), &#963;<sub>w</sub> = s "
-                              "&#215; the "
-                              "median .pos sd (") +
-                      format_number("%.2f", std::isfinite(sw) ? sw * 100 : 0) + " cm)"
-                : std::string("; no model curve: gnss/lamp_track.csv (the .pos sd) is missing")) +
-         "</figcaption></figure>\n";
+         " s (pairs within one series; flagged epochs left out; bins of fewer than " +
+         std::to_string(min_pairs) + " pairs not shown)" + model_caption + "</figcaption></figure>\n";
 }
 
 // The looks and what would lower the error they leave.
