@@ -106,7 +106,8 @@ std::string autocorrelation_figure(const ReportData& d, const PpkErrorModel& m, 
                 format_number("%.2f", std::isfinite(sw) ? sw * 100 : 0) + " cm)"
           : "; no model curve: gnss/lamp_track.csv (the .pos sd) is missing";
   return "<figure>" +
-         svg_autocorrelation(lag, rho, model_lag, model_rho, "ρ, " + std::string(vertical ? "U" : "E, N"), id,
+         svg_autocorrelation(lag, rho, model_lag, model_rho,
+                             std::string(vertical ? "ρ of dU (1)" : "ρ of dE, dN (1)"), id,
                              "PPK corrections' autocorrelation, " + axis) +
          "<figcaption>Autocorrelation of the corrections, " + axis + ", in bins of " +
          format_number("%.2f", lags.bin_s) + " s up to " + format_number("%.0f", lags.max_lag_s) +
