@@ -1,5 +1,6 @@
 #include "pipeline/analysis/network_plan.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -9,6 +10,32 @@
 #include "pipeline/simulate/ppk_error.hpp"
 
 namespace rangecal {
+
+namespace {
+
+/// The pole top as a control point of `n` under the survey σ, seen by every camera whose image holds
+/// it (with the pick σ); nothing when none does.
+void add_control_pole(const Scenario& s, const ScenarioPole& pole, PlannedNetwork* n) {
+  const std::size_t k = n->points.size();
+  for (std::size_t c = 0; c < n->truth.size(); ++c) {
+    Eigen::Vector2d uv;
+    if (!project(n->truth[c], pole.enu_m, &uv) || !inside_image(n->truth[c].intr, uv)) continue;
+    if (k == n->points.size()) {
+      NetworkPoint p;
+      p.prior_enu = pole.enu_m;
+      p.prior_cov = Eigen::Matrix3d::Identity() * s.survey_noise_m * s.survey_noise_m;
+      p.control_pole = true;
+      p.quality = 0;
+      p.source = "pole '" + pole.id + "'";
+      n->points.push_back(p);
+    }
+    NetworkObservation ob;
+    ob.camera = c, ob.point = k, ob.pixel = uv, ob.pixel_sigma_px = s.pick_noise_px;
+    n->observations.push_back(ob);
+  }
+}
+
+}  // namespace
 
 PlannedNetwork planned_network(const Scenario& s, const PlanOptions& o) {
   return planned_network(simulate_mission(s), o);
@@ -55,27 +82,34 @@ PlannedNetwork planned_network(const SimMission& m, const PlanOptions& o) {
   }
   const auto use = s.mission_calibrate.find("use_control_poles");
   if (use != s.mission_calibrate.end() && use->is_boolean() && use->get<bool>())
-    for (const ScenarioPole& pole : s.poles) {
-      if (pole.role != "control") continue;
-      std::size_t k = n.points.size();
-      for (std::size_t c = 0; c < n.truth.size(); ++c) {
-        Eigen::Vector2d uv;
-        if (!project(n.truth[c], pole.enu_m, &uv) || !inside_image(n.truth[c].intr, uv)) continue;
-        if (k == n.points.size()) {
-          NetworkPoint p;
-          p.prior_enu = pole.enu_m;
-          p.prior_cov = Eigen::Matrix3d::Identity() * s.survey_noise_m * s.survey_noise_m;
-          p.control_pole = true;
-          p.quality = 0;
-          p.source = "pole '" + pole.id + "'";
-          n.points.push_back(p);
-        }
-        NetworkObservation ob;
-        ob.camera = c, ob.point = k, ob.pixel = uv, ob.pixel_sigma_px = s.pick_noise_px;
-        n.observations.push_back(ob);
-      }
-    }
+    for (const ScenarioPole& pole : s.poles)
+      if (pole.role == "control") add_control_pole(s, pole, &n);
   return n;
+}
+
+PlannedNetwork with_survey(const PlannedNetwork& n, const Scenario& s, std::size_t control_poles,
+                           double station_sigma_m) {
+  PlannedNetwork out = n;
+  // The control poles follow the lamp points (planned_network): cut them and their observations.
+  std::size_t lamp = 0;
+  while (lamp < out.points.size() && !out.points[lamp].control_pole) ++lamp;
+  out.points.resize(lamp);
+  out.observations.erase(std::remove_if(out.observations.begin(), out.observations.end(),
+                                        [&](const NetworkObservation& ob) { return ob.point >= lamp; }),
+                         out.observations.end());
+  std::vector<const ScenarioPole*> order;
+  for (const bool control : {true, false})
+    for (const ScenarioPole& pole : s.poles)
+      if ((pole.role == "control") == control) order.push_back(&pole);
+  for (std::size_t k = 0; k < control_poles && k < order.size(); ++k) add_control_pole(s, *order[k], &out);
+  out.priors.assign(out.truth.size(), BundlePriors{});
+  if (station_sigma_m > 0)
+    for (std::size_t c = 0; c < out.truth.size(); ++c) {
+      out.priors[c].use_center = true;
+      out.priors[c].center_enu_m = out.truth[c].pose.center();
+      out.priors[c].center_sigma_m = Eigen::Vector3d::Constant(station_sigma_m);
+    }
+  return out;
 }
 
 Eigen::MatrixXd network_cramer_rao_bound(const PlannedNetwork& n, const std::vector<std::string>& free,
@@ -86,6 +120,7 @@ Eigen::MatrixXd network_cramer_rao_bound(const PlannedNetwork& n, const std::vec
     c.initial = t;
     c.options.free = free;
     c.options.pixel_sigma_px = pixel_sigma_px;
+    if (cams.size() < n.priors.size()) c.options.priors = n.priors[cams.size()];
     cams.push_back(c);
   }
   NetworkLayout l = make_network_layout(cams, n.points, n.observations, n.ppk);

@@ -190,6 +190,49 @@ PlanTable volume_table(const std::vector<RoutePlanAnalysis>& cands, std::size_t 
   return t;
 }
 
+/// What surveying would buy (SurveyBenefit, the first free set): per number of control poles, the
+/// network's flight-volume σ with the stations free and surveyed, per candidate.
+PlanTable survey_table(const std::vector<RoutePlanAnalysis>& cands, const std::string& free) {
+  PlanTable t;
+  t.title = "What surveying buys: network calibration-only intersection 1σ through the flight volume, free " +
+            free +
+            " (mm, as above), with the first N scenario poles as control (survey σ of the scenario) and the "
+            "camera stations free or surveyed to " +
+            format_number("%.0f", kSurveyedStationSigmaM * 1e3) + " mm";
+  t.header.push_back("control poles");
+  for (const RoutePlanAnalysis& cand : cands) {
+    t.groups.emplace_back(cand.name, 2);
+    t.header.insert(
+        t.header.end(),
+        {"stations free", "stations " + format_number("%.0f", kSurveyedStationSigmaM * 1e3) + " mm"});
+  }
+  std::vector<std::size_t> rows;
+  for (const RoutePlanAnalysis& cand : cands)
+    if (const FreeSetPlan* fs = free_set(cand, 0))
+      for (const std::size_t k : fs->survey.control_poles)
+        if (std::find(rows.begin(), rows.end(), k) == rows.end()) rows.push_back(k);
+  std::sort(rows.begin(), rows.end());
+  for (const std::size_t k : rows) {
+    std::vector<std::string> row{std::to_string(k)};
+    for (const RoutePlanAnalysis& cand : cands) {
+      const FreeSetPlan* fs = free_set(cand, 0);
+      const SurveyBenefit* b = fs ? &fs->survey : nullptr;
+      std::size_t i = 0;
+      while (b && i < b->control_poles.size() && b->control_poles[i] != k) ++i;
+      const bool has = b && i < b->control_poles.size();
+      row.push_back(has ? mm_cell(b->stations_free_m[i]) : "-");
+      row.push_back(has ? mm_cell(b->stations_surveyed_m[i]) : "-");
+    }
+    t.rows.push_back(row);
+  }
+  t.notes.push_back(
+      "control poles: those with role control first, then the others, in scenario order (fewer when the "
+      "scenario "
+      "has fewer); each adds datum information independent of the PPK errors, which the fixes cannot average "
+      "away when they are correlated in time (docs/accuracy_analysis.md \"What surveying buys\")");
+  return t;
+}
+
 /// Free set k's predicted intersection 1σ at the poles (per-camera calibration, pick σ included).
 PlanTable pole_table(const std::vector<RoutePlanAnalysis>& cands, std::size_t k, const std::string& free) {
   PlanTable t;
@@ -225,6 +268,7 @@ std::vector<PlanTable> plan_tables(const std::vector<RoutePlanAnalysis>& cands) 
     for (std::size_t c = 0; c < base.cameras.size(); ++c)
       out.push_back(camera_table(cands, k, c, free, with_network));
     out.push_back(volume_table(cands, k, free));
+    if (k == 0 && !base.survey.control_poles.empty()) out.push_back(survey_table(cands, free));
     out.push_back(pole_table(cands, k, free));
   }
   return out;

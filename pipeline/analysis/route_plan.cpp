@@ -201,6 +201,26 @@ NetworkBound network_bound(const PlannedNetwork& net, const std::vector<CameraBo
   return nb;
 }
 
+/// SurveyBenefit of `net` for free set `free` over the flight-volume points `volume`.
+SurveyBenefit survey_benefit(const PlannedNetwork& net, const Scenario& s,
+                             const std::vector<std::string>& free, const std::vector<Eigen::Vector3d>& volume,
+                             const PlanOptions& o) {
+  SurveyBenefit b;
+  const std::vector<CameraParameter> params = expand_free_parameters(free);
+  for (const std::size_t wanted : o.survey_control_poles) {
+    const std::size_t k = std::min(wanted, s.poles.size());
+    if (std::find(b.control_poles.begin(), b.control_poles.end(), k) != b.control_poles.end()) continue;
+    b.control_poles.push_back(k);
+    for (const bool surveyed : {false, true}) {
+      const PlannedNetwork n = with_survey(net, s, k, surveyed ? kSurveyedStationSigmaM : 0);
+      const double v = predicted_intersection_rms(
+          n.truth, params, network_cramer_rao_bound(n, free, o.pixel_sigma_px), volume, true);
+      (surveyed ? b.stations_surveyed_m : b.stations_free_m).push_back(v);
+    }
+  }
+  return b;
+}
+
 }  // namespace
 
 RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name, const PlanOptions& o) {
@@ -237,6 +257,7 @@ RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name,
     v.per_camera_independent_m = predicted_intersection_rms(net.truth, params, per_camera, volume, false);
     v.network_m = predicted_intersection_rms(net.truth, params, fp.network.joint, volume, true);
     v.network_independent_m = predicted_intersection_rms(net.truth, params, fp.network.joint, volume, false);
+    if (&free == &o.free_sets.front()) fp.survey = survey_benefit(net, s, free, volume, o);
     if (fp.network.applies())
       v.network_datum_floor_m = predicted_intersection_rms(
           net.truth, params, network_cramer_rao_bound(net, free, o.pixel_sigma_px, kDatumFloorImageFactor),

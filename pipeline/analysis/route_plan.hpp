@@ -52,6 +52,9 @@ struct PlanOptions {
   /// methods is predicted (network_vs_per_camera.hpp flight_volume_points), and their fixed seed.
   int volume_points = 400;
   std::uint64_t volume_seed = 77;
+  /// Control poles in the "What surveying buys" rows (SurveyBenefit), each capped at the scenario's
+  /// number of poles (repeats dropped); empty: not computed.
+  std::vector<std::size_t> survey_control_poles = {0, 2, 4};
 };
 
 /// The observations camera `camera_index` of the scenario would calibrate from (see above): the
@@ -141,12 +144,26 @@ struct VolumeIntersection {
   double network_datum_floor_m = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// σ per axis of a surveyed camera station in `plan`'s "What surveying buys" table (m).
+inline constexpr double kSurveyedStationSigmaM = 0.005;
+
+/// What surveying would buy (docs/accuracy_analysis.md "What surveying buys"): the network's
+/// calibration-only intersection 1σ through the flight volume (m, as VolumeIntersection::network_m)
+/// with `control_poles[i]` of the scenario's poles as control (network_plan.hpp with_survey) and the
+/// camera stations free (`stations_free_m[i]`) or surveyed to kSurveyedStationSigmaM
+/// (`stations_surveyed_m[i]`). Empty when not computed.
+struct SurveyBenefit {
+  std::vector<std::size_t> control_poles;
+  std::vector<double> stations_free_m, stations_surveyed_m;
+};
+
 struct FreeSetPlan {
   std::vector<std::string> free;
   std::vector<CameraBound> cameras;
   std::vector<PoleBound> poles;
   NetworkBound network;
   VolumeIntersection volume;
+  SurveyBenefit survey;  ///< for the first free set only (each row costs two network bounds)
 };
 
 /// One candidate (a scenario) analysed for every free set.

@@ -144,6 +144,46 @@ nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector
   return j;
 }
 
+PpkErrorModelRecord parse_ppk_error_model_json(const nlohmann::json& j, const std::string& path,
+                                               const std::string& field) {
+  if (!j.is_object()) throw_input_error(path, 0, field, "expected an object (the PPK error model)");
+  // One {horizontal, vertical} pair, with its optional {horizontal, vertical} σ.
+  auto pair = [&](const nlohmann::json& o, const std::string& key, double* h, double* v, double* sh,
+                  double* sv) {
+    const std::string name = field + "." + key;
+    if (!o.contains(key) || !o[key].is_object()) throw_input_error(path, 0, name, "expected an object");
+    const nlohmann::json& x = o[key];
+    auto number = [&](const nlohmann::json& y, const char* k, const std::string& where) {
+      if (!y.contains(k) || !y[k].is_number())
+        throw_input_error(path, 0, where + "." + k, "expected a number");
+      return y[k].get<double>();
+    };
+    *h = number(x, "horizontal", name);
+    *v = number(x, "vertical", name);
+    if (!x.contains("sigma")) return;
+    if (!x["sigma"].is_object()) throw_input_error(path, 0, name + ".sigma", "expected an object");
+    *sh = number(x["sigma"], "horizontal", name + ".sigma");
+    *sv = number(x["sigma"], "vertical", name + ".sigma");
+  };
+  PpkErrorModelRecord r;
+  PpkErrorModel &m = r.model, &s = r.sigma;
+  pair(j, "white_scale", &m.white_scale_h, &m.white_scale_v, &s.white_scale_h, &s.white_scale_v);
+  if (!j.contains("gauss_markov")) throw_input_error(path, 0, field + ".gauss_markov", "missing");
+  const nlohmann::json& gm = j["gauss_markov"];
+  if (gm.is_null()) return r;
+  if (!gm.is_object()) throw_input_error(path, 0, field + ".gauss_markov", "expected an object or null");
+  pair(gm, "sd_m", &m.gm_sd_h_m, &m.gm_sd_v_m, &s.gm_sd_h_m, &s.gm_sd_v_m);
+  pair(gm, "tau_s", &m.tau_h_s, &m.tau_v_s, &s.tau_h_s, &s.tau_v_s);
+  if (!gm.contains("states") || !gm["states"].is_number_integer() || gm["states"].get<long>() < 0)
+    throw_input_error(path, 0, field + ".gauss_markov.states", "expected a non-negative integer");
+  r.states = gm["states"].get<long>();
+  if (gm.contains("independent_looks")) {
+    double unused_h = 0, unused_v = 0;
+    pair(gm, "independent_looks", &r.looks_h, &r.looks_v, &unused_h, &unused_v);
+  }
+  return r;
+}
+
 NetworkStatisticsRecord parse_network_statistics_json(const nlohmann::json& j, const std::string& path,
                                                       const std::string& field) {
   if (!j.is_object()) throw_input_error(path, 0, field, "expected an object (the network statistics)");
@@ -190,6 +230,8 @@ NetworkStatisticsRecord parse_network_statistics_json(const nlohmann::json& j, c
   const nlohmann::json& rank = at("rank_deficient");
   if (!rank.is_boolean()) throw_input_error(path, 0, field + ".rank_deficient", "expected true or false");
   r.rank_deficient = rank.get<bool>();
+  if (j.contains("ppk_error_model"))
+    r.ppk_error_model = parse_ppk_error_model_json(j["ppk_error_model"], path, field + ".ppk_error_model");
   return r;
 }
 

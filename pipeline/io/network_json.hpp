@@ -8,6 +8,7 @@
 // (the same matrix with every image σ divided by image_factor), and when float epochs were used
 // float_epochs {epochs, cameras [{id, parameters, sigma_with, sigma_without (null when the cameras
 // are undetermined without them)}]} — what they add (docs/optimisation.md, "Float epochs").
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -30,6 +31,23 @@ nlohmann::json ppk_error_model_json(const PpkErrorModel& model, int gauss_markov
 nlohmann::json ppk_error_estimate_json(const PpkErrorEstimate& estimate);
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 
+/// `ppk_error_model` read back (the report's PPK error model section): the model, each value's σ
+/// where the writer gives one (a `sigma` {`horizontal`, `vertical`} beside the value: estimated;
+/// absent: NaN, the value fixed in the config), and for a correlated model its chained epochs and
+/// independent looks (NaN when not written).
+struct PpkErrorModelRecord {
+  PpkErrorModel model;
+  PpkErrorModel sigma{std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan("")};
+  long states = 0;
+  double looks_h = std::nan(""), looks_v = std::nan("");
+};
+
+/// Parses `j` as written by ppk_error_model_json (with `independent_looks`); `path` and `field` name
+/// it in messages: a missing key or a value of the wrong type throws rangecal::Error (input) naming
+/// `field.<key>`.
+PpkErrorModelRecord parse_ppk_error_model_json(const nlohmann::json& j, const std::string& path,
+                                               const std::string& field);
+
 /// The statistics object read back (the report's network section): NetworkStatistics with the PPK
 /// outliers and the cameras alone by name.
 struct NetworkStatisticsRecord {
@@ -42,6 +60,8 @@ struct NetworkStatisticsRecord {
   long image_outliers = 0;
   std::vector<std::string> cameras_alone;  ///< camera ids
   bool rank_deficient = false;
+  /// `ppk_error_model`; absent when the object has none (written before the network carried it).
+  std::optional<PpkErrorModelRecord> ppk_error_model;
 };
 
 /// Parses `j` as written by network_statistics_json. `path` and `field` (the object's JSON path,

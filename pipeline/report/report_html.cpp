@@ -13,6 +13,7 @@
 #include "pipeline/report/intersection_prediction.hpp"
 #include "pipeline/report/lamp_residuals.hpp"
 #include "pipeline/report/principal_point_cost.hpp"
+#include "pipeline/report/ppk_error_model_html.hpp"
 #include "pipeline/report/projection_uncertainty.hpp"
 #include "pipeline/report/report_plots.hpp"
 #include "pipeline/report/svg_plot.hpp"
@@ -987,6 +988,7 @@ std::string render_report_html(const ReportData& d, const FlightVolumeSigma& vol
   s += intersection_section(d, intersection_plots(d, volume.slice));
   s += funnel_section(d);
   s += network_section(d);
+  s += ppk_error_model_section(d);
   s += "</body>\n</html>\n";
   return s;
 }

@@ -397,6 +397,42 @@ std::string svg_correction_series(const std::vector<double>& t_s, const std::vec
   return band_scatter(t_s, d_cm, sigma_cm, {}, "time since the first epoch (s)", y_label, id, title, style);
 }
 
+std::string svg_autocorrelation(const std::vector<double>& lag_s, const std::vector<double>& rho,
+                                const std::vector<double>& model_lag_s, const std::vector<double>& model_rho,
+                                const std::string& y_label, const std::string& id, const std::string& title) {
+  ChartAxes a;
+  a.left = 60;
+  a.top = 12;
+  a.width = 420;
+  a.height = 170;
+  // ρ of a few pairs may leave [−1, 1]: the area takes in every point.
+  double x1 = 0, y0 = -0.2, y1 = 1;
+  for (double x : lag_s) x1 = std::max(x1, x);
+  for (double x : model_lag_s) x1 = std::max(x1, x);
+  for (double y : rho) y0 = std::min(y0, y), y1 = std::max(y1, y);
+  a.x0 = 0, a.x1 = x1 > 0 ? x1 * 1.02 : 1, a.y0 = y0 - 0.05, a.y1 = y1 + 0.05;
+  std::string s = svg_open(a.right() + 14, a.bottom() + 58, id, title);
+  s += "<g class=\"data\">\n<line class=\"zero\" x1=\"" + n2(a.left) + "\" y1=\"" + n2(a.Y(0)) + "\" x2=\"" +
+       n2(a.right()) + "\" y2=\"" + n2(a.Y(0)) + "\" stroke=\"#999\" stroke-width=\"0.6\"/>\n";
+  std::string pts;
+  for (std::size_t i = 0; i < model_lag_s.size() && i < model_rho.size(); ++i)
+    pts += (pts.empty() ? "" : " ") + n2(a.X(model_lag_s[i])) + "," + n2(a.Y(model_rho[i]));
+  if (!pts.empty())
+    s += "<polyline class=\"model\" points=\"" + pts +
+         "\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.4\"/>\n";
+  for (std::size_t i = 0; i < lag_s.size() && i < rho.size(); ++i)
+    s += "<circle class=\"acf\" cx=\"" + n2(a.X(lag_s[i])) + "\" cy=\"" + n2(a.Y(rho[i])) +
+         "\" r=\"2.20\" fill=\"#1f5fa8\"/>\n";
+  s += "</g>\n";
+  s += svg_axes(a, "time lag (s)", y_label, 6, 5, 44);
+  const double ky = a.bottom() + 48;
+  s += "<g class=\"key\" font-size=\"11\"><circle cx=\"" + n2(a.left + 4) + "\" cy=\"" + n2(ky - 4) +
+       "\" r=\"2.20\" fill=\"#1f5fa8\"/>" + text(a.left + 12, ky, "corrections (empirical)") + "<line x1=\"" +
+       n2(a.left + 160) + "\" y1=\"" + n2(ky - 4) + "\" x2=\"" + n2(a.left + 180) + "\" y2=\"" + n2(ky - 4) +
+       "\" stroke=\"#d62728\" stroke-width=\"1.4\"/>" + text(a.left + 186, ky, "error model") + "</g>\n";
+  return s + "</svg>\n";
+}
+
 namespace {
 
 /// Axes over a camera image, 520 drawing units wide: pixel edges −0.5 … W − 0.5, v down.

@@ -1,7 +1,8 @@
 #pragma once
 // The charts of report.html beyond the image plots of svg_plot.hpp: the site map (plan and side
 // view), residuals against a variable with the noise model's ±2σ band and the network's lamp-track
-// corrections against time with their ±1σ, colour maps over the image
+// corrections against time with their ±1σ and their autocorrelation against the PPK error model's,
+// colour maps over the image
 // (projection uncertainty, calibration difference) and over a horizontal slice of the flight volume
 // (predicted intersection σ), displacement vectors over the image (distortion), the correlation
 // matrix, the check poles' error bars and the data funnel. Pure functions of typed data returning
@@ -67,6 +68,12 @@ std::string svg_correction_series(const std::vector<double>& t_s, const std::vec
                                   const std::vector<double>& sigma_cm, const std::vector<bool>& flagged,
                                   const std::string& y_label, const std::string& id,
                                   const std::string& title);
+
+/// The PPK corrections' empirical autocorrelation (circle.acf at each bin's mean lag, s) against the
+/// model's ρ(lag) (polyline.model through `model_lag_s`, `model_rho`), with the zero line and a key.
+std::string svg_autocorrelation(const std::vector<double>& lag_s, const std::vector<double>& rho,
+                                const std::vector<double>& model_lag_s, const std::vector<double>& model_rho,
+                                const std::string& y_label, const std::string& id, const std::string& title);
 
 /// A colour map over the image (values ny × nx at cell centres u_px × v_px) with contours and a
 /// colour bar labelled `value_label`; `marks` (px) are drawn as small × (e.g. cells that exceed).

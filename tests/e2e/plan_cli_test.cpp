@@ -72,6 +72,18 @@ TEST(Plan, CliComparesCandidatesSideBySide) {
     EXPECT_NE(r.out.find(row), std::string::npos) << row;
   EXPECT_NE(html.find("<th class=\"group\" colspan=\"3\">three</th>"), std::string::npos);
   EXPECT_NE(html.find("<th>per-camera</th><th>network</th><th>ratio</th>"), std::string::npos);
+  // What surveying buys: rows 0, 2, 4 control poles, per candidate the stations free and surveyed
+  // (the numbers: route_plan_test).
+  EXPECT_NE(r.out.find("What surveying buys"), std::string::npos);
+  for (const char* k : {"0", "2", "4"})
+    EXPECT_TRUE(
+        std::regex_search(r.out, std::regex(std::string("\n  ") + k +
+                                            " +[0-9]+\\.[0-9]{2} +[0-9]+\\.[0-9]{2} +[0-9]+\\.[0-9]{2} "
+                                            "+[0-9]+\\.[0-9]{2}\n")))
+        << k << "\n"
+        << r.out;
+  EXPECT_NE(html.find("<th>control poles</th><th>stations free</th><th>stations 5 mm</th>"),
+            std::string::npos);
 
   // One camera: the network is the per-camera calibration, said so; nothing to intersect.
   j["cameras"] = nlohmann::json::array({j["cameras"][0]});

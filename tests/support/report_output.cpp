@@ -9,6 +9,7 @@
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/methods_csv.hpp"
+#include "pipeline/io/network_json.hpp"
 #include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/io/run_log.hpp"
 #include "support/paths.hpp"
@@ -46,7 +47,8 @@ nlohmann::json network_counts() {
           {"ppk_outliers", outliers},
           {"image_outliers", 4},
           {"cameras_alone", nlohmann::json::array()},
-          {"rank_deficient", false}};
+          {"rank_deficient", false},
+          {"ppk_error_model", ppk_error_model_json(PpkErrorModel{}, 0)}};
 }
 
 ReportOutput write_report_output(const fs::path& dir, bool with_intersection, bool with_network) {

@@ -44,7 +44,8 @@ inline constexpr std::int64_t kAdjustedStartNs = 1'700'000'000'000'000'000;
 /// The ISO 8601 UTC of an adjusted epoch.
 std::string adjusted_utc(const AdjustedEpoch& e);
 
-/// run.json's network statistics as the calibrate stage writes them (pipeline/io/network_json.hpp).
+/// run.json's network statistics as the calibrate stage writes them (pipeline/io/network_json.hpp),
+/// the PPK error model white.
 nlohmann::json network_counts();
 
 struct ReportOutput {

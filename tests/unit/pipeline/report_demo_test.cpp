@@ -284,9 +284,10 @@ TEST(ReportDemo, RendersInHeadlessChromiumInsideItsAreasWithNumbersOfTheData) {
   }
   // Per calibrated camera: track, residual vectors, histogram, 4 residual plots, uncertainty,
   // distortion, correlation (10); site plan and side view, pole bars, slice, funnel (5); the
-  // network's corrections dE, dN, dU (3), each measured above like every other plot.
+  // network's corrections dE, dN, dU (3) and their autocorrelation, horizontal and vertical (2),
+  // each measured above like every other plot.
   EXPECT_EQ(network_plots, 3);
-  EXPECT_EQ(plots, 2 * 10 + 5 + 3);
+  EXPECT_EQ(plots, 2 * 10 + 5 + 3 + 2);
   check_plotted_numbers(page);
   check_network_numbers(page);
 }

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <random>
 #include <regex>
 #include <sstream>
 
@@ -24,6 +25,7 @@
 #include "pipeline/io/methods_csv.hpp"
 #include "pipeline/io/network_json.hpp"
 #include "pipeline/io/residuals_csv.hpp"
+#include "pipeline/report/correction_autocorrelation.hpp"
 #include "pipeline/report/report_html.hpp"
 #include "pipeline/report/svg_plot.hpp"
 #include "pipeline/stages/calibrate_stage.hpp"
@@ -445,6 +447,141 @@ TEST(Report, MalformedNetworkInputsNameFileLineAndField) {
     EXPECT_EQ(e.exit_code(), 3);
     EXPECT_EQ(e.field(), "stages.calibrate.counts.network.epochs_seen_by_2");
     EXPECT_NE(std::string(e.what()).find("run.json"), std::string::npos) << e.what();
+  }
+}
+
+// The PPK error model section (docs/outputs.md): on the fixture's white run the model reads white,
+// fixed in the config, with a flat model curve; on a correlated run (a Gauss–Markov track of two
+// flights written to gnss/lamp_track_adjusted.csv, run.json's model with σ on two values and 6.5
+// looks) the table shows each value with its σ or "fixed in the config", each chart's points are
+// the empirical autocorrelation of the file's corrections (flagged epoch left out, E and N pooled)
+// and its model curve starts at σ_g²/(σ_w² + σ_g²), and the few looks are warned of.
+TEST(Report, PpkErrorModelSectionShowsTheModelItsAutocorrelationAndTheLooks) {
+  const fs::path dir = test::scratch_dir("report_ppk_model");
+  Fixture fx = build_output(dir, true, /*with_network=*/true);
+  run_report_stage(fx.cfg);
+  const auto section = [&]() {
+    const std::string html = test::read_text(dir / "out/report.html");
+    const std::size_t a = html.find("<section id=\"ppk-error-model\">");
+    return a == std::string::npos ? std::string() : html.substr(a, html.find("</section>", a) - a);
+  };
+  const std::string white = section();
+  ASSERT_FALSE(white.empty());
+  EXPECT_NE(white.find("<h2>PPK error model</h2>"), std::string::npos);
+  EXPECT_NE(
+      white.find("<td class=\"num\">1.000</td><td class=\"num\">1.000</td><td class=\"txt\">fixed in the "
+                 "config</td>"),
+      std::string::npos)
+      << white;
+  EXPECT_NE(white.find("white (every fix independent)"), std::string::npos);
+  EXPECT_NE(white.find("Under a white model every fix is an independent look"), std::string::npos);
+  EXPECT_EQ(white.find("class=\"warn\""), std::string::npos);
+  for (const char* id : {"ppk-acf-h", "ppk-acf-v"}) {
+    const std::string svg = svg_by_id(white, id);
+    ASSERT_FALSE(svg.empty()) << id;
+    const AxisMap Y = axis_from_ticks(svg, true);
+    const std::smatch m = [&] {
+      std::smatch r;
+      std::regex_search(svg, r, std::regex(R"re(<polyline class="model" points="[^,]+,([^ ]+) )re"));
+      return r;
+    }();
+    ASSERT_EQ(m.size(), 2u) << id;
+    // Six epochs: no lag bin reaches the 30 pairs a point is drawn from.
+    EXPECT_EQ(svg.find("<circle class=\"acf\""), std::string::npos) << id;
+    EXPECT_NEAR(Y.value(std::stod(m[1])), 0, 0.011 * Y.per_unit()) << id;  // white: ρ = 0
+  }
+
+  // A correlated run: g per axis exactly discretised, plus 2 mm white, 0.2 s epochs, two flights of
+  // 240 s 1000 s apart; one epoch flagged with a blunder.
+  PpkErrorModel model;
+  model.white_scale_h = 0.5, model.white_scale_v = 0.8;
+  model.gm_sd_h_m = 0.008, model.gm_sd_v_m = 0.014;
+  model.tau_h_s = 20, model.tau_v_s = 30;
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> z;
+  std::vector<double> t;
+  for (double t0 : {0.0, 1240.0})
+    for (int k = 0; k < 1200; ++k) t.push_back(t0 + 0.2 * k);
+  std::vector<Eigen::Vector3d> d(t.size());
+  Eigen::Vector3d g = model.gm_sd().cwiseProduct(Eigen::Vector3d(z(rng), z(rng), z(rng)));
+  std::string csv = "utc,E,N,U,sdE,sdN,sdU,dE,dN,dU,flag\n";
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const Eigen::Vector3d phi = gauss_markov_transition(model, k ? t[k] - t[k - 1] : 0);
+    for (int a = 0; a < 3; ++a)
+      g[a] = phi[a] * g[a] + model.gm_sd()[a] * std::sqrt(1 - phi[a] * phi[a]) * z(rng);
+    for (int a = 0; a < 3; ++a) d[k][a] = -(g[a] + 0.002 * z(rng));
+    const bool flag = k == 700;
+    if (flag) d[k] = Eigen::Vector3d(0.3, -0.2, 0.5);
+    csv += format_iso8601_utc(
+               UtcTime{test::kAdjustedStartNs + static_cast<std::int64_t>(std::llround(t[k] * 1e9))}) +
+           ",0.5000,64.0000,3.0000,0.0020,0.0020,0.0040," + fixed("%.4f", d[k].x()) + "," +
+           fixed("%.4f", d[k].y()) + "," + fixed("%.4f", d[k].z()) + "," + (flag ? "1" : "0") + "\n";
+  }
+  test::write_text(dir / "out/gnss/lamp_track_adjusted.csv", csv);
+  StageLog cal;
+  cal.stage = "calibrate";
+  cal.counts["network"] = network_counts();
+  nlohmann::json pm = ppk_error_model_json(model, 2400);
+  pm["gauss_markov"]["independent_looks"] = {{"horizontal", 13.4}, {"vertical", 6.5}};
+  pm["gauss_markov"]["sd_m"]["sigma"] = {{"horizontal", 0.001}, {"vertical", 0.0025}};
+  pm["white_scale"]["sigma"] = {{"horizontal", 0.04}, {"vertical", 0.06}};
+  cal.counts["network"]["ppk_error_model"] = pm;
+  update_run_log(fx.cfg, cal);
+  run_report_stage(fx.cfg);
+  const std::string sec = section();
+  ASSERT_FALSE(sec.empty());
+  EXPECT_NE(sec.find("<td class=\"num\">0.500 &#177; 0.040</td><td class=\"num\">0.800 &#177; 0.060</td><td "
+                     "class=\"txt\">estimated &#177; 1&#963;</td>"),
+            std::string::npos)
+      << sec;
+  EXPECT_NE(sec.find("<td class=\"num\">0.80 &#177; 0.10</td><td class=\"num\">1.40 &#177; 0.25</td>"),
+            std::string::npos);
+  EXPECT_NE(sec.find("<td class=\"num\">20.0</td><td class=\"num\">30.0</td><td class=\"txt\">fixed in the "
+                     "config</td>"),
+            std::string::npos);
+  EXPECT_NE(sec.find("<td class=\"num\">13.4</td><td class=\"num\">6.5</td><td class=\"txt\">2400 chained"),
+            std::string::npos);
+  EXPECT_NE(sec.find("<p class=\"warn\">Fewer than 10 independent looks"), std::string::npos);
+  EXPECT_EQ(sec.find("white (every fix independent)"), std::string::npos);
+  // The lamp track's median .pos sd is 1 cm (E, N) and 2 cm (U): σ_w = s·sd.
+  const double sw[2] = {0.5 * 0.01, 0.8 * 0.02};
+  for (int v = 0; v < 2; ++v) {
+    const std::string svg = svg_by_id(sec, v ? "ppk-acf-v" : "ppk-acf-h");
+    ASSERT_FALSE(svg.empty()) << v;
+    const AxisMap X = axis_from_ticks(svg, false), Y = axis_from_ticks(svg, true);
+    std::vector<std::vector<double>> series(v ? 1 : 2);
+    for (std::size_t k = 0; k < t.size(); ++k)
+      for (std::size_t s = 0; s < series.size(); ++s)
+        series[s].push_back(k == 700 ? std::nan("")
+                                     : std::stod(fixed("%.4f", d[k][v ? 2 : static_cast<int>(s)])));
+    const AutocorrelationLags lags = autocorrelation_lags(model, t);
+    EXPECT_DOUBLE_EQ(lags.max_lag_s, 90);  // 3 × the longer τ
+    const std::vector<AutocorrelationBin> bins =
+        empirical_autocorrelation(t, series, lags.bin_s, lags.max_lag_s);
+    std::vector<std::pair<double, double>> dots;
+    const std::regex dot(R"re(<circle class="acf" cx="([^"]+)" cy="([^"]+)")re");
+    for (std::sregex_iterator it(svg.begin(), svg.end(), dot), end; it != end; ++it)
+      dots.emplace_back(X.value(std::stod((*it)[1])), Y.value(std::stod((*it)[2])));
+    // Bins of fewer than max(30, a tenth of the fullest bin's) pairs are not drawn.
+    long most = 0;
+    for (const AutocorrelationBin& b : bins) most = std::max(most, b.pairs);
+    std::vector<AutocorrelationBin> shown;
+    for (const AutocorrelationBin& b : bins)
+      if (b.pairs >= std::max(30L, most / 10)) shown.push_back(b);
+    ASSERT_EQ(shown.size(), bins.size()) << v;  // 240 s flights: every lag up to 90 s has pairs
+    ASSERT_EQ(dots.size(), shown.size()) << v;
+    for (std::size_t b = 0; b < bins.size(); ++b) {
+      EXPECT_NEAR(dots[b].first, bins[b].lag_s, 0.011 * X.per_unit()) << v << " bin " << b;
+      EXPECT_NEAR(dots[b].second, bins[b].rho, 0.011 * Y.per_unit()) << v << " bin " << b;
+    }
+    // Correlated data: the first bin lies well above zero.
+    EXPECT_GT(bins.front().rho, 0.5) << v;
+    std::smatch m;
+    ASSERT_TRUE(
+        std::regex_search(svg, m, std::regex(R"re(<polyline class="model" points="([^,]+),([^ ]+) )re")));
+    const double sg = v ? model.gm_sd_v_m : model.gm_sd_h_m;
+    EXPECT_NEAR(X.value(std::stod(m[1])), 0, 0.011 * X.per_unit());
+    EXPECT_NEAR(Y.value(std::stod(m[2])), sg * sg / (sw[v] * sw[v] + sg * sg), 0.011 * Y.per_unit()) << v;
   }
 }
 

@@ -10,6 +10,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,7 +19,9 @@
 
 #include "config/error.hpp"
 #include "optim/network/network_adjustment.hpp"
+#include "optim/network/network_covariance.hpp"
 #include "optim/network/network_input_checks.hpp"
+#include "optim/network/network_parameters.hpp"
 #include "pipeline/analysis/monte_carlo.hpp"
 #include "pipeline/analysis/network_plan.hpp"
 #include "pipeline/analysis/network_vs_per_camera.hpp"
@@ -295,6 +298,81 @@ TEST(Plan, BetterSurveyedControlLowersTheFloorAndBothMethodsAlike) {
     EXPECT_NEAR(v[k].network_m / v[k].per_camera_m, v[0].network_m / v[0].per_camera_m, 0.05);
   }
   EXPECT_LT(v.back().network_datum_floor_m, 0.4 * v.back().network_m);  // the images limit it now
+}
+
+// What surveying buys (plan's table, SurveyBenefit): more control poles or surveyed stations never
+// raise the flight volume's σ, and the stations surveyed to 5 mm lower it clearly on the demo; the
+// row of 2 poles with the stations surveyed is recomputed here from the scenario cut to its first
+// two poles (planned_network's own pole path) with the centre priors set on the cameras and the
+// network covariance called directly; the row of 0 poles, stations free, is the network σ of the
+// scenario calibrated without control; control-role poles are taken before check poles.
+TEST(Plan, SurveyTableIsTheNetworkBoundWithPolesAndStationsSurveyed) {
+  const PlanOptions o;
+  Scenario s = demo_scenario();
+  const RoutePlanAnalysis a = analyse_route_plan(s, "demo", o);
+  const SurveyBenefit& b = a.free_sets[0].survey;
+  ASSERT_EQ(b.control_poles, (std::vector<std::size_t>{0, 2, 4}));
+  ASSERT_EQ(b.stations_free_m.size(), 3u);
+  ASSERT_EQ(b.stations_surveyed_m.size(), 3u);
+  EXPECT_TRUE(a.free_sets[1].survey.control_poles.empty());  // the first free set only
+  for (std::size_t k = 0; k < 3; ++k) {
+    std::printf("  %zu control poles: stations free %.3f mm, surveyed to 5 mm %.3f mm\n", b.control_poles[k],
+                b.stations_free_m[k] * 1e3, b.stations_surveyed_m[k] * 1e3);
+    EXPECT_LT(b.stations_surveyed_m[k], 0.9 * b.stations_free_m[k]) << k;
+    if (k == 0) continue;
+    EXPECT_LE(b.stations_free_m[k], b.stations_free_m[k - 1]) << k;
+    EXPECT_LE(b.stations_surveyed_m[k], b.stations_surveyed_m[k - 1]) << k;
+  }
+  // 2 poles, stations surveyed: the scenario's first two poles (C1, C2, control) through
+  // planned_network, the priors on the cameras, network_covariance directly.
+  {
+    Scenario two = s;
+    two.poles.resize(2);
+    ASSERT_EQ(two.poles[1].role, "control");
+    const PlannedNetwork n = planned_network(two, o);
+    std::vector<NetworkCamera> cams;
+    for (const Camera& t : n.truth) {
+      NetworkCamera c;
+      c.initial = t;
+      c.options.free = o.free_sets[0];
+      c.options.pixel_sigma_px = o.pixel_sigma_px;
+      c.options.priors.use_center = true;
+      c.options.priors.center_enu_m = t.pose.center();
+      c.options.priors.center_sigma_m = Eigen::Vector3d::Constant(0.005);
+      cams.push_back(c);
+    }
+    const NetworkLayout l = make_network_layout(cams, n.points, n.observations, n.ppk);
+    NetworkParameterBlocks blocks;
+    for (const Camera& t : n.truth) blocks.cameras.push_back(BundleParameterBlocks::from_camera(t));
+    for (const NetworkPoint& p : n.points)
+      blocks.points.push_back({p.prior_enu.x(), p.prior_enu.y(), p.prior_enu.z()});
+    blocks.gm.assign(l.gm_chain.size(), {0.0, 0.0, 0.0});
+    const NetworkSelection sel{
+        std::vector<char>(n.observations.size(), 1), std::vector<char>(n.points.size(), 1), {}, {}};
+    const Eigen::MatrixXd joint = network_covariance(l, blocks, sel, 64, 10, 1e-14).joint;
+    const std::vector<Eigen::Vector3d> volume = flight_volume_points(n, o.volume_points, o.volume_seed);
+    const double expected =
+        predicted_intersection_rms(n.truth, expand_free_parameters(o.free_sets[0]), joint, volume, true);
+    EXPECT_NEAR(b.stations_surveyed_m[1] / expected, 1.0, 1e-9);
+  }
+  // 0 poles, stations free: the scenario calibrated without control poles.
+  {
+    Scenario none = s;
+    none.mission_calibrate["use_control_poles"] = false;
+    EXPECT_NEAR(b.stations_free_m[0] / analyse_route_plan(none, "none", o).free_sets[0].volume.network_m, 1.0,
+                1e-9);
+  }
+  // Control before check: with a check pole first, one pole is the first control pole.
+  std::rotate(s.poles.begin(), s.poles.begin() + 6, s.poles.end());  // A1 … A11, C1 … C6
+  ASSERT_EQ(s.poles.front().role, "check");
+  const PlannedNetwork n = planned_network(s, o);
+  const PlannedNetwork one = with_survey(n, s, 1, 0);
+  std::size_t poles = 0;
+  for (const NetworkPoint& p : one.points) poles += p.control_pole;
+  EXPECT_EQ(poles, 1u);
+  EXPECT_EQ(one.points.back().source, "pole 'C1'");
+  EXPECT_EQ(one.priors.size(), n.truth.size());
+  EXPECT_FALSE(one.priors[0].use_center);
 }
 
 TEST(Plan, OneCameraNetworkEqualsPerCamera) {
