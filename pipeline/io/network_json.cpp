@@ -144,6 +144,44 @@ nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector
   return j;
 }
 
+namespace {
+
+/// ppk_error_estimate_json read back into `r`: the σ (null → NaN: held), what was held or kept.
+void read_ppk_error_estimate(const nlohmann::json& e, const std::string& path, const std::string& field,
+                             PpkErrorModelRecord* r) {
+  if (!e.is_object()) throw_input_error(path, 0, field, "expected an object (the model's estimate)");
+  const auto flag = [&](const nlohmann::json& o, const char* k, const std::string& where) {
+    if (!o.contains(k) || !o[k].is_boolean())
+      throw_input_error(path, 0, where + "." + k, "expected true or false");
+    return o[k].get<bool>();
+  };
+  const auto hv = [&](const nlohmann::json& o, const char* k, double* h, double* v) {
+    const std::string where = field + ".sd." + k;
+    if (!o.contains(k) || !o[k].is_object()) throw_input_error(path, 0, where, "expected an object");
+    for (const auto& [axis, out] : {std::pair<const char*, double*>{"horizontal", h}, {"vertical", v}}) {
+      const nlohmann::json& x = o[k].contains(axis) ? o[k][axis] : nlohmann::json();
+      if (!x.is_null() && !x.is_number())
+        throw_input_error(path, 0, where + "." + axis, "expected a number or null");
+      *out = x.is_number() ? x.get<double>() : std::nan("");
+    }
+  };
+  r->estimated = true;
+  r->white_kept = flag(e, "white_kept", field);
+  if (!e.contains("tau_held") || !e["tau_held"].is_object())
+    throw_input_error(path, 0, field + ".tau_held", "expected an object");
+  r->tau_held_h = flag(e["tau_held"], "horizontal", field + ".tau_held");
+  r->tau_held_v = flag(e["tau_held"], "vertical", field + ".tau_held");
+  if (e.contains("record_s") && e["record_s"].is_number()) r->record_s = e["record_s"].get<double>();
+  if (!e.contains("sd") || !e["sd"].is_object())
+    throw_input_error(path, 0, field + ".sd", "expected an object");
+  PpkErrorModel& s = r->sigma;
+  hv(e["sd"], "white_scale", &s.white_scale_h, &s.white_scale_v);
+  hv(e["sd"], "gauss_markov_sd_m", &s.gm_sd_h_m, &s.gm_sd_v_m);
+  hv(e["sd"], "tau_s", &s.tau_h_s, &s.tau_v_s);
+}
+
+}  // namespace
+
 PpkErrorModelRecord parse_ppk_error_model_json(const nlohmann::json& j, const std::string& path,
                                                const std::string& field) {
   if (!j.is_object()) throw_input_error(path, 0, field, "expected an object (the PPK error model)");
@@ -168,6 +206,7 @@ PpkErrorModelRecord parse_ppk_error_model_json(const nlohmann::json& j, const st
   PpkErrorModelRecord r;
   PpkErrorModel &m = r.model, &s = r.sigma;
   pair(j, "white_scale", &m.white_scale_h, &m.white_scale_v, &s.white_scale_h, &s.white_scale_v);
+  if (j.contains("estimate")) read_ppk_error_estimate(j["estimate"], path, field + ".estimate", &r);
   if (!j.contains("gauss_markov")) throw_input_error(path, 0, field + ".gauss_markov", "missing");
   const nlohmann::json& gm = j["gauss_markov"];
   if (gm.is_null()) return r;

@@ -40,6 +40,10 @@ struct PpkErrorModelRecord {
   PpkErrorModel sigma{std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan("")};
   long states = 0;
   double looks_h = std::nan(""), looks_v = std::nan("");
+  bool estimated = false;  ///< `estimate` present: sigma from its `sd` (NaN where held)
+  bool white_kept = false;
+  bool tau_held_h = false, tau_held_v = false;
+  double record_s = std::nan("");
 };
 
 /// Parses `j` as written by ppk_error_model_json (with `independent_looks`); `path` and `field` name
