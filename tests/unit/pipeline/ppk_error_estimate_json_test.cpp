@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "config/error.hpp"
 #include "pipeline/io/network_json.hpp"
 
 namespace rangecal {
