@@ -12,6 +12,7 @@
 #include "optim/bundle/bundle_diagnostics.hpp"
 #include "optim/bundle/bundle_input_checks.hpp"
 #include "optim/bundle/bundle_parameters.hpp"
+#include "optim/bundle/correlated_ppk_covariance.hpp"
 #include "optim/bundle/reprojection_cost.hpp"
 #include "optim/bundle/reprojection_cost_function.hpp"
 #include "optim/estimation/center_covariance.hpp"
@@ -25,7 +26,6 @@ namespace {
 using Eigen::Matrix2d;
 using Eigen::MatrixXd;
 using Eigen::Vector2d;
-using Eigen::Vector3d;
 
 using PrincipalPointCost = ceres::AutoDiffCostFunction<PrincipalPointPrior, 2, kIntrinsicsBlockSize>;
 using CenterCost = ceres::AutoDiffCostFunction<CenterPrior, 3, kPoseBlockSize>;
@@ -142,8 +142,7 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   const BundleSetup setup = bundle_setup(opt);
   check_bundle_input(initial, obs, setup, opt);
   const std::size_t n = obs.size();
-  double max_speed = 0;  // m/s, scales the clock offset in the rank test and its warning
-  for (const auto& o : obs) max_speed = std::max(max_speed, o.velocity.norm());
+  const double max_speed = bundle_max_speed(obs);
   const Camera start = bundle_starting_camera(initial, setup, opt);
 
   BundleResult out;
@@ -186,11 +185,8 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   d.chi2 = sys.r.squaredNorm();
   d.dof = static_cast<int>(sys.J.rows()) - p;
   d.variance_factor = d.dof > 0 ? d.chi2 / d.dof : std::numeric_limits<double>::quiet_NaN();
-  Vector3d mean = Vector3d::Zero();
-  for (const auto& ob : obs) mean += ob.world / static_cast<double>(n);
-  const double scene_distance = std::max(1.0, (cam.pose.center() - mean).norm());
   const RankTestedInverse cov =
-      estimate_covariance(sys.J, d.free, cam, scene_distance, max_speed, opt.rank_tolerance);
+      estimate_covariance(sys.J, d.free, cam, bundle_scene_distance(cam, obs), max_speed, opt.rank_tolerance);
 
   CalibrationResult& cal = out.calibration;
   cal.camera_id = initial.id;
@@ -201,8 +197,12 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   out.warnings = rank_deficiency_warnings(cov.warnings, cov.named, d.free, initial.id);
   d.rank_deficient = cov.rank_deficient;
   if (!cov.rank_deficient) {
-    out.covariance_unscaled = cov.covariance;
-    out.covariance_scaled = cov.covariance * (std::isfinite(d.variance_factor) ? d.variance_factor : 1.0);
+    // The sandwich under the PPK error model; N⁻¹ itself under the bundle's own weighting
+    // (optim/bundle/correlated_ppk_covariance.hpp).
+    out.covariance_unscaled =
+        ppk_sandwich_covariance(cov.covariance, sys.J, cam, obs, used, W, opt.pixel_sigma_px, opt.ppk_error);
+    out.covariance_scaled =
+        out.covariance_unscaled * (std::isfinite(d.variance_factor) ? d.variance_factor : 1.0);
     cal.covariance = opt.scale_covariance ? out.covariance_scaled : out.covariance_unscaled;
     d.sigma_unscaled = out.covariance_unscaled.diagonal().cwiseSqrt();
     d.sigma_scaled = out.covariance_scaled.diagonal().cwiseSqrt();
@@ -213,6 +213,10 @@ BundleResult bundle_adjust(const Camera& initial, const std::vector<BundleObserv
   // 5. Diagnostics.
   d.covariance_scaled = opt.scale_covariance;
   d.pixel_sigma_px = opt.pixel_sigma_px;
+  if (!is_bundle_weighting(opt.ppk_error)) {
+    d.ppk_error_model = opt.ppk_error;
+    d.gauss_markov_states = gauss_markov_chained(obs, used, opt.ppk_error);
+  }
   if (setup.is_free(CameraParameter::clock_offset)) d.clock_offset_s = cal.clock_offset_s;
   for (std::size_t i = 0; i < n; ++i)
     if (out.outlier[i]) d.outliers.push_back(i);

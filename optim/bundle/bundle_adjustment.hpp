@@ -27,6 +27,7 @@
 #include "optim/bundle/calibration_warning.hpp"
 #include "optim/bundle/whitening.hpp"
 #include "optim/estimation/robust_loss.hpp"
+#include "optim/network/ppk_error_model.hpp"
 #include "vision/camera/calibration_result.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
@@ -57,9 +58,16 @@ struct BundleOptions {
   int max_iterations = 200;
   /// Starting value of the clock offset (s); also its fixed value when clock_offset is not free.
   double initial_clock_offset_s = 0;
-  /// false (default): σ from the a-priori noise model (σ_px, Σ_X), honest when the noise is known;
-  /// true: scaled by the a-posteriori variance factor χ²/dof. Both are always in `details`.
+  /// false (default): σ from the a-priori noise model (σ_px, Σ_X, ppk_error), honest when the noise is
+  /// known; true: scaled by the a-posteriori variance factor χ²/dof. Both are always in `details`.
+  /// Under a correlated ppk_error the factor checks the white part only (docs/optimisation.md "σ under
+  /// correlated PPK errors"): scaling does not stand in for the model.
   bool scale_covariance = false;
+  /// The PPK fixes' error model (optim/network/ppk_error_model.hpp) under which the covariance is
+  /// stated. The estimate is always weighed white (each fix under its own Σ_X); any model other than
+  /// that weighting (white scale 1, no Gauss–Markov part: the default) makes the covariance the
+  /// sandwich of optim/bundle/correlated_ppk_covariance.hpp, over the observations' time_s.
+  PpkErrorModel ppk_error;
   double correlation_warning = 0.99;  ///< |ρ| above this → warning naming the pair
   /// Relative eigenvalue (of the column-scaled normal matrix) below which the covariance is
   /// declared rank-deficient.
@@ -90,6 +98,10 @@ struct BundleDetails {
   /// empty when the covariance is rank-deficient.
   Eigen::VectorXd sigma_unscaled, sigma_scaled;
   std::vector<std::size_t> outliers;  ///< indices of the observations flagged as outliers
+  /// The PPK error model the σ are stated under, when it is not the bundle's own weighting
+  /// (BundleOptions::ppk_error), and how many used observations its Gauss–Markov chain holds.
+  std::optional<PpkErrorModel> ppk_error_model;
+  int gauss_markov_states = 0;
 };
 
 struct BundleResult {

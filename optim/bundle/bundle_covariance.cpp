@@ -2,6 +2,8 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
+
 #include "config/error.hpp"
 #include "optim/bundle/reprojection_cost_function.hpp"
 #include "optim/estimation/rank_tested_inverse.hpp"
@@ -63,6 +65,18 @@ WhitenedSystem whitened_system(const BundleParameterBlocks& st, const Camera& ba
   for (std::size_t k = 0; k < free.size(); ++k)
     sys.J.col(static_cast<Eigen::Index>(k)) = Jall.col(index_of(free[k]));
   return sys;
+}
+
+double bundle_scene_distance(const Camera& cam, const std::vector<BundleObservation>& obs) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& ob : obs) mean += ob.world / static_cast<double>(obs.size());
+  return std::max(1.0, (cam.pose.center() - mean).norm());
+}
+
+double bundle_max_speed(const std::vector<BundleObservation>& obs) {
+  double max_speed = 0;
+  for (const auto& o : obs) max_speed = std::max(max_speed, o.velocity.norm());
+  return max_speed;
 }
 
 RankTestedInverse estimate_covariance(const MatrixXd& J, const std::vector<CameraParameter>& free,

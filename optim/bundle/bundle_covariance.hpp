@@ -25,6 +25,12 @@ WhitenedSystem whitened_system(const BundleParameterBlocks& blocks, const Camera
                                const std::vector<char>& used, const std::vector<Eigen::Matrix2d>& W,
                                const BundleSetup& setup, const BundleOptions& options);
 
+/// The scene distance of the rank test: the camera centre's distance from the mean of every world
+/// point (m, at least 1).
+double bundle_scene_distance(const Camera& cam, const std::vector<BundleObservation>& observations);
+/// The fastest lamp point (m/s): scales the clock offset in the rank test and its warning.
+double bundle_max_speed(const std::vector<BundleObservation>& observations);
+
 /// Σ = (JᵀJ)⁻¹ for the free parameters `free` of `cam`, with the rank tests above. `scene_distance_m`
 /// and `max_speed_mps` set the physical ranges of the pose and the clock offset.
 RankTestedInverse estimate_covariance(const Eigen::MatrixXd& J, const std::vector<CameraParameter>& free,

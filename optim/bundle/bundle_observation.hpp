@@ -3,6 +3,7 @@
 // pixel where the camera saw it, with its σ — a lamp position from the PPK track, or a surveyed
 // control pole. The bundle, the LM-QN method, the Monte Carlo and the route planner all take these.
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 
 namespace rangecal {
@@ -15,6 +16,11 @@ struct BundleObservation {
   /// Lamp velocity (ENU, m/s) at the observation's time stamp (Hermite derivative of the track);
   /// zero for static points such as poles. Used only when the clock offset is free (or nonzero).
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  /// Time of the PPK fix the world point comes from (s, one continuous scale per camera): its place
+  /// in a correlated PPK error model's Gauss–Markov process (optim/network/ppk_error_model.hpp,
+  /// optim/bundle/correlated_ppk_covariance.hpp). NaN: not a PPK fix (a control pole), its error
+  /// independent of every other, as NetworkPoint::time_s.
+  double time_s = std::numeric_limits<double>::quiet_NaN();
   /// Where the point came from, for messages: "correspondences line 12", "pole 'P3'
   /// (cam1/poles_px.csv:4)"; may be empty.
   std::string source;

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <vector>
 
+#include "pipeline/io/network_json.hpp"
+
 namespace rangecal {
 namespace {
 
@@ -128,6 +130,10 @@ nlohmann::json bundle_details_json(const BundleDetails& b) {
     d["sigma_scaled"] = ss;
   }
   d["outliers"] = b.outliers;
+  // Only when the σ are a sandwich under another model than the weights (optim/bundle/
+  // correlated_ppk_covariance.hpp): a white run's details stay as they were.
+  if (b.ppk_error_model)
+    d["ppk_error_model"] = ppk_error_model_json(*b.ppk_error_model, b.gauss_markov_states);
   return d;
 }
 

@@ -297,6 +297,8 @@ CameraInputs read_camera_inputs(const MissionConfig& cfg, const CameraConfig& ca
                       "write the point pairs there yourself (docs/formats.md)");
   CameraInputs in{cam.id, read_correspondences_csv(corr_path), {}};
   in.problem = make_calibration_problem(cam, cfg.calibrate, in.pairs, read_control_pole_views(cfg, cam));
+  // The bundle states its σ under the model the network weighs by (docs/gnss.md "PPK error model").
+  in.problem.ppk_error = cfg.gnss.error_model;
   return in;
 }
 

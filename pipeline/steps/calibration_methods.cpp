@@ -148,6 +148,7 @@ CalibrationRun run_bundle(const CalibrationProblem& p) {
   BundleOptions opt;
   opt.free = p.free;
   opt.pixel_sigma_px = p.pixel_sigma_px;
+  opt.ppk_error = p.ppk_error;
   if (p.priors.principal_point_px &&
       (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
     opt.priors.use_principal_point = true;

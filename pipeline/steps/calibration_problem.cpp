@@ -44,6 +44,8 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
     const Eigen::Vector3d sd = c.sd_enu ? *c.sd_enu : Eigen::Vector3d::Constant(kDefaultWorldSigmaM);
     o.world_cov = sd.cwiseProduct(sd).asDiagonal();
     if (c.vel_enu) o.velocity = *c.vel_enu;
+    // The fix's place in a correlated PPK error model's Gauss–Markov process (BundleObservation::time_s).
+    o.time_s = 1e-9 * static_cast<double>(c.utc.ns - pairs.front().utc.ns);
     if (c.line > 0) o.source = "correspondences line " + std::to_string(c.line);
     p.observations.push_back(o);
   }

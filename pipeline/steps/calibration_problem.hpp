@@ -9,6 +9,7 @@
 
 #include "gnss/formats/pole_survey_csv.hpp"
 #include "optim/bundle/bundle_observation.hpp"
+#include "optim/network/ppk_error_model.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/mission/mission_config.hpp"
 #include "vision/camera/sensor_geometry.hpp"
@@ -32,6 +33,9 @@ struct CalibrationProblem {
   std::vector<std::string> free = default_free_parameters();  ///< calibrate.free names
   double pixel_sigma_px = kDefaultPixelSigmaPx;
   std::uint64_t seed = 1;
+  /// The PPK fixes' error model the bundle states its σ under (gnss.error_model; BundleOptions::
+  /// ppk_error): white by default. The lamp pairs carry their frame times for it.
+  PpkErrorModel ppk_error;
 };
 
 /// The control poles of one camera: the survey and the camera's picks (both empty when the
@@ -47,9 +51,9 @@ struct ControlPoleViews {
 ControlPoleViews read_control_pole_views(const MissionConfig& cfg, const CameraConfig& camera);
 
 /// The problem of `camera` from its lamp pairs (sd per pair, else kDefaultWorldSigmaM; velocity
-/// when present) and its picks of `control` poles (calibrate.control_sigma_m per axis, kPolePickSigmaPx;
-/// check poles never calibrate). Throws rangecal::Error (input) naming the picks file and line for an id that
-/// is not in the survey.
+/// when present; time_s seconds from the first pair) and its picks of `control` poles
+/// (calibrate.control_sigma_m per axis, kPolePickSigmaPx; check poles never calibrate). Throws
+/// rangecal::Error (input) naming the picks file and line for an id that is not in the survey.
 CalibrationProblem make_calibration_problem(const CameraConfig& camera, const CalibrateConfig& calibrate,
                                             const std::vector<Correspondence>& pairs,
                                             const ControlPoleViews& poles = {});
