@@ -23,10 +23,11 @@ struct GnssConfig {
   /// white scale, Gauss–Markov sd and τ, horizontal and vertical. Default: white, each fix under its
   /// own .pos covariance.
   PpkErrorModel error_model;
-  /// gnss.error_model "estimate" (the default): the model is estimated from the mission by the
-  /// network (optim/network/ppk_error_estimation.hpp); error_model (white) then only weighs its
-  /// robust first solve. "white" or a model given in full: that model, not estimated.
-  bool estimate_error_model = true;
+  /// gnss.error_model "estimate": the model is estimated from the mission by the network
+  /// (optim/network/ppk_error_estimation.hpp); error_model (white) then only weighs its robust first
+  /// solve. "white" (the default) or a model given in full: that model, not estimated. Not yet the
+  /// default: docs/accuracy_analysis.md "Correlated PPK errors: the model estimated from the mission".
+  bool estimate_error_model = false;
 };
 
 struct LeverArmConfig {

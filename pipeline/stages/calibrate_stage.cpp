@@ -230,6 +230,19 @@ NetworkSolution solve_network(const NetworkProblem& n, const LampTrack& track, c
   return s;
 }
 
+/// Under a model the network estimated with a Gauss–Markov part, the per-camera bundle restates its
+/// σ under it (docs/optimisation.md "σ under correlated PPK errors"): re-solved, the same
+/// white-weighted estimate, the sandwich covariance under the estimate.
+void restate_bundle_under(const NetworkResult& r, CameraInputs* in, CalibrationResult* bundle) {
+  if (!r.ppk_estimate || !r.ppk_error.correlated() || bundle->method != "bundle") return;
+  in->problem.ppk_error = r.ppk_error;
+  CalibrationResult restated = run_calibration_method("bundle", in->problem).result;
+  restated.camera.id = bundle->camera.id;
+  restated.site_origin = bundle->site_origin;
+  restated.wall_time_s = bundle->wall_time_s;
+  *bundle = std::move(restated);
+}
+
 /// Each camera's result replaced by its network result (the per-camera bundle kept first among the
 /// compared), its exports and residuals redone, its record's fit and the warnings updated.
 void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origin, PerCameraPass* pass) {
@@ -246,6 +259,7 @@ void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origi
     cc.compared.erase(std::remove_if(cc.compared.begin(), cc.compared.end(),
                                      [](const CalibrationResult& x) { return x.method == "network"; }),
                       cc.compared.end());
+    restate_bundle_under(r, &pass->inputs[c], &cc.main);
     cc.compared.insert(cc.compared.begin(), cc.main);
     cc.main = net;
     // The network lists each camera's rejected observations in that camera's own order, the

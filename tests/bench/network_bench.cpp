@@ -86,6 +86,30 @@ BENCHMARK(BM_NetworkCorrelated)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
 
+// The PPK error model estimated from the mission (ppk_error_estimation.hpp; the calibrate stage's
+// default): the restricted likelihood searched over the six parameters, then the final solve under
+// the estimate; a ratio to BM_Network at the same size (docs/performance.md).
+void BM_NetworkEstimatedModel(benchmark::State& state) {
+  const test::SyntheticNetwork n =
+      test::synthetic_network(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 11);
+  NetworkOptions o;
+  o.estimate_ppk_error = true;
+  NetworkResult r;
+  for (auto _ : state) {
+    r = network_adjust(n.cameras, n.points, n.observations, o);
+    benchmark::DoNotOptimize(r.statistics.chi2);
+  }
+  state.counters["evaluations"] = r.ppk_estimate ? r.ppk_estimate->evaluations : 0;
+  state.counters["peak_rss_MB"] = peak_rss_mb();
+}
+BENCHMARK(BM_NetworkEstimatedModel)
+    ->ArgNames({"cameras", "epochs"})
+    ->Args({2, 1000})
+    ->Args({8, 5000})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+
 // The same with the datum floor the calibrate stage asks for (NetworkOptions::datum_floor_image_factor,
 // one more joint covariance): its cost as a ratio to BM_Network at the same size, measured in the
 // same run (docs/performance.md).

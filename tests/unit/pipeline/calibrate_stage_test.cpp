@@ -118,62 +118,62 @@ TEST(CalibrateStage, DefaultFreesThePrincipalPointUnderAnImageCentrePrior) {
   cam.priors.principal_point_px = Eigen::Vector2d(650, 390);
   EXPECT_EQ(*make_calibration_problem(cam, CalibrateConfig{}, pairs).priors.principal_point_px,
             Eigen::Vector2d(650, 390));
+}
 
-  TEST(CalibrateStage, BundleStatesItsSigmaUnderThePpkErrorModel) {
-    // make_calibration_problem gives each lamp pair its time (s from the first pair); run_bundle
-    // hands the problem's PPK error model to the bundle, which keeps its estimate and states σ under
-    // the model (optim/bundle/correlated_ppk_covariance.hpp), naming it in details.
-    const Camera truth = test::range_camera(-3.4e-4, 1.0);
-    const auto pts = test::observe(truth, test::range_world_points(truth), 0.1, 0.01, 5);
-    CameraConfig cam;
-    cam.id = "cam1";
-    cam.sensor.width_px = truth.intr.width_px, cam.sensor.height_px = truth.intr.height_px;
-    cam.sensor.pixel_size_um[0] = 1e3 * truth.intr.dx_mm,
-    cam.sensor.pixel_size_um[1] = 1e3 * truth.intr.dy_mm;
-    cam.nominal_focal_mm = 135;
-    CalibrateConfig calibrate;
-    std::vector<Correspondence> pairs;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      Correspondence c;
-      c.utc = UtcTime{1'750'000'000'000'000'000 + static_cast<std::int64_t>(i) * 250'000'000};
-      c.enu = pts[i].world, c.uv = pts[i].pixel, c.sd_enu = Eigen::Vector3d::Constant(0.01);
-      pairs.push_back(c);
-    }
-    CalibrationProblem p = make_calibration_problem(cam, calibrate, pairs);
-    ASSERT_EQ(p.observations.size(), pts.size());
-    EXPECT_EQ(p.observations[0].time_s, 0.0);
-    EXPECT_NEAR(p.observations[4].time_s, 1.0, 1e-12);
-    const CalibrationResult white = calibrate_camera("bundle", p);
-    EXPECT_FALSE(white.details.contains("ppk_error_model"));
-    p.ppk_error.white_scale_h = p.ppk_error.white_scale_v = 0.4;
-    p.ppk_error.gm_sd_h_m = p.ppk_error.gm_sd_v_m = 0.009;
-    p.ppk_error.tau_h_s = p.ppk_error.tau_v_s = 30;
-    const CalibrationResult gm = calibrate_camera("bundle", p);
-    EXPECT_EQ(gm.camera.intr.f_mm, white.camera.intr.f_mm);  // the estimate is the white-weighted one
-    EXPECT_EQ(gm.camera.pose.T, white.camera.pose.T);
-    EXPECT_GT(gm.sigma(CameraParameter::f), 1.3 * white.sigma(CameraParameter::f));
-    ASSERT_TRUE(gm.details.contains("ppk_error_model"));
-    EXPECT_EQ(gm.details["ppk_error_model"]["gauss_markov"]["states"],
-              gm.reprojection.n_used);  // the used fixes
+TEST(CalibrateStage, BundleStatesItsSigmaUnderThePpkErrorModel) {
+  // make_calibration_problem gives each lamp pair its time (s from the first pair); run_bundle
+  // hands the problem's PPK error model to the bundle, which keeps its estimate and states σ under
+  // the model (optim/bundle/correlated_ppk_covariance.hpp), naming it in details.
+  const Camera truth = test::range_camera(-3.4e-4, 1.0);
+  const auto pts = test::observe(truth, test::range_world_points(truth), 0.1, 0.01, 5);
+  CameraConfig cam;
+  cam.id = "cam1";
+  cam.sensor.width_px = truth.intr.width_px, cam.sensor.height_px = truth.intr.height_px;
+  cam.sensor.pixel_size_um[0] = 1e3 * truth.intr.dx_mm, cam.sensor.pixel_size_um[1] = 1e3 * truth.intr.dy_mm;
+  cam.nominal_focal_mm = 135;
+  CalibrateConfig calibrate;
+  std::vector<Correspondence> pairs;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    Correspondence c;
+    c.utc = UtcTime{1'750'000'000'000'000'000 + static_cast<std::int64_t>(i) * 250'000'000};
+    c.enu = pts[i].world, c.uv = pts[i].pixel, c.sd_enu = Eigen::Vector3d::Constant(0.01);
+    pairs.push_back(c);
   }
+  CalibrationProblem p = make_calibration_problem(cam, calibrate, pairs);
+  ASSERT_EQ(p.observations.size(), pts.size());
+  EXPECT_EQ(p.observations[0].time_s, 0.0);
+  EXPECT_NEAR(p.observations[4].time_s, 1.0, 1e-12);
+  const CalibrationResult white = calibrate_camera("bundle", p);
+  EXPECT_FALSE(white.details.contains("ppk_error_model"));
+  p.ppk_error.white_scale_h = p.ppk_error.white_scale_v = 0.4;
+  p.ppk_error.gm_sd_h_m = p.ppk_error.gm_sd_v_m = 0.009;
+  p.ppk_error.tau_h_s = p.ppk_error.tau_v_s = 30;
+  const CalibrationResult gm = calibrate_camera("bundle", p);
+  EXPECT_EQ(gm.camera.intr.f_mm, white.camera.intr.f_mm);  // the estimate is the white-weighted one
+  EXPECT_EQ(gm.camera.pose.T, white.camera.pose.T);
+  EXPECT_GT(gm.sigma(CameraParameter::f), 1.3 * white.sigma(CameraParameter::f));
+  ASSERT_TRUE(gm.details.contains("ppk_error_model"));
+  EXPECT_EQ(gm.details["ppk_error_model"]["gauss_markov"]["states"],
+            gm.reprojection.n_used);  // the used fixes
+}
 
-  TEST(CalibrateStage, DegenerateGeometryIsACalibrationError) {
-    const Camera truth = test::range_camera();
-    std::vector<Eigen::Vector3d> line;
-    const Eigen::Vector3d a = truth.pose.center() + truth.pose.R.transpose() * Eigen::Vector3d(0, 0, 64);
-    for (int i = 0; i < 30; ++i) line.push_back(a + Eigen::Vector3d(0, 0, 0.3 * i));  // one vertical line
-    const auto p = problem_for(truth, test::observe(truth, line), {"f", "k1", "pose"});
-    for (const std::string m : {"tsai", "tsai_sassa", "dlt_lmqn", "bundle"}) {
-      try {
-        calibrate_camera(m, p);
-        ADD_FAILURE() << m << " accepted points on one line";
-      } catch (const Error& e) {
-        EXPECT_EQ(e.exit_code(), 4) << m << ": " << e.what();
-      }
+TEST(CalibrateStage, DegenerateGeometryIsACalibrationError) {
+  const Camera truth = test::range_camera();
+  std::vector<Eigen::Vector3d> line;
+  const Eigen::Vector3d a = truth.pose.center() + truth.pose.R.transpose() * Eigen::Vector3d(0, 0, 64);
+  for (int i = 0; i < 30; ++i) line.push_back(a + Eigen::Vector3d(0, 0, 0.3 * i));  // one vertical line
+  const auto p = problem_for(truth, test::observe(truth, line), {"f", "k1", "pose"});
+  for (const std::string m : {"tsai", "tsai_sassa", "dlt_lmqn", "bundle"}) {
+    try {
+      calibrate_camera(m, p);
+      ADD_FAILURE() << m << " accepted points on one line";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.exit_code(), 4) << m << ": " << e.what();
     }
-    EXPECT_THROW(calibrate_camera("planar", p), Error);
-    EXPECT_THROW(calibrate_camera("nonsense", p), Error);
   }
+  EXPECT_THROW(calibrate_camera("planar", p), Error);
+  EXPECT_THROW(calibrate_camera("nonsense", p), Error);
+}
 
 }  // namespace
 }  // namespace rangecal
