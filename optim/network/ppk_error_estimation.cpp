@@ -309,6 +309,22 @@ PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const Net
     if (out.tau_held_v) x[5] = std::max(x[5], std::log(kFallbackTau_s));
     best = fit(f, x, free, true);
     out.evaluations += best.evaluations;
+    // With τ held, σ_g follows the ridge σ_g² ∝ τ the short record leaves (ppk_error_estimation.hpp):
+    // cap it at the .pos sd, the size RTKLIB gives the whole error.
+    const Eigen::Vector2d cap = reported_sd(f);
+    out.gm_sd_held_h = out.tau_held_h && best.x[2] > std::log(cap[0]);
+    out.gm_sd_held_v = out.tau_held_v && best.x[3] > std::log(cap[1]);
+    if (out.gm_sd_held_h || out.gm_sd_held_v) {
+      x = best.x;
+      if (out.gm_sd_held_h) x[2] = std::log(cap[0]);
+      if (out.gm_sd_held_v) x[3] = std::log(cap[1]);
+      std::vector<int> still_free;
+      for (int i : free)
+        if (!(i == 2 && out.gm_sd_held_h) && !(i == 3 && out.gm_sd_held_v)) still_free.push_back(i);
+      free = still_free;
+      best = fit(f, x, free, true);
+      out.evaluations += best.evaluations;
+    }
   }
   out.model = model_of(best.x);
   out.sd = sd_of(best.x, log_sd(f, best, free, true, &out.evaluations));

@@ -19,7 +19,9 @@ namespace rangecal {
 
 /// A record shorter than this many τ cannot separate τ from a constant offset (correlated_ppk.md
 /// §2c: τ̂ is biased low, 0.4–0.7 of τ at T/τ = 3–10): τ is then held at the larger of its estimate
-/// and kFallbackTau_s, and the sd and white scale re-estimated with it.
+/// and kFallbackTau_s, and the sd and white scale re-estimated with it. A short record pins the
+/// increments' rate σ_g²/τ, not σ_g and τ apart, so the re-estimated σ_g grows as √τ_held; where it
+/// would exceed the .pos sd (RTKLIB's size of the whole error) it is held there instead.
 inline constexpr double kRecordPerTau = 4;
 /// Short-baseline carrier-phase errors stay correlated for about 2 min (Miller, O'Keefe, Gao 2012:
 /// 115 s on average; correlated_ppk.md §1): the τ a too-short record falls back on.

@@ -81,6 +81,9 @@ struct PpkErrorEstimate {
   double record_s = 0;          ///< T: first to last fix in the chain (s)
   /// Per axis (horizontal, vertical): T < kRecordPerTau·τ̂, so τ was held (ppk_error_estimation.hpp).
   bool tau_held_h = false, tau_held_v = false;
+  /// Per axis: τ was held and the GM sd, re-estimated with it, exceeded the .pos sd, so it was held
+  /// at the .pos sd (ppk_error_estimation.hpp, kFallbackTau_s).
+  bool gm_sd_held_h = false, gm_sd_held_v = false;
   int evaluations = 0;  ///< likelihood evaluations
 };
 

@@ -120,6 +120,7 @@ DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg) 
       for (const SimPole& sp : m.poles)
         if (sp.truth.id == p.id) {
           const double e = (p.enu - sp.truth.enu_m).norm();
+          di.check_poles.push_back({p.id, p.enu - sp.truth.enu_m, p.cov_m2});
           sum += e;
           di.max_dR_truth_m = std::max(di.max_dR_truth_m, e);
           ++di.n_check;

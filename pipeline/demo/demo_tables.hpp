@@ -25,11 +25,19 @@ struct DemoCamera {
 
 /// Intersection of the check poles with one method's cameras, against the survey and the truth.
 struct DemoIntersection {
+  /// One check pole: its error against the truth and the covariance the intersection predicts for
+  /// it (calibration and picks; the survey's error is not in a truth comparison).
+  struct Pole {
+    std::string id;
+    Eigen::Vector3d error_m = Eigen::Vector3d::Zero();  ///< triangulated − true pole top, ENU (m)
+    Eigen::Matrix3d cov_m2 = Eigen::Matrix3d::Zero();   ///< PoleIntersection::cov_m2
+  };
   std::string method;
-  IntersectionResult result;   ///< against the survey (Table 4 as the product reports it)
-  double mean_dR_truth_m = 0;  ///< mean |triangulated − true pole top| over check poles (m)
-  double max_dR_truth_m = 0;   ///< largest of those (m)
-  int n_check = 0;             ///< check poles triangulated
+  IntersectionResult result;      ///< against the survey (Table 4 as the product reports it)
+  double mean_dR_truth_m = 0;     ///< mean |triangulated − true pole top| over check poles (m)
+  double max_dR_truth_m = 0;      ///< largest of those (m)
+  int n_check = 0;                ///< check poles triangulated
+  std::vector<Pole> check_poles;  ///< the n_check poles, in survey order
 };
 
 /// Errors of a method's parameters against the truth in units of its own reported σ.

@@ -20,14 +20,13 @@ struct GnssConfig {
   double max_sd_m = 0.05;              ///< epochs with any of sdn/sde/sdu above this are dropped
   double max_gap_s = 0.5;              ///< never interpolate across a gap longer than this
   /// gnss.error_model (docs/gnss.md "PPK error model"): the fixes' error as the network weighs it —
-  /// white scale, Gauss–Markov sd and τ, horizontal and vertical. Default: white, each fix under its
-  /// own .pos covariance.
+  /// white scale, Gauss–Markov sd and τ, horizontal and vertical. "white": each fix under its own
+  /// .pos covariance, and the robust first solve's model when estimating.
   PpkErrorModel error_model;
-  /// gnss.error_model "estimate": the model is estimated from the mission by the network
-  /// (optim/network/ppk_error_estimation.hpp); error_model (white) then only weighs its robust first
-  /// solve. "white" (the default) or a model given in full: that model, not estimated. Not yet the
-  /// default: docs/accuracy_analysis.md "Correlated PPK errors: the model estimated from the mission".
-  bool estimate_error_model = false;
+  /// gnss.error_model "estimate" (the default): the model is estimated from the mission by the
+  /// network (optim/network/ppk_error_estimation.hpp). "white" or a model given in full: that model,
+  /// not estimated.
+  bool estimate_error_model = true;
 };
 
 struct LeverArmConfig {

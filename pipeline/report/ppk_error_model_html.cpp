@@ -39,6 +39,17 @@ std::string tau_source(const PpkErrorModelRecord& r) {
          " s) is shorter than 4&#964;&#770;";
 }
 
+// σ_g's source: estimated, or held at the .pos sd because it grew with a held τ
+// (optim/network/ppk_error_estimation.hpp), or fixed in the config.
+std::string gm_sd_source(const PpkErrorModelRecord& r) {
+  if (!r.estimated || !(r.gm_sd_held_h || r.gm_sd_held_v))
+    return source(r.sigma.gm_sd_h_m, r.sigma.gm_sd_v_m);
+  const std::string which = r.gm_sd_held_h && r.gm_sd_held_v ? "both"
+                            : r.gm_sd_held_h                 ? "horizontal"
+                                                             : "vertical";
+  return which + " held at the .pos sd: with &#964; held, the estimate grows as &#8730;&#964;";
+}
+
 // The model's table: white scale, and for a correlated model the GM sd and τ, each h and v.
 std::string model_table(const PpkErrorModelRecord& r) {
   const PpkErrorModel &m = r.model, &s = r.sigma;
@@ -56,8 +67,7 @@ std::string model_table(const PpkErrorModelRecord& r) {
            "</tr>\n</table>\n";
   t += "<tr>" + th("Gauss&#8211;Markov &#963;<sub>g</sub> /cm") +
        td(with_sigma("%.2f", m.gm_sd_h_m, s.gm_sd_h_m, 100)) +
-       td(with_sigma("%.2f", m.gm_sd_v_m, s.gm_sd_v_m, 100)) + td(source(s.gm_sd_h_m, s.gm_sd_v_m), "txt") +
-       "</tr>\n";
+       td(with_sigma("%.2f", m.gm_sd_v_m, s.gm_sd_v_m, 100)) + td(gm_sd_source(r), "txt") + "</tr>\n";
   t += "<tr>" + th("Gauss&#8211;Markov &#964; /s") + td(with_sigma("%.1f", m.tau_h_s, s.tau_h_s)) +
        td(with_sigma("%.1f", m.tau_v_s, s.tau_v_s)) + td(tau_source(r), "txt") + "</tr>\n";
   t += "<tr>" + th("independent looks") + td(format_number("%.1f", r.looks_h)) +

@@ -505,7 +505,9 @@ std::string format_mission_config(const SimMission& m) {
   // A correlated scenario's mission states the model its errors were drawn from, as a range states
   // the model of a receiver it has characterised (docs/gnss.md "PPK error model").
   const PpkErrorModel em = stated_error_model(s.gnss.noise_sd_m, s.gnss.correlated_error);
-  if (em.correlated()) {
+  if (!s.mission_error_model.is_null()) {
+    j["gnss"]["error_model"] = s.mission_error_model;
+  } else if (em.correlated()) {
     const auto hv = [](double h, double v) { return J{{"horizontal", h}, {"vertical", v}}; };
     j["gnss"]["error_model"] = {
         {"white_scale", hv(em.white_scale_h, em.white_scale_v)},

@@ -427,7 +427,7 @@ Scenario parse_scenario(const std::string& json_text, const std::string& path) {
   root.require_object("a scenario object {\"seed\", \"start_utc\", \"site\", \"cameras\", \"routes\", …}");
   root.check_keys({"mission", "seed", "start_utc", "site", "gnss", "lever_arm", "attitude", "lamp", "sky",
                    "cameras", "routes", "transit", "poles", "poles_format", "survey_noise_m", "pick_noise_px",
-                   "mission_calibrate"});
+                   "mission_calibrate", "mission_error_model"});
   Scenario s;
   s.file = path;
   if (auto x = root.find("mission")) s.mission = x->string("a string");
@@ -501,6 +501,12 @@ Scenario parse_scenario(const std::string& json_text, const std::string& path) {
     // Copied into the written mission's "calibrate" section; the mission loader validates it.
     x->require_object("an object, written as the mission config's \"calibrate\" section (docs/config.md)");
     s.mission_calibrate = x->json();
+  }
+  if (auto x = root.find("mission_error_model")) {
+    // Copied as the written mission's gnss.error_model; the mission loader validates it.
+    if (!x->json().is_string() && !x->json().is_object())
+      x->fail_expected("\"estimate\", \"white\" or an error-model object (docs/gnss.md \"PPK error model\")");
+    s.mission_error_model = x->json();
   }
 
   check_work_bounds(s);

@@ -99,6 +99,9 @@ struct Scenario {
   std::uint64_t seed = 1;
   /// Optional "calibrate" section for the written mission config (empty: method bundle, the seed).
   nlohmann::json mission_calibrate;
+  /// Optional gnss.error_model for the written mission config (null: the model the errors were
+  /// drawn from when it is correlated, else none, which estimates it; docs/gnss.md "PPK error model").
+  nlohmann::json mission_error_model;
   UtcTime start_utc;
   GeodeticOrigin origin;
   ScenarioGnss gnss;

@@ -16,6 +16,7 @@
 #include "config/error.hpp"
 #include "gnss/time/utc_time.hpp"
 #include "pipeline/demo/demo.hpp"
+#include "pipeline/demo/demo_bars.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "pipeline/stages/mission_runner.hpp"
@@ -54,34 +55,60 @@ DemoResults rerun_variant(const std::string& name, const std::function<void(cons
   return collect_demo_results(d.run.mission, cfg);
 }
 
-TEST(Demo, CheckPolesWithinOneCentimetreOfTruthAndParametersWithinThreeSigma) {
-  const DemoRun& run = demo().run;
-  const DemoIntersection* b = find_method(run.results, "bundle");
-  ASSERT_NE(b, nullptr);
-  EXPECT_EQ(b->n_check, 11);
-  EXPECT_LE(b->mean_dR_truth_m, 0.010)
-      << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
-  // The predicted 1σ of ΔR is honest: the RMS error against truth is within a factor 2 of it.
-  double rms = 0;
-  int n = 0;
-  for (const PoleIntersection& p : b->result.poles) {
-    if (!p.surveyed || p.role != PoleRole::check) continue;
-    for (const SimPole& sp : run.mission.poles)
-      if (sp.truth.id == p.id) rms += (p.enu - sp.truth.enu_m).squaredNorm(), ++n;
+// The χ²_m survival function written here from its closed forms (m = 1, 3), and its quantile by
+// bisection: an independent check of the bars' limits.
+double chi2_survival(int m, double x) {
+  const double r = std::sqrt(x / 2);
+  return m == 1 ? std::erfc(r) : std::erfc(r) + std::sqrt(2 * x / M_PI) * std::exp(-x / 2);
+}
+double chi2_quantile(int m, double tail) {
+  double lo = 0, hi = 1000;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (chi2_survival(m, mid) > tail ? lo : hi) = mid;
   }
-  rms = std::sqrt(rms / n);
-  EXPECT_LT(rms, 2.0 * b->result.check.mean_sigma_m);
-  EXPECT_GT(rms, 0.5 * b->result.check.mean_sigma_m);
+  return 0.5 * (lo + hi);
+}
+
+TEST(Demo, AccuracyBarsPassAndAreOnesACorrectCalibrationPassesAtNinetyNinePercent) {
+  const DemoRun& run = demo().run;
+  const DemoBars bars = demo_accuracy_bars(run.results);
+  std::string lines;
+  for (const DemoBar& b : bars.bars) lines += b.line + "\n";
+  EXPECT_TRUE(bars.pass()) << lines;
+  // Bonferroni over 2 cameras × {bundle, network} × {f, k1, CE, CN, CU} and 11 check poles × 2
+  // methods, half of the 1 % to each family.
+  const DemoIntersection* b = find_method(run.results, "bundle");
+  const DemoIntersection* net = find_method(run.results, "network");
+  ASSERT_NE(b, nullptr);
+  ASSERT_NE(net, nullptr);
+  EXPECT_EQ(b->n_check, 11);
+  EXPECT_EQ(net->n_check, 11);
+  EXPECT_NEAR(bars.parameter_z_limit, std::sqrt(chi2_quantile(1, 0.005 / 20)), 1e-6) << lines;
+  EXPECT_NEAR(bars.pole_chi2_limit, chi2_quantile(3, 0.005 / 22), 1e-6) << lines;
+  // Every pole's Mahalanobis error, recomputed here from the truth.
+  for (const DemoIntersection* d : {b, net})
+    for (const PoleIntersection& p : d->result.poles) {
+      if (!p.surveyed || p.role != PoleRole::check) continue;
+      for (const SimPole& sp : run.mission.poles)
+        if (sp.truth.id == p.id) {
+          const Eigen::Vector3d e = p.enu - sp.truth.enu_m;
+          EXPECT_LE(e.dot(p.cov_m2.inverse() * e), bars.pole_chi2_limit) << d->method << " " << p.id;
+        }
+    }
+  // The predicted 1σ of ΔR is not padded: the RMS error against truth is within a factor 2 of it
+  // over the two methods' 22 pole errors (the poles share the cameras' errors, so a wide band).
+  double rms = 0, sigma = 0;
+  int n = 0;
+  for (const DemoIntersection* d : {b, net})
+    for (const DemoIntersection::Pole& p : d->check_poles)
+      rms += p.error_m.squaredNorm(), sigma += p.cov_m2.trace(), ++n;
+  rms = std::sqrt(rms / n), sigma = std::sqrt(sigma / n);
+  EXPECT_LT(rms, 2.0 * sigma);
+  EXPECT_GT(rms, 0.5 * sigma) << "rms " << rms << " predicted " << sigma;
 
   ASSERT_EQ(run.results.cameras.size(), 2u);
   for (const DemoCamera& c : run.results.cameras) {
-    const auto checks = parameter_checks(c, "bundle");
-    ASSERT_EQ(checks.size(), 5u);
-    for (const ParameterCheck& p : checks) {
-      EXPECT_GT(p.sigma, 0) << c.id << " " << p.name;
-      EXPECT_LE(std::abs(p.z()), 3.0) << c.id << " " << p.name << " estimate " << p.estimate << " truth "
-                                      << p.truth << " sigma " << p.sigma;
-    }
     // Reprojection rms consistent with the simulated PPK + centroid noise (the fit absorbs a few
     // degrees of freedom, so slightly below the expectation).
     const CalibrationResult& r = c.by_method.at("bundle");
@@ -95,7 +122,7 @@ TEST(Demo, CheckPolesWithinOneCentimetreOfTruthAndParametersWithinThreeSigma) {
   EXPECT_NE(find_method(run.results, "tsai_sassa"), nullptr);
 }
 
-TEST(Demo, NetworkIsTheDefaultAndHoldsTheSameBars) {
+TEST(Demo, NetworkIsTheDefaultWithTheBundleBesideIt) {
   // The demo config names no method and its two cameras share epochs: the network is chosen, and
   // the per-camera bundle it started from is kept beside it.
   const DemoRun& run = demo().run;
@@ -111,19 +138,10 @@ TEST(Demo, NetworkIsTheDefaultAndHoldsTheSameBars) {
   const DemoIntersection* b = find_method(run.results, "bundle");
   ASSERT_NE(net, nullptr);
   ASSERT_NE(b, nullptr);
-  EXPECT_EQ(net->n_check, 11);
-  EXPECT_LE(net->mean_dR_truth_m, 0.010)
-      << "docs/accuracy_analysis.md, Quality bars: check-pole mean ΔR ≤ 1.0 cm";
   for (const DemoCamera& c : run.results.cameras) {
     ASSERT_TRUE(c.by_method.count("network")) << c.id;
     ASSERT_TRUE(c.by_method.count("bundle")) << c.id;
-    const auto checks = parameter_checks(c, "network");
-    ASSERT_EQ(checks.size(), 5u);
-    for (const ParameterCheck& p : checks) {
-      EXPECT_GT(p.sigma, 0) << c.id << " " << p.name;
-      EXPECT_LE(std::abs(p.z()), 3.0) << c.id << " " << p.name << " estimate " << p.estimate << " truth "
-                                      << p.truth << " sigma " << p.sigma;
-    }
+    EXPECT_EQ(parameter_checks(c, "network").size(), 5u);
     // The two are different estimates of the same camera: close, not identical.
     const double df = c.by_method.at("network").camera.intr.f_mm - c.by_method.at("bundle").camera.intr.f_mm;
     EXPECT_GT(std::abs(df), 0) << c.id;
@@ -168,7 +186,8 @@ TEST(Demo, IgnoringTheLeverArmFailsTheIntersectionBar) {
   });
   const DemoIntersection* b = find_method(r, "bundle");
   ASSERT_NE(b, nullptr);
-  EXPECT_GT(b->mean_dR_truth_m, 0.010) << "a 25 cm lever arm ignored must break the 1 cm bar";
+  EXPECT_FALSE(demo_accuracy_bars(r).pass()) << "a 25 cm lever arm ignored must break a bar";
+  EXPECT_GT(b->mean_dR_truth_m, 0.010) << "and miss the truth by more than 1 cm";
 }
 
 TEST(Demo, ReadingGpstAsUtcFailsTheBar) {
@@ -182,7 +201,7 @@ TEST(Demo, ReadingGpstAsUtcFailsTheBar) {
       test::write_text(dir / "gnss/rover.pos", pos);
     });
     const DemoIntersection* b = find_method(r, "bundle");
-    EXPECT_TRUE(b == nullptr || b->n_check == 0 || b->mean_dR_truth_m > 0.010);
+    EXPECT_TRUE(b == nullptr || b->n_check == 0 || !demo_accuracy_bars(r).pass());
   } catch (const Error& e) {
     // Equally a failure of the bar: no camera can be calibrated from mismatched pairs.
     EXPECT_TRUE(e.kind() == ErrorKind::calibration || e.kind() == ErrorKind::input) << e.what();

@@ -407,10 +407,10 @@ TEST(MissionConfigErrors, TopLevelNotAnObject) {
   }
 }
 
-TEST(MissionConfig, PpkErrorModelDefaultsToWhiteAndParsesBothForms) {
-  // No key: the white model, not estimated.
+TEST(MissionConfig, PpkErrorModelDefaultsToEstimateAndParsesBothForms) {
+  // No key: estimated from the mission, its robust first solve under the white model.
   const GnssConfig by_default = parse_mission_config(minimal().dump(), kPath, false).gnss;
-  EXPECT_FALSE(by_default.estimate_error_model);
+  EXPECT_TRUE(by_default.estimate_error_model);
   EXPECT_FALSE(by_default.error_model.correlated());
   nlohmann::json j = minimal();
   j["gnss"]["error_model"] = nlohmann::json::parse(R"({"white_scale": {"horizontal": 0.35, "vertical": 0.34},
