@@ -33,14 +33,37 @@ struct FixedPart {
   double chi2 = 0;
 };
 
+/// Keeps every stride-th state of the chain, stride = ⌈states / kEstimationEpochs⌉, and drops the
+/// other epochs from `sel` (their fix and observations): the AR(1) is Markov, so the kept states'
+/// prior, chained over the longer steps, is exactly their marginal.
+void thin_chain(NetworkLayout* l, NetworkSelection* sel) {
+  const std::size_t n = l->gm_chain.size();
+  const std::size_t stride = (n + kEstimationEpochs - 1) / kEstimationEpochs;
+  if (stride <= 1) return;
+  std::vector<std::size_t> kept;
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t k = l->gm_chain[j];
+    if (j % stride == 0) {
+      l->gm_state[k] = static_cast<int>(kept.size());
+      kept.push_back(k);
+      continue;
+    }
+    l->gm_state[k] = -1;
+    sel->prior[k] = 0;
+    for (std::size_t i : l->by_point[k]) sel->observation[i] = 0;
+  }
+  l->gm_chain = std::move(kept);
+}
+
 FixedPart fixed_part(const NetworkLayout& any, const NetworkParameterBlocks& b, const NetworkSelection& sel) {
   PpkErrorModel chained;  // any correlated model: it only orders the chain
   chained.gm_sd_h_m = chained.gm_sd_v_m = 0.01, chained.tau_h_s = chained.tau_v_s = 30;
   FixedPart f;
   f.layout = make_network_layout(*any.cameras, *any.points, *any.observations, chained);
   f.layout.pixel_sigma_scale = any.pixel_sigma_scale;
-  const NetworkLayout& l = f.layout;
   NetworkSelection images = sel;
+  thin_chain(&f.layout, &images);
+  const NetworkLayout& l = f.layout;
   refresh_single_view(l, b, &images);
   const std::size_t np = l.by_point.size();
   f.fix.assign(np, 0), f.in_solve.assign(np, 0), f.residual.assign(np, Eigen::Vector3d::Zero());

@@ -11,6 +11,7 @@
 // b̃_cᵀS⁻¹b̃_c). The REML form charges the degrees of freedom the cameras and points use, which fitting
 // the corrections' autocorrelation does not (correlated_ppk.md §2c). Image σ and the poles' survey σ
 // are taken as stated.
+#include <cstddef>
 #include <vector>
 
 #include "optim/network/network_parameters.hpp"
@@ -26,6 +27,11 @@ inline constexpr double kRecordPerTau = 4;
 /// Short-baseline carrier-phase errors stay correlated for about 2 min (Miller, O'Keefe, Gao 2012:
 /// 115 s on average; correlated_ppk.md §1): the τ a too-short record falls back on.
 inline constexpr double kFallbackTau_s = 120;
+/// The estimate uses at most this many epochs of the chain, every stride-th (ppk_error_estimation.cpp
+/// thin_chain): an evaluation then costs the same on a mission of 20,000 epochs as on one of 2,000,
+/// and τ is resolved down to a few times the thinned spacing (docs/optimisation.md "Correlated PPK
+/// errors — estimation"). The solve under the estimate uses every epoch.
+inline constexpr std::size_t kEstimationEpochs = 2000;
 /// 2Δℓ below which the white model is kept: χ²(4 dof) at 95 % (the GM adds sd and τ on two axes).
 inline constexpr double kWhiteLikelihoodRatio = 9.49;
 
