@@ -23,6 +23,7 @@
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/stated_ppk_error_model.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 
 namespace rangecal {
@@ -70,27 +71,6 @@ std::vector<double> epoch_times(const CalibrationProblem& problem, const std::ve
   return t;
 }
 
-/// The model one calibration.json states its σ under, when it records one: the bundle's
-/// details.ppk_error_model (written only for a model other than its own weighting), the network's
-/// details.network.ppk_error_model (the model it weighed the fixes by, configured or estimated).
-std::optional<PpkErrorModel> recorded_error_model(const CalibrationResult& r, const std::string& path) {
-  const nlohmann::json& d = r.details;
-  if (d.is_object() && d.contains("ppk_error_model"))
-    return parse_ppk_error_model_json(d["ppk_error_model"], path, "details.ppk_error_model").model;
-  if (d.is_object() && d.contains("network") && d["network"].is_object() &&
-      d["network"].contains("ppk_error_model"))
-    return parse_ppk_error_model_json(d["network"]["ppk_error_model"], path,
-                                      "details.network.ppk_error_model")
-        .model;
-  return std::nullopt;
-}
-
-bool same_model(const PpkErrorModel& a, const PpkErrorModel& b) {
-  return a.white_scale_h == b.white_scale_h && a.white_scale_v == b.white_scale_v &&
-         a.gm_sd_h_m == b.gm_sd_h_m && a.gm_sd_v_m == b.gm_sd_v_m && a.tau_h_s == b.tau_h_s &&
-         a.tau_v_s == b.tau_v_s;
-}
-
 /// The PPK error model of the world noise (MonteCarloOptions::ppk_error): the one the reference
 /// calibrations record (all that record one must agree; `paths` their files), else the mission's
 /// gnss.error_model (a bundle under its own weighting records none). Notes on stderr, unless
@@ -102,17 +82,17 @@ PpkErrorModel reference_error_model(const MissionConfig& cfg, const std::vector<
   std::string model_path;
   std::vector<std::string> unstated;
   for (std::size_t c = 0; c < cams.size(); ++c) {
-    const std::optional<PpkErrorModel> m = recorded_error_model(cams[c].reference, paths[c]);
+    const std::optional<StatedPpkErrorModel> m = stated_ppk_error_model(cams[c].reference, paths[c]);
     if (!m) {
       unstated.push_back(cams[c].problem.camera_id + " (" + cams[c].reference.method + ")");
       continue;
     }
-    if (model && !same_model(*model, *m))
-      throw_input_error(paths[c], 0, "details.ppk_error_model",
+    if (model && !same_ppk_error_model(*model, m->model))
+      throw_input_error(paths[c], 0, m->field,
                         "another PPK error model than " + model_path +
                             "'s; the cameras of one mission are calibrated under one model (re-run "
                             "`rangecal calibrate CONFIG`)");
-    model = m;
+    model = m->model;
     model_path = paths[c];
   }
   const PpkErrorModel out = model ? *model : cfg.gnss.error_model;

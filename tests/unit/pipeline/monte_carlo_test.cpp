@@ -16,7 +16,10 @@
 #include "config/error.hpp"
 #include "optim/network/network_input_checks.hpp"
 #include "pipeline/analysis/network_plan.hpp"
+#include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/network_json.hpp"
+#include "pipeline/io/stated_ppk_error_model.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "support/correlated_crb.hpp"
 #include "support/paths.hpp"
@@ -370,6 +373,44 @@ TEST(MonteCarlo, CorrelatedTrialSdIsTheCorrelatedSigma) {
     // Without the GM draw the trials would scatter as the white ones, or less (the white part is
     // smaller than the reported sd): the correlated errors must show.
     EXPECT_GT(c.sd_mc, 2 * w.sd_mc) << name;
+  }
+}
+
+// What `rangecal montecarlo` draws under: the model calibration.json states its σ under, read back
+// from the file — the bundle's own record, the network's, none for a bundle under its own weighting.
+TEST(MonteCarlo, ReadsTheModelTheCalibrationStates) {
+  const test::CrbNetwork n = test::ascent_network();
+  const test::GaussMarkovPpk ppk = test::measured_ppk_model(30);
+  const PpkErrorModel model = measured_model(ppk);
+  MonteCarloCamera c = ascent_camera(n, 0, ppk, model);
+  const std::string path = (test::scratch_dir("montecarlo_model") / "calibration.json").string();
+  write_calibration_json(path, c.reference);
+  const std::optional<StatedPpkErrorModel> bundle = stated_ppk_error_model(read_calibration_json(path), path);
+  ASSERT_TRUE(bundle.has_value());
+  EXPECT_EQ(bundle->field, "details.ppk_error_model");
+  EXPECT_TRUE(same_ppk_error_model(bundle->model, model));
+  EXPECT_DOUBLE_EQ(bundle->model.tau_v_s, 30.0);
+  EXPECT_DOUBLE_EQ(bundle->model.gm_sd_v_m, 0.014);
+
+  c.problem.ppk_error = PpkErrorModel{};  // the bundle's own weighting: nothing recorded
+  write_calibration_json(path, calibrate_camera("bundle", c.problem));
+  EXPECT_FALSE(stated_ppk_error_model(read_calibration_json(path), path).has_value());
+
+  CalibrationResult network = c.reference;  // a network camera: the network's record
+  network.details = nlohmann::json::object();
+  network.details["network"] = {{"ppk_error_model", ppk_error_model_json(model, 500)}};
+  const std::optional<StatedPpkErrorModel> net = stated_ppk_error_model(network, path);
+  ASSERT_TRUE(net.has_value());
+  EXPECT_EQ(net->field, "details.network.ppk_error_model");
+  EXPECT_TRUE(same_ppk_error_model(net->model, model));
+  EXPECT_FALSE(same_ppk_error_model(net->model, PpkErrorModel{}));
+
+  network.details["ppk_error_model"] = "white";  // malformed: an error naming the field
+  try {
+    stated_ppk_error_model(network, path);
+    ADD_FAILURE() << "a malformed model was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("details.ppk_error_model"), std::string::npos) << e.what();
   }
 }
 
