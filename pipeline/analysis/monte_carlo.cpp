@@ -17,6 +17,7 @@
 #include "config/error.hpp"
 #include "config/number_format.hpp"
 #include "optim/network/network_adjustment.hpp"
+#include "pipeline/simulate/ppk_error.hpp"
 #include "pipeline/steps/network_problem.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
@@ -26,11 +27,12 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Each trial draws from streams seeded by mix_seed (config/deterministic_random.hpp): camera c's
-// noise from (seed, c, trial), the pole picks from (seed, kPoleStream, trial), and the noise of
-// world-noise key k from (seed, kWorldStream, trial, k) — the same on every platform and for any
-// thread count.
+// noise from (seed, c, trial), the pole picks from (seed, kPoleStream, trial), the noise of
+// world-noise key k from (seed, kWorldStream, trial, k) and Gauss–Markov chain k from
+// (seed, kGaussMarkovStream, trial, k) — the same on every platform and for any thread count.
 constexpr std::uint64_t kPoleStream = 0x706F6C6573ull;   // "poles": pick noise, apart from cameras
 constexpr std::uint64_t kWorldStream = 0x776F726C64ull;  // "world": keyed world noise, shared by cameras
+constexpr std::uint64_t kGaussMarkovStream = 0x676D61726Bull;  // "gmark": the PPK errors' GM part
 
 /// The standard normal 3-vector of world-noise key `key` in trial `trial`: every camera that
 /// observed that epoch (or pole) draws the same vector, whatever the thread or camera order.
@@ -41,22 +43,31 @@ Eigen::Vector3d keyed_normal3(std::uint64_t seed, std::size_t trial, std::int64_
 }
 
 /// The simulated truth of one camera: the reference camera, the observations it keeps (not
-/// rejected as outliers, projecting) with their exact pixels, and the Cholesky factors of their
-/// world covariances.
+/// rejected as outliers, projecting) with their exact pixels, and the factors of their white world
+/// noise.
 struct CameraTruth {
   std::vector<BundleObservation> observations;  ///< world = truth, pixel = exact projection
-  std::vector<Eigen::Matrix3d> world_factor;    ///< L with L·Lᵀ = Σ_X
+  std::vector<Eigen::Matrix3d> world_factor;    ///< L with L·Lᵀ = Σ_X; S·L for a PPK fix under S ≠ 1
   std::vector<double> pixel_sigma;
-  std::vector<std::int64_t> key;  ///< world-noise key per kept observation (−1: own draw)
+  std::vector<std::int64_t> key;   ///< world-noise key per kept observation (−1: own draw)
+  std::vector<double> time_s;      ///< epoch time per kept observation; NaN: not a PPK fix
+  std::vector<std::size_t> index;  ///< the problem observation each kept one is
   std::vector<CameraParameter> parameters;
   std::string method;
 };
 
-CameraTruth make_truth(const MonteCarloCamera& c, bool shared) {
-  if (!c.world_noise_key.empty() && c.world_noise_key.size() != c.problem.observations.size())
-    throw_config_error("", "world_noise_key",
-                       "camera " + c.problem.camera_id + " has " + std::to_string(c.world_noise_key.size()) +
-                           " keys for " + std::to_string(c.problem.observations.size()) + " observations");
+CameraTruth make_truth(const MonteCarloCamera& c, bool shared, const PpkErrorModel& model) {
+  const std::size_t n = c.problem.observations.size();
+  for (const auto& [name, size] :
+       {std::pair<const char*, std::size_t>{"world_noise_key", c.world_noise_key.size()},
+        {"epoch_time_s", c.epoch_time_s.size()}})
+    if (size != 0 && size != n)
+      throw_config_error("", name,
+                         "camera " + c.problem.camera_id + " has " + std::to_string(size) + " entries for " +
+                             std::to_string(n) + " observations");
+  // The white part of a fix is S·Σ_X·S (optim/network/ppk_error_model.hpp); S = 1 leaves L as it is.
+  const bool scaled = model.white_scale_h != 1 || model.white_scale_v != 1;
+  const Eigen::Matrix3d S = model.white_scale().asDiagonal();
   CameraTruth t;
   t.method = c.method.empty() ? c.reference.method : c.method;
   t.parameters =
@@ -76,9 +87,13 @@ CameraTruth make_truth(const MonteCarloCamera& c, bool shared) {
     Eigen::Matrix3d L = ldlt.matrixL();
     L = ldlt.transpositionsP().transpose() * L;
     const Eigen::Vector3d d = ldlt.vectorD().cwiseMax(0.0).cwiseSqrt();
-    t.world_factor.push_back(L * d.asDiagonal());
+    const double time = c.epoch_time_s.empty() ? o.time_s : c.epoch_time_s[i];
+    t.world_factor.push_back(scaled && std::isfinite(time) ? Eigen::Matrix3d(S * L * d.asDiagonal())
+                                                           : Eigen::Matrix3d(L * d.asDiagonal()));
     t.pixel_sigma.push_back(o.pixel_sigma_px > 0 ? o.pixel_sigma_px : c.problem.pixel_sigma_px);
     t.key.push_back(shared && !c.world_noise_key.empty() ? c.world_noise_key[i] : -1);
+    t.time_s.push_back(time);
+    t.index.push_back(i);
     t.observations.push_back(o);
   }
   if (t.observations.size() < 6)
@@ -88,10 +103,73 @@ CameraTruth make_truth(const MonteCarloCamera& c, bool shared) {
   return t;
 }
 
+/// Where each simulated PPK fix sits on a Gauss–Markov chain (MonteCarloOptions::ppk_error):
+/// chain 0 holds the epochs the cameras share by world-noise key (one node per key), chain 1 + c
+/// camera c's unkeyed fixes (one node each); a chain's nodes in time order.
+struct GaussMarkovChains {
+  std::vector<std::vector<double>> t_s;  ///< per chain, its nodes' times (ascending)
+  /// Per camera and kept observation: {chain, node}; chain −1 off every chain (no GM part).
+  std::vector<std::vector<std::pair<int, std::size_t>>> node;
+};
+
+GaussMarkovChains gauss_markov_chains(const std::vector<CameraTruth>& truth, const PpkErrorModel& model) {
+  GaussMarkovChains g;
+  g.t_s.resize(truth.size() + 1);
+  std::map<std::int64_t, double> key_time;  // a key's epoch: the time of its first fix
+  for (std::size_t c = 0; c < truth.size(); ++c) {
+    g.node.emplace_back(truth[c].observations.size(), std::make_pair(-1, std::size_t{0}));
+    if (!model.correlated()) continue;
+    for (std::size_t i = 0; i < truth[c].observations.size(); ++i)
+      if (truth[c].key[i] >= 0 && std::isfinite(truth[c].time_s[i]))
+        key_time.emplace(truth[c].key[i], truth[c].time_s[i]);
+  }
+  if (!model.correlated()) return g;
+  // Ties in time keep key order (and observation order below): the same chain on every platform.
+  std::vector<std::pair<double, std::int64_t>> keys;
+  for (const auto& [k, t] : key_time) keys.emplace_back(t, k);
+  std::sort(keys.begin(), keys.end());
+  std::map<std::int64_t, std::size_t> node_of_key;
+  for (const auto& [t, k] : keys) node_of_key[k] = g.t_s[0].size(), g.t_s[0].push_back(t);
+  for (std::size_t c = 0; c < truth.size(); ++c) {
+    const CameraTruth& tr = truth[c];
+    std::vector<std::pair<double, std::size_t>> own;
+    for (std::size_t i = 0; i < tr.observations.size(); ++i) {
+      if (!std::isfinite(tr.time_s[i])) continue;
+      if (tr.key[i] >= 0)
+        g.node[c][i] = {0, node_of_key.at(tr.key[i])};
+      else
+        own.emplace_back(tr.time_s[i], i);
+    }
+    std::sort(own.begin(), own.end());
+    const int chain = static_cast<int>(c) + 1;
+    for (const auto& [t, i] : own) g.node[c][i] = {chain, g.t_s[c + 1].size()}, g.t_s[c + 1].push_back(t);
+  }
+  return g;
+}
+
+/// Trial `trial`'s Gauss–Markov part of every camera's kept observations (zero off the chains): each
+/// chain drawn by the exact discretisation (pipeline/simulate/ppk_error.hpp draw_gauss_markov).
+/// Empty per camera when the model has no GM part.
+std::vector<std::vector<Eigen::Vector3d>> trial_gauss_markov(const GaussMarkovChains& g,
+                                                             const PpkErrorModel& model, std::uint64_t seed,
+                                                             std::size_t trial) {
+  std::vector<std::vector<Eigen::Vector3d>> out(g.node.size());
+  if (!model.correlated()) return out;
+  std::vector<std::vector<Eigen::Vector3d>> chain(g.t_s.size());
+  for (std::size_t k = 0; k < g.t_s.size(); ++k)
+    chain[k] =
+        draw_gauss_markov(model.gm_sd(), model.tau(), g.t_s[k], mix_seed(seed, kGaussMarkovStream, trial, k));
+  for (std::size_t c = 0; c < g.node.size(); ++c)
+    for (const auto& [k, j] : g.node[c])
+      out[c].push_back(k >= 0 ? chain[static_cast<std::size_t>(k)][j] : Eigen::Vector3d::Zero());
+  return out;
+}
+
 /// One trial's problem: truth + noise, priors re-drawn about the reference values (a prior is a
 /// measurement too, so the covariance it enters assumes it scatters by its σ).
 CalibrationProblem trial_problem(const MonteCarloCamera& c, const CameraTruth& t, const MonteCarloOptions& o,
-                                 std::size_t trial, DeterministicRandom& rng) {
+                                 std::size_t trial, const std::vector<Eigen::Vector3d>& gauss_markov,
+                                 DeterministicRandom& rng) {
   CalibrationProblem p = c.problem;
   p.observations = t.observations;
   for (std::size_t i = 0; i < p.observations.size(); ++i) {
@@ -101,6 +179,7 @@ CalibrationProblem trial_problem(const MonteCarloCamera& c, const CameraTruth& t
       const Eigen::Vector3d z =
           t.key[i] >= 0 ? keyed_normal3(o.seed, trial, t.key[i]) : Eigen::Vector3d(a, b, d);
       ob.world += t.world_factor[i] * z;
+      if (!gauss_markov.empty()) ob.world += gauss_markov[i];
     }
     if (o.image_noise) {
       const double zu = rng.normal(), zv = rng.normal();
@@ -164,6 +243,8 @@ NetworkProblem trial_network(const std::vector<const MonteCarloCamera*>& cams,
         NetworkPoint pt;
         pt.prior_enu = o.world;
         pt.prior_cov = o.world_cov;
+        // The epoch's place in the chain the trial network weighs it by (NetworkOptions::ppk_error).
+        pt.time_s = truth[c]->time_s[i];
         pt.source = ob.source;
         if (key >= 0) it = point_of_key.emplace(key, std::make_pair(n.points.size(), truth_world)).first;
         ob.point = n.points.size();
@@ -211,6 +292,7 @@ NetworkMembers network_members(const std::vector<MonteCarloCamera>& cameras,
 struct TrialInputs {
   const std::vector<MonteCarloCamera>& cameras;
   const std::vector<CameraTruth>& truth;
+  const GaussMarkovChains& chains;
   const NetworkMembers& network;
   const std::vector<MonteCarloPole>& poles;
   const MonteCarloOptions& options;
@@ -223,9 +305,11 @@ void calibrate_trial(const TrialInputs& in, std::size_t t, TrialOutcome* out) {
   out->cameras.resize(n_cameras);
   out->failure.resize(n_cameras);
   std::vector<CalibrationProblem> joint;  // the network's cameras, adjusted together below
+  const std::vector<std::vector<Eigen::Vector3d>> gm =
+      trial_gauss_markov(in.chains, in.options.ppk_error, in.options.seed, t);
   for (std::size_t c = 0; c < n_cameras; ++c) {
     DeterministicRandom rng(mix_seed(in.options.seed, c, t));
-    CalibrationProblem p = trial_problem(in.cameras[c], in.truth[c], in.options, t, rng);
+    CalibrationProblem p = trial_problem(in.cameras[c], in.truth[c], in.options, t, gm[c], rng);
     if (in.network.index.size() >= 2 && in.truth[c].method == "network") {
       joint.push_back(std::move(p));
       continue;
@@ -241,7 +325,9 @@ void calibrate_trial(const TrialInputs& in, std::size_t t, TrialOutcome* out) {
   if (joint.empty()) return;
   try {
     const NetworkProblem n = trial_network(in.network.cams, in.network.truth, joint);
-    const NetworkResult r = network_adjust(n.cameras, n.points, n.observations);
+    NetworkOptions options;
+    options.ppk_error = in.options.ppk_error;  // weighed as the reference network was
+    const NetworkResult r = network_adjust(n.cameras, n.points, n.observations, options);
     for (std::size_t j = 0; j < in.network.index.size(); ++j)
       out->cameras[in.network.index[j]] =
           TrialCamera{r.cameras[j].calibration.camera, r.cameras[j].calibration.clock_offset_s};
@@ -385,9 +471,11 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
                                  const CrossCovariances* reference_cross) {
   check_monte_carlo_inputs(cameras, poles, options);
   std::vector<CameraTruth> truth;
-  for (const MonteCarloCamera& c : cameras) truth.push_back(make_truth(c, options.shared_world_noise));
+  for (const MonteCarloCamera& c : cameras)
+    truth.push_back(make_truth(c, options.shared_world_noise, options.ppk_error));
+  const GaussMarkovChains chains = gauss_markov_chains(truth, options.ppk_error);
   const NetworkMembers network = network_members(cameras, truth);
-  const TrialInputs in{cameras, truth, network, poles, options};
+  const TrialInputs in{cameras, truth, chains, network, poles, options};
 
   const std::size_t nt = static_cast<std::size_t>(options.trials);
   std::vector<TrialOutcome> outcome(nt);
@@ -414,6 +502,25 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
     result.poles.push_back(pm);
   }
   return result;
+}
+
+std::vector<std::vector<Eigen::Vector3d>> monte_carlo_world_noise(
+    const std::vector<MonteCarloCamera>& cameras, const MonteCarloOptions& options, std::size_t trial) {
+  std::vector<CameraTruth> truth;
+  for (const MonteCarloCamera& c : cameras)
+    truth.push_back(make_truth(c, options.shared_world_noise, options.ppk_error));
+  const std::vector<std::vector<Eigen::Vector3d>> gm = trial_gauss_markov(
+      gauss_markov_chains(truth, options.ppk_error), options.ppk_error, options.seed, trial);
+  std::vector<std::vector<Eigen::Vector3d>> out;
+  for (std::size_t c = 0; c < cameras.size(); ++c) {
+    // The trial's own draw (calibrate_trial's generator), less the truth.
+    DeterministicRandom rng(mix_seed(options.seed, c, trial));
+    const CalibrationProblem p = trial_problem(cameras[c], truth[c], options, trial, gm[c], rng);
+    out.emplace_back(cameras[c].problem.observations.size(), Eigen::Vector3d::Constant(kNaN));
+    for (std::size_t i = 0; i < p.observations.size(); ++i)
+      out[c][truth[c].index[i]] = p.observations[i].world - truth[c].observations[i].world;
+  }
+  return out;
 }
 
 std::string format_montecarlo_csv(const MonteCarloResult& r) {

@@ -4,6 +4,9 @@
 // simulated world: every trial regenerates the exact pixels of the problem's world points through
 // the reference camera, adds Gaussian noise to the world points (their PPK covariance) and to the
 // pixels (their centroid σ), re-runs the same calibration method, and records every parameter.
+// The world noise follows the PPK error model the calibration stated its σ under
+// (MonteCarloOptions::ppk_error; docs/accuracy_analysis.md "Monte Carlo"): a white part per point
+// and, for a correlated model, one Gauss–Markov sequence per ENU axis over the GNSS epochs' times.
 // Per parameter: the mean's offset from the reference (bias_mc), the trials' sd (sd_mc) and the
 // reference covariance's σ (sd_predicted), side by side. Optionally, check poles seen by ≥ 2
 // cameras are triangulated in every trial from noisy picks (vision/triangulation/triangulation.hpp) and their
@@ -17,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "optim/network/ppk_error_model.hpp"
 #include "pipeline/steps/calibration_methods.hpp"
 #include "vision/camera/calibration_result.hpp"
 #include "vision/triangulation/triangulation.hpp"
@@ -32,6 +36,11 @@ struct MonteCarloCamera {
   /// camera or another, share one draw of world noise (scaled by each one's own Σ_X) — the same
   /// GNSS epoch or the same surveyed pole seen by several cameras. A negative key: its own draw.
   std::vector<std::int64_t> world_noise_key;
+  /// Empty, or one time (s) per problem observation: that of the GNSS epoch whose error it carries,
+  /// on one clock for every camera (network_problem's NetworkPoint::time_s, seconds from the lamp
+  /// track's first epoch); NaN for a point that is not a PPK fix (a control pole). Empty: the
+  /// observations' own time_s. Only a correlated MonteCarloOptions::ppk_error reads it.
+  std::vector<double> epoch_time_s;
 };
 
 /// A check pole for the intersection statistics: its surveyed position (the simulated truth) and
@@ -52,6 +61,15 @@ struct MonteCarloOptions {
   /// Use the cameras' world_noise_key (shared epochs and poles); false: every observation of every
   /// camera draws its own world noise (cameras independent, as the triangulation σ assumes).
   bool shared_world_noise = true;
+  /// The PPK error model of the world noise (optim/network/ppk_error_model.hpp): a PPK fix (an
+  /// observation with a finite epoch time) draws its white part by S·L·z (S the white scale, L·Lᵀ = Σ_X)
+  /// and, when the model is correlated, the Gauss–Markov value of its epoch — one sequence per ENU axis
+  /// over the epochs in time order by the exact discretisation (docs/simulator.md "PPK error model"),
+  /// one for the epochs every camera shares through world_noise_key and one per camera for its
+  /// unkeyed fixes. A point that is not a fix draws by its own Σ_X. The default (S = 1, no GM part)
+  /// draws every point by its Σ_X, as the network and the bundle weigh it. A network re-run in the
+  /// trials weighs the fixes by this model too (NetworkOptions::ppk_error).
+  PpkErrorModel ppk_error;
 };
 
 struct ParameterStatistics {
@@ -98,6 +116,13 @@ struct MonteCarloResult {
 MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
                                  const std::vector<MonteCarloPole>& poles, const MonteCarloOptions& options,
                                  const CrossCovariances* reference_cross = nullptr);
+
+/// The world noise of trial `trial` (world point drawn − truth), per camera and per problem
+/// observation, exactly as run_monte_carlo adds it; NaN for an observation it does not simulate
+/// (an outlier of the reference, or one that does not project through the reference camera). Zero
+/// vectors when options.world_noise is false. For checking the draws (their correlation in time).
+std::vector<std::vector<Eigen::Vector3d>> monte_carlo_world_noise(
+    const std::vector<MonteCarloCamera>& cameras, const MonteCarloOptions& options, std::size_t trial);
 
 /// montecarlo.csv text: `camera,parameter,estimate,bias_mc,sd_mc,sd_predicted`, one row per camera
 /// and parameter, 10 significant digits, empty field for a NaN; deterministic.

@@ -2,10 +2,12 @@
 // §7): re-runs the calibration of a finished mission (each camera's correspondences.csv and
 // calibration.json) under simulated noise (pipeline/analysis/monte_carlo.hpp), prints a seed 001
 // Table 2-style table per camera and the check poles' intersection statistics, and writes
-// `<out>/montecarlo.csv`. docs/accuracy_analysis.md.
+// `<out>/montecarlo.csv`. The world noise is drawn under the PPK error model the calibrations state
+// their σ under (reference_error_model). docs/accuracy_analysis.md.
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -21,6 +23,7 @@
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/stated_ppk_error_model.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 
 namespace rangecal {
@@ -53,6 +56,53 @@ std::vector<MonteCarloPole> check_poles(const MissionConfig& cfg) {
 /// the same in every camera (`pole_keys`, filled as ids appear). Without a track every lamp pair
 /// keeps −1 (its own draw).
 constexpr std::int64_t kPoleKeyBase = std::int64_t{1} << 40;
+
+/// Per observation of one camera's problem, the time of the epoch its world-noise key names: seconds
+/// from the track's first epoch, as the network places its epochs in the Gauss–Markov chain
+/// (pipeline/steps/network_problem.hpp); NaN for a control pole. Empty without a track (the
+/// observations' own times then).
+std::vector<double> epoch_times(const CalibrationProblem& problem, const std::vector<std::int64_t>& keys,
+                                std::size_t lamp_pairs, const LampTrack* track) {
+  if (!track || track->epochs.empty()) return {};
+  std::vector<double> t(problem.observations.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < lamp_pairs && i < t.size(); ++i)
+    t[i] = 1e-9 * static_cast<double>(track->epochs[static_cast<std::size_t>(keys[i])].utc.ns -
+                                      track->epochs.front().utc.ns);
+  return t;
+}
+
+/// The PPK error model of the world noise (MonteCarloOptions::ppk_error): the one the reference
+/// calibrations record (all that record one must agree; `paths` their files), else the mission's
+/// gnss.error_model (a bundle under its own weighting records none). Notes on stderr, unless
+/// `quiet`, the cameras whose σ are not stated under a model other than white (a method that does
+/// not read it), whose sd_predicted then stays white.
+PpkErrorModel reference_error_model(const MissionConfig& cfg, const std::vector<MonteCarloCamera>& cams,
+                                    const std::vector<std::string>& paths, bool quiet) {
+  std::optional<PpkErrorModel> model;
+  std::string model_path;
+  std::vector<std::string> unstated;
+  for (std::size_t c = 0; c < cams.size(); ++c) {
+    const std::optional<StatedPpkErrorModel> m = stated_ppk_error_model(cams[c].reference, paths[c]);
+    if (!m) {
+      unstated.push_back(cams[c].problem.camera_id + " (" + cams[c].reference.method + ")");
+      continue;
+    }
+    if (model && !same_ppk_error_model(*model, m->model))
+      throw_input_error(paths[c], 0, m->field,
+                        "another PPK error model than " + model_path +
+                            "'s; the cameras of one mission are calibrated under one model (re-run "
+                            "`rangecal calibrate CONFIG`)");
+    model = m->model;
+    model_path = paths[c];
+  }
+  const PpkErrorModel out = model ? *model : cfg.gnss.error_model;
+  if (!quiet && out.correlated())
+    for (const std::string& u : unstated)
+      std::cerr << "montecarlo: camera " << u
+                << " records no PPK error model: its sd_predicted is not stated under the correlated "
+                   "model the world noise is drawn under\n";
+  return out;
+}
 
 std::vector<std::int64_t> world_noise_keys(const CalibrationProblem& problem,
                                            const std::vector<Correspondence>& pairs, const LampTrack* track,
@@ -109,6 +159,7 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
     if (std::filesystem::exists(lamp_track_path(cfg))) track = read_lamp_track_csv(lamp_track_path(cfg));
     std::vector<MonteCarloCamera> cams;
     std::map<std::string, std::int64_t> pole_keys;
+    std::vector<std::string> calibration_paths;
     for (const CameraConfig& cam : cfg.cameras) {
       const std::string corr = camera_output(cfg, cam.id, kCorrespondencesCsv);
       const std::string cal = camera_output(cfg, cam.id, kCalibrationJson);
@@ -125,7 +176,9 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
       m.problem = make_calibration_problem(cam, cfg.calibrate, pairs, read_control_pole_views(cfg, cam));
       m.reference = read_calibration_json(cal);
       m.world_noise_key = world_noise_keys(m.problem, pairs, track ? &*track : nullptr, &pole_keys);
+      m.epoch_time_s = epoch_times(m.problem, m.world_noise_key, pairs.size(), track ? &*track : nullptr);
       cams.push_back(std::move(m));
+      calibration_paths.push_back(cal);
     }
     MonteCarloOptions o;
     o.trials = args->trials;
@@ -133,6 +186,7 @@ void add_montecarlo_command(CLI::App& app, const CliContext& ctx) {
     o.threads = args->threads;
     o.pick_sigma_px = args->pick_sigma_px > 0 ? args->pick_sigma_px : cfg.intersect.pick_sigma_px;
     o.shared_world_noise = !args->independent;
+    o.ppk_error = reference_error_model(cfg, cams, calibration_paths, ctx.quiet);
     if (!track && !ctx.quiet)
       std::cerr << "montecarlo: no " << lamp_track_path(cfg)
                 << ": the lamp points' noise is drawn independently per camera\n";

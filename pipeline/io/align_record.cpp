@@ -7,23 +7,27 @@
 namespace rangecal {
 namespace {
 
+// The keys of AlignReport, in the order they are read.
+const RecordField<AlignReport> kReportFields[] = {
+    {"epochs", &AlignReport::epochs},
+    {"frames", &AlignReport::frames},
+    {"epochs_outside_frames", &AlignReport::epochs_outside_frames},
+    {"frames_picked", &AlignReport::frames_picked},
+    {"frames_aligned", &AlignReport::frames_aligned},
+    {"rejected_offset", &AlignReport::rejected_offset},
+    {"rejected_gap", &AlignReport::rejected_gap},
+    {"rejected_outside_track", &AlignReport::rejected_outside_track},
+    {"mean_dt_s", &AlignReport::mean_dt_s},
+    {"mean_abs_dt_s", &AlignReport::mean_abs_dt_s},
+    {"max_abs_dt_s", &AlignReport::max_abs_dt_s},
+    {"max_speed_mps", &AlignReport::max_speed_mps},
+    {"worst_position_error_m", &AlignReport::worst_position_error_m},
+    {"worst_position_error_frame", &AlignReport::worst_position_error_frame},
+};
+
 nlohmann::json camera_json(const AlignCameraRecord& c) {
-  const AlignReport& r = c.report;
   nlohmann::json j;
-  j["epochs"] = r.epochs;
-  j["frames"] = r.frames;
-  j["epochs_outside_frames"] = r.epochs_outside_frames;
-  j["frames_picked"] = r.frames_picked;
-  j["frames_aligned"] = r.frames_aligned;
-  j["rejected_offset"] = r.rejected_offset;
-  j["rejected_gap"] = r.rejected_gap;
-  j["rejected_outside_track"] = r.rejected_outside_track;
-  j["mean_dt_s"] = r.mean_dt_s;
-  j["mean_abs_dt_s"] = r.mean_abs_dt_s;
-  j["max_abs_dt_s"] = r.max_abs_dt_s;
-  j["max_speed_mps"] = r.max_speed_mps;
-  j["worst_position_error_m"] = r.worst_position_error_m;
-  j["worst_position_error_frame"] = r.worst_position_error_frame;
+  write_fields(kReportFields, c.report, &j);
   j["time_source"] = c.time_source;
   return j;
 }
@@ -31,22 +35,7 @@ nlohmann::json camera_json(const AlignCameraRecord& c) {
 AlignCameraRecord parse_camera(const JsonView& v) {
   v.require_object("an object {epochs, frames, frames_aligned, ...}");
   AlignCameraRecord c;
-  AlignReport& r = c.report;
-  r.epochs = count_field(v, "epochs");
-  r.frames = count_field(v, "frames");
-  r.epochs_outside_frames = count_field(v, "epochs_outside_frames");
-  r.frames_picked = count_field(v, "frames_picked");
-  r.frames_aligned = count_field(v, "frames_aligned");
-  r.rejected_offset = count_field(v, "rejected_offset");
-  r.rejected_gap = count_field(v, "rejected_gap");
-  r.rejected_outside_track = count_field(v, "rejected_outside_track");
-  r.mean_dt_s = number_field(v, "mean_dt_s");
-  r.mean_abs_dt_s = number_field(v, "mean_abs_dt_s");
-  r.max_abs_dt_s = number_field(v, "max_abs_dt_s");
-  r.max_speed_mps = number_field(v, "max_speed_mps");
-  r.worst_position_error_m = number_field(v, "worst_position_error_m");
-  if (v.has("worst_position_error_frame"))
-    r.worst_position_error_frame = integer_field(v, "worst_position_error_frame");
+  read_fields(kReportFields, v, &c.report);
   c.time_source = string_field(v, "time_source");
   return c;
 }

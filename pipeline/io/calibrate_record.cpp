@@ -7,23 +7,37 @@
 namespace rangecal {
 namespace {
 
+// A camera's scalar keys, in the order they are read: `failed` stands between the two parts, and a
+// camera that failed has only the first.
+const RecordField<CalibrateCameraRecord> kInputFields[] = {
+    {"pairs", &CalibrateCameraRecord::pairs},
+    {"control_poles", &CalibrateCameraRecord::control_poles},
+};
+const RecordField<CalibrateCameraRecord> kFitFields[] = {
+    {"method", &CalibrateCameraRecord::method},
+    {"rms_px", &CalibrateCameraRecord::rms_px},  // NaN is written as null
+    {"n_used", &CalibrateCameraRecord::n_used},
+    {"n_rejected", &CalibrateCameraRecord::n_rejected},
+    {"opencv_fit_max_px", &CalibrateCameraRecord::opencv_fit_max_px},
+    {"opencv_undistort_max_px", &CalibrateCameraRecord::opencv_undistort_max_px},
+    {"dlt_only_rms_px", &CalibrateCameraRecord::dlt_only_rms_px},
+    {"dlt_only_max_px", &CalibrateCameraRecord::dlt_only_max_px},
+    {"dlt_profile_max_px", &CalibrateCameraRecord::dlt_profile_max_px},
+};
+const RecordField<MethodChoiceRecord> kMethodChoiceFields[] = {
+    {"method", &MethodChoiceRecord::method},
+    {"shared_epochs", &MethodChoiceRecord::shared_epochs},
+    {"why", &MethodChoiceRecord::why},
+};
+
 nlohmann::json camera_json(const CalibrateCameraRecord& c) {
   nlohmann::json j;
-  j["pairs"] = c.pairs;
-  j["control_poles"] = c.control_poles;
+  write_fields(kInputFields, c, &j);
   if (!c.failed.empty()) {
     j["failed"] = c.failed;
     return j;
   }
-  j["method"] = c.method;
-  j["rms_px"] = c.rms_px;  // NaN is written as null
-  j["n_used"] = c.n_used;
-  j["n_rejected"] = c.n_rejected;
-  j["opencv_fit_max_px"] = c.opencv_fit_max_px;
-  j["opencv_undistort_max_px"] = c.opencv_undistort_max_px;
-  j["dlt_only_rms_px"] = c.dlt_only_rms_px;
-  j["dlt_only_max_px"] = c.dlt_only_max_px;
-  j["dlt_profile_max_px"] = c.dlt_profile_max_px;
+  write_fields(kFitFields, c, &j);
   j["method_time_s"] = nlohmann::json::object();
   for (const auto& [m, s] : c.method_time_s) j["method_time_s"][m] = s;
   j["warnings"] = nlohmann::json::array();
@@ -57,19 +71,10 @@ WarningCodeRecord parse_warning_code(const JsonView& v) {
 CalibrateCameraRecord parse_camera(const JsonView& v) {
   v.require_object("an object {pairs, control_poles, ...}");
   CalibrateCameraRecord c;
-  c.pairs = count_field(v, "pairs");
-  c.control_poles = count_field(v, "control_poles");
+  read_fields(kInputFields, v, &c);
   c.failed = string_field(v, "failed");
   if (!c.failed.empty()) return c;
-  c.method = string_field(v, "method");
-  c.rms_px = number_field(v, "rms_px", c.rms_px);
-  c.n_used = static_cast<int>(integer_field(v, "n_used"));
-  c.n_rejected = static_cast<int>(integer_field(v, "n_rejected"));
-  c.opencv_fit_max_px = number_field(v, "opencv_fit_max_px", 0);
-  c.opencv_undistort_max_px = number_field(v, "opencv_undistort_max_px", 0);
-  c.dlt_only_rms_px = number_field(v, "dlt_only_rms_px", 0);
-  c.dlt_only_max_px = number_field(v, "dlt_only_max_px", 0);
-  c.dlt_profile_max_px = number_field(v, "dlt_profile_max_px", 0);
+  read_fields(kFitFields, v, &c);
   if (const auto t = v.find("method_time_s")) {
     t->require_object("an object {method: seconds}");
     for (const auto& [m, s] : t->json().items())
@@ -94,10 +99,7 @@ nlohmann::json calibrate_record_json(const CalibrateRecord& r) {
   nlohmann::json j = nlohmann::json::object();
   j["cameras"] = by_camera_json(r.cameras, camera_json);
   if (!r.network.is_null()) j["network"] = r.network;
-  if (r.method_choice)
-    j["method_choice"] = {{"method", r.method_choice->method},
-                          {"shared_epochs", r.method_choice->shared_epochs},
-                          {"why", r.method_choice->why}};
+  if (r.method_choice) write_fields(kMethodChoiceFields, *r.method_choice, &j["method_choice"]);
   return j;
 }
 
@@ -111,11 +113,7 @@ CalibrateRecord parse_calibrate_record(const nlohmann::json& j, const std::strin
   if (const auto n = v.find("network")) r.network = n->json();
   if (const auto m = v.find("method_choice")) {
     m->require_object("an object {method, shared_epochs, why}");
-    MethodChoiceRecord c;
-    c.method = string_field(*m, "method");
-    c.shared_epochs = count_field(*m, "shared_epochs");
-    c.why = string_field(*m, "why");
-    r.method_choice = c;
+    read_fields(kMethodChoiceFields, *m, &r.method_choice.emplace());
   }
   return r;
 }

@@ -7,32 +7,37 @@
 namespace rangecal {
 namespace {
 
+// The keys of a camera's line, in the order they are read: by_status stands between the two parts.
+const RecordField<DetectCameraRecord> kFramesFields[] = {
+    {"time_source", &DetectCameraRecord::time_source},
+    {"frames_examined", &DetectCameraRecord::frames_examined},
+};
+const RecordField<DetectCameraRecord> kPairsFields[] = {
+    {"correspondences", &DetectCameraRecord::correspondences},
+};
+const RecordField<TimestampCheckRecord> kTimestampCheckFields[] = {
+    {"best_offset_s", &TimestampCheckRecord::best_offset_s},
+    {"rms_at_zero_px", &TimestampCheckRecord::rms_at_zero_px},
+    {"rms_at_best_px", &TimestampCheckRecord::rms_at_best_px},
+};
+
 nlohmann::json camera_json(const DetectCameraRecord& c) {
   nlohmann::json j;
-  j["time_source"] = c.time_source;
-  j["frames_examined"] = c.frames_examined;
+  write_fields(kFramesFields, c, &j);
   j["by_status"] = c.by_status;
-  j["correspondences"] = c.correspondences;
-  if (c.timestamp_check)
-    j["timestamp_check"] = {{"best_offset_s", c.timestamp_check->best_offset_s},
-                            {"rms_at_zero_px", c.timestamp_check->rms_at_zero_px},
-                            {"rms_at_best_px", c.timestamp_check->rms_at_best_px}};
+  write_fields(kPairsFields, c, &j);
+  if (c.timestamp_check) write_fields(kTimestampCheckFields, *c.timestamp_check, &j["timestamp_check"]);
   return j;
 }
 
 DetectCameraRecord parse_camera(const JsonView& v) {
   v.require_object("an object {time_source, frames_examined, by_status, correspondences}");
   DetectCameraRecord c;
-  c.time_source = string_field(v, "time_source");
-  c.frames_examined = count_field(v, "frames_examined");
+  read_fields(kFramesFields, v, &c);
   for (const auto& [status, n] : counts_field(v, "by_status")) c.by_status[status] = static_cast<int>(n);
-  c.correspondences = count_field(v, "correspondences");
-  if (const auto t = object_field(v, "timestamp_check", "an object {best_offset_s, rms_at_zero_px, ...}")) {
-    TimestampCheckRecord& tc = c.timestamp_check.emplace();
-    tc.best_offset_s = number_field(*t, "best_offset_s");
-    tc.rms_at_zero_px = number_field(*t, "rms_at_zero_px", tc.rms_at_zero_px);
-    tc.rms_at_best_px = number_field(*t, "rms_at_best_px", tc.rms_at_best_px);
-  }
+  read_fields(kPairsFields, v, &c);
+  if (const auto t = object_field(v, "timestamp_check", "an object {best_offset_s, rms_at_zero_px, ...}"))
+    read_fields(kTimestampCheckFields, *t, &c.timestamp_check.emplace());
   return c;
 }
 

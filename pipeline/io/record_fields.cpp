@@ -5,14 +5,18 @@
 
 namespace rangecal {
 
-std::size_t count_field(const JsonView& v, const std::string& key) {
+std::size_t count_field(const JsonView& v, const std::string& key, std::size_t fallback) {
   const auto x = v.find(key);
-  return x ? static_cast<std::size_t>(x->unsigned_integer("a non-negative integer")) : 0;
+  return x ? static_cast<std::size_t>(x->unsigned_integer("a non-negative integer")) : fallback;
 }
 
-std::int64_t integer_field(const JsonView& v, const std::string& key) {
+std::int64_t integer_field(const JsonView& v, const std::string& key, std::int64_t fallback) {
   const auto x = v.find(key);
-  return x ? x->integer("an integer") : 0;
+  return x ? x->integer("an integer") : fallback;
+}
+
+int int_field(const JsonView& v, const std::string& key, int fallback) {
+  return static_cast<int>(integer_field(v, key, fallback));
 }
 
 double number_field(const JsonView& v, const std::string& key, double fallback) {
@@ -24,14 +28,14 @@ double number_field(const JsonView& v, const std::string& key, double fallback) 
   return x->number("a number or null");
 }
 
-std::string string_field(const JsonView& v, const std::string& key) {
+std::string string_field(const JsonView& v, const std::string& key, const std::string& fallback) {
   const auto x = v.find(key);
-  return x ? x->string("a string") : std::string();
+  return x ? x->string("a string") : fallback;
 }
 
-bool bool_field(const JsonView& v, const std::string& key) {
+bool bool_field(const JsonView& v, const std::string& key, bool fallback) {
   const auto x = v.find(key);
-  return x ? x->boolean("true or false") : false;
+  return x ? x->boolean("true or false") : fallback;
 }
 
 std::map<std::string, std::size_t> counts_field(const JsonView& v, const std::string& key) {

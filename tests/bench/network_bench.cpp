@@ -24,15 +24,35 @@ double peak_rss_mb() {
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
+// Each benchmark's arguments are (cameras, epochs), timed in ms of wall time with the process's CPU
+// time beside it.
+void network_sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"cameras", "epochs"})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+}
+
+// The synthetic network of the benchmark's arguments adjusted under `o` in the timed loop, with the
+// peak memory after it; the last result, with the network it came from.
+struct TimedNetwork {
+  test::SyntheticNetwork network;
+  NetworkResult result;
+};
+
+TimedNetwork time_network_adjust(benchmark::State& state, const NetworkOptions& o) {
+  TimedNetwork t{
+      test::synthetic_network(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 11), {}};
+  for (auto _ : state) {
+    t.result = network_adjust(t.network.cameras, t.network.points, t.network.observations, o);
+    benchmark::DoNotOptimize(t.result.statistics.chi2);
+  }
+  state.counters["peak_rss_MB"] = peak_rss_mb();
+  return t;
+}
+
 // Arguments: cameras, epochs. One Ceres thread (NetworkOptions::num_threads default).
 void BM_Network(benchmark::State& state) {
-  const test::SyntheticNetwork n =
-      test::synthetic_network(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 11);
-  NetworkResult r;
-  for (auto _ : state) {
-    r = network_adjust(n.cameras, n.points, n.observations);
-    benchmark::DoNotOptimize(r.statistics.chi2);
-  }
+  const TimedNetwork t = time_network_adjust(state, NetworkOptions());
+  const test::SyntheticNetwork& n = t.network;
+  const NetworkResult& r = t.result;
   double f_err = 0;
   for (std::size_t c = 0; c < n.truth.size(); ++c)
     f_err = std::max(f_err, std::abs(r.cameras[c].calibration.camera.intr.f_mm - n.truth[c].intr.f_mm) /
@@ -41,10 +61,9 @@ void BM_Network(benchmark::State& state) {
   state.counters["iterations"] = r.statistics.iterations;
   state.counters["variance_factor"] = r.statistics.variance_factor;
   state.counters["max_f_err_sigma"] = f_err;  // sanity: the solve converged to the truth
-  state.counters["peak_rss_MB"] = peak_rss_mb();
 }
 BENCHMARK(BM_Network)
-    ->ArgNames({"cameras", "epochs"})
+    ->Apply(network_sizes)
     ->Args({2, 1000})  // target < 100 ms
     ->Args({2, 250})   // growth with epochs
     ->Args({2, 4000})
@@ -52,63 +71,37 @@ BENCHMARK(BM_Network)
     ->Args({4, 1000})  // growth with cameras
     ->Args({8, 1000})
     ->Args({8, 5000})
-    ->Args({8, 20000})  // target < 3 s
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
+    ->Args({8, 20000});  // target < 3 s
 
 // The same under the correlated PPK error model (ppk_error_model.hpp: white 0.35 of the fixes' sd,
 // Gauss–Markov 0.8 / 1.4 cm, τ = 30 s over 5 Hz epochs): one GM state per epoch in the solve and in
 // the covariance; its cost as a ratio to BM_Network at the same size, measured in the same run
 // (docs/performance.md; targets 2 × 1,000 < 100 ms, 8 × 20,000 < 4 s).
 void BM_NetworkCorrelated(benchmark::State& state) {
-  const test::SyntheticNetwork n =
-      test::synthetic_network(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 11);
   NetworkOptions o;
   o.ppk_error.white_scale_h = o.ppk_error.white_scale_v = 0.35;
   o.ppk_error.gm_sd_h_m = 0.008, o.ppk_error.gm_sd_v_m = 0.014;
   o.ppk_error.tau_h_s = o.ppk_error.tau_v_s = 30;
-  NetworkResult r;
-  for (auto _ : state) {
-    r = network_adjust(n.cameras, n.points, n.observations, o);
-    benchmark::DoNotOptimize(r.statistics.chi2);
-  }
-  state.counters["observations"] = static_cast<double>(n.observations.size());
-  state.counters["iterations"] = r.statistics.iterations;
-  state.counters["peak_rss_MB"] = peak_rss_mb();
+  const TimedNetwork t = time_network_adjust(state, o);
+  state.counters["observations"] = static_cast<double>(t.network.observations.size());
+  state.counters["iterations"] = t.result.statistics.iterations;
 }
 BENCHMARK(BM_NetworkCorrelated)
-    ->ArgNames({"cameras", "epochs"})
+    ->Apply(network_sizes)
     ->Args({2, 1000})  // target < 100 ms
     ->Args({8, 5000})
-    ->Args({8, 20000})  // target < 4 s
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
+    ->Args({8, 20000});  // target < 4 s
 
 // The PPK error model estimated from the mission (ppk_error_estimation.hpp; the calibrate stage's
 // default): the restricted likelihood searched over the six parameters, then the final solve under
 // the estimate; a ratio to BM_Network at the same size (docs/performance.md).
 void BM_NetworkEstimatedModel(benchmark::State& state) {
-  const test::SyntheticNetwork n =
-      test::synthetic_network(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 11);
   NetworkOptions o;
   o.estimate_ppk_error = true;
-  NetworkResult r;
-  for (auto _ : state) {
-    r = network_adjust(n.cameras, n.points, n.observations, o);
-    benchmark::DoNotOptimize(r.statistics.chi2);
-  }
-  state.counters["evaluations"] = r.ppk_estimate ? r.ppk_estimate->evaluations : 0;
-  state.counters["peak_rss_MB"] = peak_rss_mb();
+  const TimedNetwork t = time_network_adjust(state, o);
+  state.counters["evaluations"] = t.result.ppk_estimate ? t.result.ppk_estimate->evaluations : 0;
 }
-BENCHMARK(BM_NetworkEstimatedModel)
-    ->ArgNames({"cameras", "epochs"})
-    ->Args({2, 1000})
-    ->Args({8, 5000})
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
+BENCHMARK(BM_NetworkEstimatedModel)->Apply(network_sizes)->Args({2, 1000})->Args({8, 5000});
 
 // The same with the datum floor the calibrate stage asks for (NetworkOptions::datum_floor_image_factor,
 // one more joint covariance): its cost as a ratio to BM_Network at the same size, measured in the
@@ -125,13 +118,7 @@ void BM_NetworkWithDatumFloor(benchmark::State& state) {
   }
   state.counters["floor_rows"] = static_cast<double>(r.datum_floor_covariance.rows());
 }
-BENCHMARK(BM_NetworkWithDatumFloor)
-    ->ArgNames({"cameras", "epochs"})
-    ->Args({2, 1000})
-    ->Args({8, 5000})
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
+BENCHMARK(BM_NetworkWithDatumFloor)->Apply(network_sizes)->Args({2, 1000})->Args({8, 5000});
 
 }  // namespace
 }  // namespace rangecal

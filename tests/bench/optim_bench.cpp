@@ -155,13 +155,7 @@ struct Seed000Problem {
         w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Matrix3d::Identity();
     c.pose.R = dR * start.pose.R;
     c.pose.T = -c.pose.R * (start.pose.center() + th.segment<3>(13));
-    r->resize(2 * X.size());
-    for (std::size_t i = 0; i < X.size(); ++i) {
-      Vector2d p;
-      if (!project(c, X[i], &p)) return false;
-      r->segment<2>(2 * i) = p - uv[i];
-    }
-    return true;
+    return test::reprojection_residuals(c, X, uv, r);
   }
 };
 

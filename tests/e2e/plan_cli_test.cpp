@@ -13,35 +13,19 @@
 
 #include "config/error.hpp"
 #include "pipeline/analysis/monte_carlo.hpp"
+#include "support/ascent_routes.hpp"
 #include "support/paths.hpp"
 
 namespace rangecal {
 namespace {
 
-std::string demo_text() {
-  return test::read_text(test::source_dir() / "config/examples/demo_scenario.json");
-}
-
-nlohmann::json ascent(double e, double n) {
-  return {{"type", "vertical"}, {"start_enu_m", {e, n, 0.8}}, {"height_m", 9.0},
-          {"speed_mps", 2.5},   {"accel_mps2", 1.5},          {"hover_s", 0.5}};
-}
-
-/// Seed 002's layout: three vertical ascents ~64 m from both cameras, standing at different depths
-/// (a V seen from the cameras; three ascents in one plane would leave f and depth inseparable).
-nlohmann::json three_ascents() {
-  return nlohmann::json::array({ascent(-5, 0.75), ascent(0, 4.75), ascent(5, 0.75)});
-}
-
-/// The same plus two ascents at other depths, one nearer and one farther along the lines of sight.
-nlohmann::json five_ascents() {
-  return nlohmann::json::array(
-      {ascent(-5, 0.75), ascent(0, 4.75), ascent(5, 0.75), ascent(0, -3.25), ascent(0, 8.75)});
-}
+using test::demo_scenario_text;
+using test::five_ascents;
+using test::three_ascents;
 
 TEST(Plan, CliComparesCandidatesSideBySide) {
   const auto dir = test::scratch_dir("plan_cli");
-  nlohmann::json j = nlohmann::json::parse(demo_text());
+  nlohmann::json j = nlohmann::json::parse(demo_scenario_text());
   j["routes"] = three_ascents();
   test::write_text(dir / "three.json", j.dump(2));
   j["routes"] = five_ascents();

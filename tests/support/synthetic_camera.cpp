@@ -186,6 +186,17 @@ double rms_reprojection_px(const Camera& cam, const std::vector<PointCorresponde
   return pts.empty() ? 0.0 : std::sqrt(ss / pts.size());
 }
 
+bool reprojection_residuals(const Camera& cam, const std::vector<Eigen::Vector3d>& X,
+                            const std::vector<Eigen::Vector2d>& uv, Eigen::VectorXd* r) {
+  r->resize(2 * static_cast<Eigen::Index>(X.size()));
+  for (std::size_t i = 0; i < X.size(); ++i) {
+    Eigen::Vector2d p;
+    if (!project(cam, X[i], &p)) return false;
+    r->segment<2>(2 * static_cast<Eigen::Index>(i)) = p - uv[i];
+  }
+  return true;
+}
+
 double rotation_angle_between(const Eigen::Matrix3d& Ra, const Eigen::Matrix3d& Rb) {
   return Eigen::AngleAxisd(Ra * Rb.transpose()).angle();
 }

@@ -77,6 +77,11 @@ std::vector<PointCorrespondence> observe(const Camera& cam, const std::vector<Ei
 double max_reprojection_px(const Camera& cam, const std::vector<PointCorrespondence>& pts);
 double rms_reprojection_px(const Camera& cam, const std::vector<PointCorrespondence>& pts);
 
+/// The stacked residuals project(cam, X[i]) − uv[i] (2 per point) into `r`, for a least-squares
+/// search over a camera; false when a point does not project.
+bool reprojection_residuals(const Camera& cam, const std::vector<Eigen::Vector3d>& X,
+                            const std::vector<Eigen::Vector2d>& uv, Eigen::VectorXd* r);
+
 /// Angle (rad) of the rotation Ra·Rbᵀ.
 double rotation_angle_between(const Eigen::Matrix3d& Ra, const Eigen::Matrix3d& Rb);
 

@@ -87,14 +87,7 @@ struct CameraProblem {
     return c;
   }
   bool residual(const VectorXd& x, VectorXd* r) const {
-    const Camera c = camera(x);
-    r->resize(2 * X.size());
-    for (std::size_t i = 0; i < X.size(); ++i) {
-      Vector2d p;
-      if (!project(c, X[i], &p)) return false;
-      r->segment<2>(2 * i) = p - uv[i];
-    }
-    return true;
+    return test::reprojection_residuals(camera(x), X, uv, r);
   }
 };
 

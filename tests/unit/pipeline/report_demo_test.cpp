@@ -5,7 +5,6 @@
 // section's statistics against run.json.
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -18,6 +17,7 @@
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "support/paths.hpp"
+#include "support/projection_sigma.hpp"
 #include "support/simulated_mission.hpp"
 
 namespace rangecal {
@@ -97,22 +97,7 @@ void check_plotted_numbers(const std::string& page) {
     const Eigen::Vector2d centre(639.5, 399.5);
     const Eigen::Vector3d ray = pixel_ray_world(r.camera, centre);
     const Eigen::Vector3d X = r.camera.pose.center() + ray * (depth / r.camera.pose.R.row(2).dot(ray));
-    const Eigen::VectorXd x0 = parameter_values(r.camera, r.parameters, r.clock_offset_s);
-    Eigen::MatrixXd J(2, x0.size());
-    for (Eigen::Index k = 0; k < x0.size(); ++k) {
-      const double h = 1e-4 * std::sqrt(r.covariance(k, k));
-      Eigen::VectorXd xp = x0, xm = x0;
-      xp[k] += h;
-      xm[k] -= h;
-      Eigen::Vector2d up, um;
-      ASSERT_TRUE(project(camera_with_parameters(r.camera, r.parameters, xp), X, &up));
-      ASSERT_TRUE(project(camera_with_parameters(r.camera, r.parameters, xm), X, &um));
-      J.col(k) = (up - um) / (2 * h);
-    }
-    const double sigma =
-        std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(J * r.covariance * J.transpose())
-                      .eigenvalues()
-                      .maxCoeff());
+    const double sigma = test::finite_difference_projection_sigma_px(r, X);
     const std::vector<std::string> cells =
         attribute_values(page, std::string("cam-") + cam + "-uncertainty", "rect", "data-value");
     ASSERT_EQ(cells.size(), 41u * 25u) << cam;

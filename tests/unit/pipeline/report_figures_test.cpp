@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <random>
 
@@ -17,6 +16,7 @@
 #include "pipeline/report/lamp_residuals.hpp"
 #include "pipeline/report/projection_uncertainty.hpp"
 #include "pipeline/report/svg_chart.hpp"
+#include "support/projection_sigma.hpp"
 #include "support/synthetic_camera.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
@@ -41,24 +41,6 @@ CalibrationResult calibrated(const Camera& cam) {
   return r;
 }
 
-// σ of the projection of X through `r` by central differences of `project` over camera_with_parameters.
-double finite_difference_sigma(const CalibrationResult& r, const Eigen::Vector3d& X) {
-  const Eigen::VectorXd x0 = parameter_values(r.camera, r.parameters);
-  Eigen::MatrixXd J(2, x0.size());
-  for (Eigen::Index k = 0; k < x0.size(); ++k) {
-    const double h = 1e-4 * std::sqrt(r.covariance(k, k));
-    Eigen::VectorXd xp = x0, xm = x0;
-    xp[k] += h;
-    xm[k] -= h;
-    Eigen::Vector2d up, um;
-    EXPECT_TRUE(project(camera_with_parameters(r.camera, r.parameters, xp), X, &up));
-    EXPECT_TRUE(project(camera_with_parameters(r.camera, r.parameters, xm), X, &um));
-    J.col(k) = (up - um) / (2 * h);
-  }
-  const Eigen::Matrix2d S = J * r.covariance * J.transpose();
-  return std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(S).eigenvalues().maxCoeff());
-}
-
 TEST(ReportFigures, ProjectionSigmaMatchesFiniteDifferencePropagationThroughProject) {
   const CalibrationResult r = calibrated(test::range_camera(-3.4e-4));
   for (const Eigen::Vector2d& uv :
@@ -68,7 +50,7 @@ TEST(ReportFigures, ProjectionSigmaMatchesFiniteDifferencePropagationThroughProj
     ASSERT_TRUE(project(r.camera, X, &back));
     EXPECT_NEAR((back - uv).norm(), 0, 1e-6);  // the point is on the pixel's ray
     EXPECT_NEAR(world_to_camera(r.camera.pose, X).z(), 64.0, 1e-9);
-    const double expected = finite_difference_sigma(r, X);
+    const double expected = test::finite_difference_projection_sigma_px(r, X);
     EXPECT_GT(expected, 0.01);
     EXPECT_NEAR(projection_sigma_px(r, uv, 64.0), expected, 0.01 * expected) << uv.transpose();
   }

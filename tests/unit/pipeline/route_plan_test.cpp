@@ -25,6 +25,7 @@
 #include "pipeline/analysis/monte_carlo.hpp"
 #include "pipeline/analysis/network_plan.hpp"
 #include "pipeline/analysis/network_vs_per_camera.hpp"
+#include "support/ascent_routes.hpp"
 #include "support/paths.hpp"
 #include "support/sharper_images.hpp"
 #include "vision/triangulation/triangulation.hpp"
@@ -32,32 +33,15 @@
 namespace rangecal {
 namespace {
 
-std::string demo_text() {
-  return test::read_text(test::source_dir() / "config/examples/demo_scenario.json");
-}
+using test::demo_scenario_text;
+using test::five_ascents;
+using test::three_ascents;
 
 /// The demo (seed 002's three ascents, two 135 mm cameras ~64 m away) with routes replaced.
 Scenario scenario_with_routes(const nlohmann::json& routes, const std::string& name) {
-  nlohmann::json j = nlohmann::json::parse(demo_text());
+  nlohmann::json j = nlohmann::json::parse(demo_scenario_text());
   j["routes"] = routes;
   return parse_scenario(j.dump(), name);
-}
-
-nlohmann::json ascent(double e, double n) {
-  return {{"type", "vertical"}, {"start_enu_m", {e, n, 0.8}}, {"height_m", 9.0},
-          {"speed_mps", 2.5},   {"accel_mps2", 1.5},          {"hover_s", 0.5}};
-}
-
-/// Seed 002's layout: three vertical ascents ~64 m from both cameras, standing at different depths
-/// (a V seen from the cameras; three ascents in one plane would leave f and depth inseparable).
-nlohmann::json three_ascents() {
-  return nlohmann::json::array({ascent(-5, 0.75), ascent(0, 4.75), ascent(5, 0.75)});
-}
-
-/// The same plus two ascents at other depths, one nearer and one farther along the lines of sight.
-nlohmann::json five_ascents() {
-  return nlohmann::json::array(
-      {ascent(-5, 0.75), ascent(0, 4.75), ascent(5, 0.75), ascent(0, -3.25), ascent(0, 8.75)});
 }
 
 const ParameterBound& bound(const CameraBound& c, CameraParameter parameter) {

@@ -91,6 +91,16 @@ PhotronWriteOptions mraw_options(int storage, EffectiveBitSide side = EffectiveB
   return o;
 }
 
+// A mission config of one 320 × 200 camera "cam1", its `frames` still to be set.
+nlohmann::json mission_json() {
+  return nlohmann::json::parse(R"({
+    "site": {"origin": {"lat": 45.6, "lon": 122.8, "h": 150.0}},
+    "gnss": {"pos_files": ["gnss/rover.pos"]},
+    "lever_arm": {"vertical_m": 0.25},
+    "cameras": [{"id": "cam1", "sensor": {"width_px": 320, "height_px": 200, "pixel_size_um": [20, 20]},
+                 "lens": {"nominal_focal_mm": 135}}]})");
+}
+
 // frame,file,utc naming `file(k)` for frame k.
 std::string csv_text(int n, const std::function<std::string(int)>& file,
                      const std::function<int(int)>& frame) {
@@ -254,12 +264,7 @@ TEST(PhotronFrameSource, MrawAloneNeedsAUsableHeaderClockAndTheOffset) {
 
 TEST(PhotronFrameSource, MissionConfigMrawKey) {
   const auto config = [](const nlohmann::json& frames) {
-    nlohmann::json j = nlohmann::json::parse(R"({
-      "site": {"origin": {"lat": 45.6, "lon": 122.8, "h": 150.0}},
-      "gnss": {"pos_files": ["gnss/rover.pos"]},
-      "lever_arm": {"vertical_m": 0.25},
-      "cameras": [{"id": "cam1", "sensor": {"width_px": 320, "height_px": 200, "pixel_size_um": [20, 20]},
-                   "lens": {"nominal_focal_mm": 135}}]})");
+    nlohmann::json j = mission_json();
     j["cameras"][0]["frames"] = frames;
     return parse_mission_config(j.dump(), "/m/mission.json", false);
   };
@@ -310,12 +315,7 @@ TEST(PhotronFrameSource, StagesReportTheTimeSource) {
 
   std::map<std::string, std::pair<std::string, std::string>> outputs;  // aligned.csv, detections.csv
   for (const std::string kind : {"png", "mraw_csv", "mraw_alone"}) {
-    nlohmann::json j = nlohmann::json::parse(R"({
-      "site": {"origin": {"lat": 45.6, "lon": 122.8, "h": 150.0}},
-      "gnss": {"pos_files": ["gnss/rover.pos"]},
-      "lever_arm": {"vertical_m": 0.25},
-      "cameras": [{"id": "cam1", "sensor": {"width_px": 320, "height_px": 200, "pixel_size_um": [20, 20]},
-                   "lens": {"nominal_focal_mm": 135}}]})");
+    nlohmann::json j = mission_json();
     j["output_dir"] = "out_" + kind;
     if (kind == "png") j["cameras"][0]["frames"] = {{"timestamps", "cam1/png.csv"}};
     if (kind == "mraw_csv") j["cameras"][0]["frames"] = {{"timestamps", "cam1/mraw.csv"}};
