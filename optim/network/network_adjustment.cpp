@@ -316,22 +316,15 @@ void add_network_warnings(const NetworkLayout& layout, const NetworkStatistics& 
                         format_number("%g", kFewPpkLooks) +
                         "): the datum rests on few samples; more control poles, camera stations surveyed or "
                         "ascents spread over more time would lower the error");
-  if (estimate && (estimate->tau_held_h || estimate->tau_held_v)) {
-    const bool both = estimate->tau_held_h && estimate->tau_held_v;
-    const double tau = estimate->tau_held_h ? estimate->model.tau_h_s : estimate->model.tau_v_s;
-    warnings->push_back(
-        "the PPK record (" + format_number("%.0f", estimate->record_s) +
-        " s) is shorter than 4 correlation times: the " +
-        (both                   ? "horizontal and vertical τ were"
-         : estimate->tau_held_h ? "horizontal τ was"
-                                : "vertical τ was") +
-        " not estimated but held at " + format_number("%.0f", tau) +
-        " s (the larger of the estimate and the documented 120 s; docs/optimisation.md "
-        "\"Correlated PPK errors — estimation\")" +
-        (estimate->gm_sd_held_h || estimate->gm_sd_held_v
-             ? std::string("; its Gauss–Markov sd, which grows with the held τ, was held at the "
-                           ".pos sd")
-             : std::string()));
+  if (estimate && (estimate->gm_sd_held_h || estimate->gm_sd_held_v)) {
+    const bool both = estimate->gm_sd_held_h && estimate->gm_sd_held_v;
+    warnings->push_back("the PPK record (" + format_number("%.0f", estimate->record_s) +
+                        " s) is shorter than 4 correlation times: the " +
+                        (both                     ? "horizontal and vertical"
+                         : estimate->gm_sd_held_h ? "horizontal"
+                                                  : "vertical") +
+                        " Gauss–Markov sd cannot be told from τ; it was held at the .pos sd and τ estimated "
+                        "with it (docs/optimisation.md \"Correlated PPK errors — estimation\")");
   }
   if (!stats.ppk_outliers.empty())
     warnings->push_back(

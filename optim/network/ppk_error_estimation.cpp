@@ -319,35 +319,21 @@ PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const Net
         std::numeric_limits<double>::quiet_NaN();
     return out;
   }
-  // A record shorter than kRecordPerTau·τ̂ cannot pin τ (ppk_error_estimation.hpp): hold it.
+  // A record shorter than kRecordPerTau·τ̂ pins the increments' rate σ_g²/τ, not σ_g and τ apart
+  // (ppk_error_estimation.hpp): hold σ_g at the .pos sd and estimate τ (and s) with it.
   Fit best = gm;
-  std::vector<int> free = {0, 1, 2, 3};
-  out.tau_held_h = out.record_s < kRecordPerTau * std::exp(gm.x[4]);
-  out.tau_held_v = out.record_s < kRecordPerTau * std::exp(gm.x[5]);
-  if (!out.tau_held_h) free.push_back(4);
-  if (!out.tau_held_v) free.push_back(5);
-  if (out.tau_held_h || out.tau_held_v) {
+  std::vector<int> free = {0, 1, 4, 5};
+  out.gm_sd_held_h = out.record_s < kRecordPerTau * std::exp(gm.x[4]);
+  out.gm_sd_held_v = out.record_s < kRecordPerTau * std::exp(gm.x[5]);
+  if (!out.gm_sd_held_h) free.push_back(2);
+  if (!out.gm_sd_held_v) free.push_back(3);
+  if (out.gm_sd_held_h || out.gm_sd_held_v) {
+    const Eigen::Vector2d pos_sd = reported_sd(f);
     LogParameters x = gm.x;
-    if (out.tau_held_h) x[4] = std::max(x[4], std::log(kFallbackTau_s));
-    if (out.tau_held_v) x[5] = std::max(x[5], std::log(kFallbackTau_s));
-    best = fit(f, x, free, true);
+    if (out.gm_sd_held_h) x[2] = std::log(pos_sd[0]), x[4] += 2 * (x[2] - gm.x[2]);
+    if (out.gm_sd_held_v) x[3] = std::log(pos_sd[1]), x[5] += 2 * (x[3] - gm.x[3]);
+    best = fit(f, x, free, true);  // started on the ridge: τ scaled with σ_g² (same rate)
     out.evaluations += best.evaluations;
-    // With τ held, σ_g follows the ridge σ_g² ∝ τ the short record leaves (ppk_error_estimation.hpp):
-    // cap it at the .pos sd, the size RTKLIB gives the whole error.
-    const Eigen::Vector2d cap = reported_sd(f);
-    out.gm_sd_held_h = out.tau_held_h && best.x[2] > std::log(cap[0]);
-    out.gm_sd_held_v = out.tau_held_v && best.x[3] > std::log(cap[1]);
-    if (out.gm_sd_held_h || out.gm_sd_held_v) {
-      x = best.x;
-      if (out.gm_sd_held_h) x[2] = std::log(cap[0]);
-      if (out.gm_sd_held_v) x[3] = std::log(cap[1]);
-      std::vector<int> still_free;
-      for (int i : free)
-        if (!(i == 2 && out.gm_sd_held_h) && !(i == 3 && out.gm_sd_held_v)) still_free.push_back(i);
-      free = still_free;
-      best = fit(f, x, free, true);
-      out.evaluations += best.evaluations;
-    }
   }
   out.model = model_of(best.x);
   out.sd = sd_of(best.x, log_sd(f, best, free, true, &out.evaluations));

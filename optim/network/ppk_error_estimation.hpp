@@ -18,15 +18,12 @@
 
 namespace rangecal {
 
-/// A record shorter than this many τ cannot separate τ from a constant offset (correlated_ppk.md
-/// §2c: τ̂ is biased low, 0.4–0.7 of τ at T/τ = 3–10): τ is then held at the larger of its estimate
-/// and kFallbackTau_s, and the sd and white scale re-estimated with it. A short record pins the
-/// increments' rate σ_g²/τ, not σ_g and τ apart, so the re-estimated σ_g grows as √τ_held; where it
-/// would exceed the .pos sd (RTKLIB's size of the whole error) it is held there instead.
+/// A record shorter than this many τ cannot separate σ_g from τ (correlated_ppk.md §2c: τ̂ is biased
+/// low, 0.4–0.7 of τ at T/τ = 3–10; a Gauss–Markov process over T ≪ τ is an offset the datum absorbs
+/// plus a random walk of rate 2σ_g²/τ). Below it, on that axis σ_g is held at the .pos sd — the size
+/// RTKLIB gives the whole error (docs/gnss.md "PPK error model") — and τ re-estimated with it, so the
+/// rate the record does show is kept: the offset's variance is then the cautious one.
 inline constexpr double kRecordPerTau = 4;
-/// Short-baseline carrier-phase errors stay correlated for about 2 min (Miller, O'Keefe, Gao 2012:
-/// 115 s on average; correlated_ppk.md §1): the τ a too-short record falls back on.
-inline constexpr double kFallbackTau_s = 120;
 /// The estimate uses at most this many epochs of the chain, every stride-th (ppk_error_estimation.cpp
 /// thin_chain): an evaluation then costs the same on a mission of 20,000 epochs as on one of 2,000,
 /// and τ is resolved down to a few times the thinned spacing (docs/optimisation.md "Correlated PPK

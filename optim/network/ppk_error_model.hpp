@@ -79,10 +79,8 @@ struct PpkErrorEstimate {
   bool white = false;           ///< the likelihood-ratio test kept the white model (no GM part)
   double likelihood_ratio = 0;  ///< 2·(ℓ_GM − ℓ_white), restricted log-likelihoods at their maxima
   double record_s = 0;          ///< T: first to last fix in the chain (s)
-  /// Per axis (horizontal, vertical): T < kRecordPerTau·τ̂, so τ was held (ppk_error_estimation.hpp).
-  bool tau_held_h = false, tau_held_v = false;
-  /// Per axis: τ was held and the GM sd, re-estimated with it, exceeded the .pos sd, so it was held
-  /// at the .pos sd (ppk_error_estimation.hpp, kFallbackTau_s).
+  /// Per axis (horizontal, vertical): T < kRecordPerTau·τ̂, so σ_g was held at the .pos sd and τ re-estimated
+  /// with it (ppk_error_estimation.hpp).
   bool gm_sd_held_h = false, gm_sd_held_v = false;
   int evaluations = 0;  ///< likelihood evaluations
 };

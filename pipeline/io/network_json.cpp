@@ -113,7 +113,6 @@ nlohmann::json ppk_error_estimate_json(const PpkErrorEstimate& e) {
   j["sd"] = {{"white_scale", hv(e.sd.white_scale_h, e.sd.white_scale_v)},
              {"gauss_markov_sd_m", hv(e.sd.gm_sd_h_m, e.sd.gm_sd_v_m)},
              {"tau_s", hv(e.sd.tau_h_s, e.sd.tau_v_s)}};
-  j["tau_held"] = {{"horizontal", e.tau_held_h}, {"vertical", e.tau_held_v}};
   j["gauss_markov_sd_held"] = {{"horizontal", e.gm_sd_held_h}, {"vertical", e.gm_sd_held_v}};
   j["evaluations"] = e.evaluations;
   return j;
@@ -168,16 +167,10 @@ void read_ppk_error_estimate(const nlohmann::json& e, const std::string& path, c
   };
   r->estimated = true;
   r->white_kept = flag(e, "white_kept", field);
-  if (!e.contains("tau_held") || !e["tau_held"].is_object())
-    throw_input_error(path, 0, field + ".tau_held", "expected an object");
-  r->tau_held_h = flag(e["tau_held"], "horizontal", field + ".tau_held");
-  r->tau_held_v = flag(e["tau_held"], "vertical", field + ".tau_held");
-  if (e.contains("gauss_markov_sd_held")) {
-    if (!e["gauss_markov_sd_held"].is_object())
-      throw_input_error(path, 0, field + ".gauss_markov_sd_held", "expected an object");
-    r->gm_sd_held_h = flag(e["gauss_markov_sd_held"], "horizontal", field + ".gauss_markov_sd_held");
-    r->gm_sd_held_v = flag(e["gauss_markov_sd_held"], "vertical", field + ".gauss_markov_sd_held");
-  }
+  if (!e.contains("gauss_markov_sd_held") || !e["gauss_markov_sd_held"].is_object())
+    throw_input_error(path, 0, field + ".gauss_markov_sd_held", "expected an object");
+  r->gm_sd_held_h = flag(e["gauss_markov_sd_held"], "horizontal", field + ".gauss_markov_sd_held");
+  r->gm_sd_held_v = flag(e["gauss_markov_sd_held"], "vertical", field + ".gauss_markov_sd_held");
   if (e.contains("record_s") && e["record_s"].is_number()) r->record_s = e["record_s"].get<double>();
   if (!e.contains("sd") || !e["sd"].is_object())
     throw_input_error(path, 0, field + ".sd", "expected an object");

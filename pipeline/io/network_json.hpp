@@ -42,8 +42,7 @@ struct PpkErrorModelRecord {
   double looks_h = std::nan(""), looks_v = std::nan("");
   bool estimated = false;  ///< `estimate` present: sigma from its `sd` (NaN where held)
   bool white_kept = false;
-  bool tau_held_h = false, tau_held_v = false;
-  bool gm_sd_held_h = false, gm_sd_held_v = false;  ///< σ_g held at the .pos sd with τ
+  bool gm_sd_held_h = false, gm_sd_held_v = false;  ///< σ_g held at the .pos sd: a short record
   double record_s = std::nan("");
 };
 

@@ -30,16 +30,7 @@ std::string source(double sigma_h, double sigma_v) {
   return std::isfinite(sigma_h) || std::isfinite(sigma_v) ? "estimated &#177; 1&#963;"
                                                           : "fixed in the config";
 }
-// τ's source: estimated, held because the record is shorter than 4τ̂
-// (optim/network/ppk_error_estimation.hpp), or fixed in the config.
-std::string tau_source(const PpkErrorModelRecord& r) {
-  if (!r.estimated || !(r.tau_held_h || r.tau_held_v)) return source(r.sigma.tau_h_s, r.sigma.tau_v_s);
-  const std::string which = r.tau_held_h && r.tau_held_v ? "both" : r.tau_held_h ? "horizontal" : "vertical";
-  return which + " held at max(&#964;&#770;, 120 s): the record (" + format_number("%.0f", r.record_s) +
-         " s) is shorter than 4&#964;&#770;";
-}
-
-// σ_g's source: estimated, or held at the .pos sd because it grew with a held τ
+// σ_g's source: estimated, or held at the .pos sd because the record is shorter than 4τ̂
 // (optim/network/ppk_error_estimation.hpp), or fixed in the config.
 std::string gm_sd_source(const PpkErrorModelRecord& r) {
   if (!r.estimated || !(r.gm_sd_held_h || r.gm_sd_held_v))
@@ -47,7 +38,8 @@ std::string gm_sd_source(const PpkErrorModelRecord& r) {
   const std::string which = r.gm_sd_held_h && r.gm_sd_held_v ? "both"
                             : r.gm_sd_held_h                 ? "horizontal"
                                                              : "vertical";
-  return which + " held at the .pos sd: with &#964; held, the estimate grows as &#8730;&#964;";
+  return which + " held at the .pos sd: the record (" + format_number("%.0f", r.record_s) +
+         " s) is shorter than 4&#964;&#770;, which cannot tell &#963;<sub>g</sub> from &#964;";
 }
 
 // The model's table: white scale, and for a correlated model the GM sd and τ, each h and v.
@@ -69,7 +61,8 @@ std::string model_table(const PpkErrorModelRecord& r) {
        td(with_sigma("%.2f", m.gm_sd_h_m, s.gm_sd_h_m, 100)) +
        td(with_sigma("%.2f", m.gm_sd_v_m, s.gm_sd_v_m, 100)) + td(gm_sd_source(r), "txt") + "</tr>\n";
   t += "<tr>" + th("Gauss&#8211;Markov &#964; /s") + td(with_sigma("%.1f", m.tau_h_s, s.tau_h_s)) +
-       td(with_sigma("%.1f", m.tau_v_s, s.tau_v_s)) + td(tau_source(r), "txt") + "</tr>\n";
+       td(with_sigma("%.1f", m.tau_v_s, s.tau_v_s)) + td(source(r.sigma.tau_h_s, r.sigma.tau_v_s), "txt") +
+       "</tr>\n";
   t += "<tr>" + th("independent looks") + td(format_number("%.1f", r.looks_h)) +
        td(format_number("%.1f", r.looks_v)) + td(std::to_string(r.states) + " chained epochs", "txt") +
        "</tr>\n";

@@ -24,7 +24,7 @@ struct McSetup {
 };
 
 McSetup demo_setup(bool clock_offset) {
-  const Scenario s = example("demo_scenario.json");
+  const Scenario s = example("seed002_scenario.json");
   McSetup m;
   for (std::size_t c = 0; c < s.cameras.size(); ++c) {
     MonteCarloCamera mc;
@@ -67,7 +67,7 @@ BENCHMARK(BM_MonteCarlo)
     ->UseRealTime();
 
 void BM_Plan(benchmark::State& state) {
-  const Scenario s = example(state.range(0) ? "plan_mixed_routes.json" : "demo_scenario.json");
+  const Scenario s = example(state.range(0) ? "plan_mixed_routes.json" : "seed002_scenario.json");
   RoutePlanAnalysis a;
   for (auto _ : state) {
     a = analyse_route_plan(s, "candidate");

@@ -19,13 +19,13 @@
 namespace rangecal {
 namespace {
 
-using test::demo_scenario_text;
 using test::five_ascents;
+using test::seed002_scenario_text;
 using test::three_ascents;
 
 TEST(Plan, CliComparesCandidatesSideBySide) {
   const auto dir = test::scratch_dir("plan_cli");
-  nlohmann::json j = nlohmann::json::parse(demo_scenario_text());
+  nlohmann::json j = nlohmann::json::parse(seed002_scenario_text());
   j["routes"] = three_ascents();
   test::write_text(dir / "three.json", j.dump(2));
   j["routes"] = five_ascents();

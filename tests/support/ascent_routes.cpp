@@ -4,8 +4,8 @@
 
 namespace rangecal::test {
 
-std::string demo_scenario_text() {
-  return read_text(source_dir() / "config/examples/demo_scenario.json");
+std::string seed002_scenario_text() {
+  return read_text(source_dir() / "config/examples/seed002_scenario.json");
 }
 
 namespace {

@@ -50,7 +50,7 @@ VectorXd values(const Camera& cam, const std::vector<CameraParameter>& params, c
 }
 
 Scenario demo_scenario() {
-  return load_scenario((test::source_dir() / "config/examples/demo_scenario.json").string());
+  return load_scenario((test::source_dir() / "config/examples/seed002_scenario.json").string());
 }
 
 /// The demo's cameras and poles over five 9 m ascents spread 13 m in depth (N), from 4 m in front of

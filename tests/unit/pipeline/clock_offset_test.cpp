@@ -16,9 +16,9 @@
 #include "pipeline/analysis/monte_carlo.hpp"
 #include "pipeline/analysis/route_plan.hpp"
 #include "pipeline/demo/demo.hpp"
-#include "pipeline/demo/demo_scenario_text.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "pipeline/steps/calibration_methods.hpp"
+#include "support/paths.hpp"
 #include "support/simulated_mission.hpp"
 #include "support/synthetic_camera.hpp"
 
@@ -260,7 +260,8 @@ TEST(ClockOffset, OtherMethodsSayTheyTakeTheStampsAsExact) {
 // within 3σ for both cameras (cam2's clock is 0.3 ms late in the demo) and the check poles still
 // meet the demo's 1 cm bar against the truth.
 TEST(ClockOffsetMission, TwoMillisecondsRecoveredWithinThreeSigmaAndTheDemoBarHolds) {
-  nlohmann::json j = nlohmann::json::parse(demo_scenario_json());
+  nlohmann::json j =
+      nlohmann::json::parse(test::read_text(test::source_dir() / "config/examples/seed002_scenario.json"));
   j["cameras"][0]["clock_offset_s"] = kClockOffsetS;
   j["mission_calibrate"]["free"] = {"f", "k1", "pose", "clock_offset"};
   j["mission_calibrate"]["compare"] = nlohmann::json::array();

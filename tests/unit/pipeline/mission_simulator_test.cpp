@@ -443,7 +443,7 @@ TEST(MissionSimulator, SkyHotPixelsDistractorSaturationAndEightBit) {
 }
 
 TEST(MissionSimulator, DemoScenarioGeometry) {
-  const auto path = test::source_dir() / "config" / "examples" / "demo_scenario.json";
+  const auto path = test::source_dir() / "config" / "examples" / "seed002_scenario.json";
   const SimMission m = simulate_mission(load_scenario(path.string()));
   ASSERT_EQ(m.cameras.size(), 2u);
   for (const SimCamera& c : m.cameras) {

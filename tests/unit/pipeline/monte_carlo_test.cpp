@@ -172,7 +172,7 @@ struct DemoNetworkCameras {
 
 DemoNetworkCameras demo_network_cameras() {
   const PlannedNetwork n =
-      planned_network(load_scenario((test::source_dir() / "config/examples/demo_scenario.json").string()));
+      planned_network(load_scenario((test::source_dir() / "config/examples/seed002_scenario.json").string()));
   std::vector<NetworkCamera> ncs;
   DemoNetworkCameras out;
   for (std::size_t c = 0; c < n.truth.size(); ++c) {

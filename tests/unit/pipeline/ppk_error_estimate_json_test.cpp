@@ -17,7 +17,7 @@ PpkErrorEstimate held_vertical_tau() {
   e.sd = {0.02, 0.03, 0.001, 0.002, 9, std::nan("")};
   e.likelihood_ratio = 640;
   e.record_s = 143;
-  e.tau_held_v = true;
+  e.gm_sd_held_v = true;
   e.evaluations = 700;
   return e;
 }
@@ -31,8 +31,8 @@ TEST(PpkErrorEstimateJson, RoundTripsThroughTheReportsReader) {
       parse_ppk_error_model_json(nlohmann::json::parse(j.dump()), "network.json", "m");
   EXPECT_TRUE(r.estimated);
   EXPECT_FALSE(r.white_kept);
-  EXPECT_FALSE(r.tau_held_h);
-  EXPECT_TRUE(r.tau_held_v);
+  EXPECT_FALSE(r.gm_sd_held_h);
+  EXPECT_TRUE(r.gm_sd_held_v);
   EXPECT_DOUBLE_EQ(r.record_s, 143);
   EXPECT_DOUBLE_EQ(r.model.tau_v_s, 120);
   EXPECT_DOUBLE_EQ(r.sigma.white_scale_h, 0.02);
@@ -45,12 +45,13 @@ TEST(PpkErrorEstimateJson, RoundTripsThroughTheReportsReader) {
 TEST(PpkErrorEstimateJson, ABadFieldIsNamed) {
   nlohmann::json j = ppk_error_model_json(held_vertical_tau().model, 240);
   j["estimate"] = ppk_error_estimate_json(held_vertical_tau());
-  j["estimate"]["tau_held"]["vertical"] = "yes";
+  j["estimate"]["gauss_markov_sd_held"]["vertical"] = "yes";
   try {
     parse_ppk_error_model_json(j, "network.json", "ppk_error_model");
     FAIL() << "accepted a string for a flag";
   } catch (const Error& err) {
-    EXPECT_NE(std::string(err.what()).find("ppk_error_model.estimate.tau_held.vertical"), std::string::npos)
+    EXPECT_NE(std::string(err.what()).find("ppk_error_model.estimate.gauss_markov_sd_held.vertical"),
+              std::string::npos)
         << err.what();
   }
 }

@@ -33,13 +33,13 @@
 namespace rangecal {
 namespace {
 
-using test::demo_scenario_text;
 using test::five_ascents;
+using test::seed002_scenario_text;
 using test::three_ascents;
 
 /// The demo (seed 002's three ascents, two 135 mm cameras ~64 m away) with routes replaced.
 Scenario scenario_with_routes(const nlohmann::json& routes, const std::string& name) {
-  nlohmann::json j = nlohmann::json::parse(demo_scenario_text());
+  nlohmann::json j = nlohmann::json::parse(seed002_scenario_text());
   j["routes"] = routes;
   return parse_scenario(j.dump(), name);
 }
@@ -132,7 +132,7 @@ TEST(Plan, PrincipalPointPoorlyDeterminedWithNarrowLensAndImprovedByMoreRoutes) 
 }
 
 Scenario demo_scenario() {
-  return load_scenario((test::source_dir() / "config/examples/demo_scenario.json").string());
+  return load_scenario((test::source_dir() / "config/examples/seed002_scenario.json").string());
 }
 
 TEST(Plan, NetworkSigmaIsTheNetworkCramerRaoBoundAndNeverAbovePerCamera) {

@@ -100,7 +100,7 @@ TEST(RouteShapes, PlanShowsWhatTheLegsAdd) {
   PlanOptions o;
   o.free_sets = {{"f", "k1", "pose", "clock_offset", "u0", "v0"}};
   const RoutePlanAnalysis three =
-      analyse_route_plan(load_scenario(example("demo_scenario.json").string()), "3", o);
+      analyse_route_plan(load_scenario(example("seed002_scenario.json").string()), "3", o);
   const RoutePlanAnalysis mix =
       analyse_route_plan(load_scenario(example("plan_mixed_routes.json").string()), "mixed", o);
   auto sigma = [](const CameraBound& c, const std::string& n) {

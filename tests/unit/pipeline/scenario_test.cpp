@@ -171,8 +171,22 @@ TEST(Scenario, NumberOutOfDoubleRangeIsAConfigError) {
   }
 }
 
+TEST(Scenario, DemoScenarioDrawsTheRealisticPresetAndEstimatesItsModel) {
+  // docs/simulator.md "A realistic preset (the demo's)"; the seed-002 reference scene stays white.
+  const auto dir = rangecal::test::source_dir() / "config" / "examples";
+  const Scenario demo = load_scenario((dir / "demo_scenario.json").string());
+  EXPECT_EQ(demo.gnss.noise_sd_m, Eigen::Vector3d(0.003, 0.003, 0.005));
+  EXPECT_EQ(demo.gnss.correlated_error.gm_sd_m, Eigen::Vector3d(0.008, 0.008, 0.014));
+  EXPECT_EQ(demo.gnss.correlated_error.gm_tau_s, Eigen::Vector3d(30, 30, 30));
+  EXPECT_EQ(demo.mission_error_model, "estimate");
+  const Scenario white = load_scenario((dir / "seed002_scenario.json").string());
+  EXPECT_EQ(white.gnss.noise_sd_m, Eigen::Vector3d(0.008, 0.008, 0.012));
+  EXPECT_FALSE(white.gnss.correlated_error.active());
+  EXPECT_TRUE(white.mission_error_model.is_null());
+}
+
 TEST(Scenario, DemoScenarioLoads) {
-  const auto path = rangecal::test::source_dir() / "config" / "examples" / "demo_scenario.json";
+  const auto path = rangecal::test::source_dir() / "config" / "examples" / "seed002_scenario.json";
   const Scenario s = load_scenario(path.string());
   ASSERT_EQ(s.cameras.size(), 2u);
   EXPECT_EQ(s.cameras[0].camera.intr.width_px, 1280);
