@@ -99,7 +99,12 @@ void BM_NetworkEstimatedModel(benchmark::State& state) {
   NetworkOptions o;
   o.estimate_ppk_error = true;
   const TimedNetwork t = time_network_adjust(state, o);
-  state.counters["evaluations"] = t.result.ppk_estimate ? t.result.ppk_estimate->evaluations : 0;
+  if (t.result.ppk_estimate) {
+    state.counters["evaluations"] = t.result.ppk_estimate->evaluations;
+    // The synthetic fixes are white (1 cm): the likelihood-ratio test should keep the white model.
+    state.counters["white"] = t.result.ppk_estimate->white;
+    state.counters["likelihood_ratio"] = t.result.ppk_estimate->likelihood_ratio;
+  }
   state.counters["iterations"] = t.result.statistics.iterations;
 }
 BENCHMARK(BM_NetworkEstimatedModel)
