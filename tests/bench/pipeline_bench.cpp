@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "pipeline/demo/demo.hpp"
-#include "pipeline/demo/seed002_scenario_text.hpp"
+#include "pipeline/demo/demo_scenario_text.hpp"
 #include "pipeline/mission/mission_config.hpp"
 #include "pipeline/simulate/scenario.hpp"
 #include "pipeline/stages/align_stage.hpp"
