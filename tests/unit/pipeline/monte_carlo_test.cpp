@@ -227,18 +227,6 @@ TEST(MonteCarlo, NetworkCalibrationsAreReRunAsOneNetwork) {
   }
 }
 
-// A correlated PPK error model: the measured mission's (docs/simulator.md "A realistic preset":
-// white 0.3 / 0.5 cm, GM 0.8 / 1.4 cm horizontal / vertical, τ = 30 s), the .pos sd reporting the
-// total, so the white scale is white / total (docs/gnss.md "PPK error model").
-PpkErrorModel measured_model(const test::GaussMarkovPpk& m) {
-  const Eigen::Vector3d total = m.total_sigma();
-  PpkErrorModel e;
-  e.white_scale_h = m.white_h_m / total.x(), e.white_scale_v = m.white_v_m / total.z();
-  e.gm_sd_h_m = m.gm_h_m, e.gm_sd_v_m = m.gm_v_m;
-  e.tau_h_s = m.tau_h_s, e.tau_v_s = m.tau_v_s;
-  return e;
-}
-
 /// Camera `c` of five 23.7 s ascents at 5 Hz (tests/support/correlated_crb.hpp: ~600 epochs over
 /// 138 s, 100 mm at ~60 m) calibrated by the bundle from one correlated draw of the PPK errors, its
 /// σ stated under `model`; keyed by epoch with the epochs' times, as `rangecal montecarlo` keys them.
@@ -275,7 +263,7 @@ MonteCarloCamera ascent_camera(const test::CrbNetwork& n, std::size_t c, const t
 TEST(MonteCarlo, CorrelatedWorldNoiseFollowsTheGaussMarkovModel) {
   const test::CrbNetwork n = test::ascent_network();
   const test::GaussMarkovPpk ppk = test::measured_ppk_model(30);
-  const PpkErrorModel model = measured_model(ppk);
+  const PpkErrorModel model = test::network_model(ppk);  // the .pos sd reports the total
   const std::vector<MonteCarloCamera> cams = {ascent_camera(n, 0, ppk, model),
                                               ascent_camera(n, 1, ppk, model)};
   MonteCarloOptions o;
@@ -347,7 +335,7 @@ TEST(MonteCarlo, CorrelatedWorldNoiseFollowsTheGaussMarkovModel) {
 TEST(MonteCarlo, CorrelatedTrialSdIsTheCorrelatedSigma) {
   const test::CrbNetwork n = test::ascent_network();
   const test::GaussMarkovPpk ppk = test::measured_ppk_model(30);
-  const PpkErrorModel model = measured_model(ppk);
+  const PpkErrorModel model = test::network_model(ppk);  // the .pos sd reports the total
   const MonteCarloCamera correlated = ascent_camera(n, 0, ppk, model);
   MonteCarloCamera white = correlated;  // the same world, its σ stated under the white model
   white.problem.ppk_error = PpkErrorModel{};
@@ -381,7 +369,7 @@ TEST(MonteCarlo, CorrelatedTrialSdIsTheCorrelatedSigma) {
 TEST(MonteCarlo, ReadsTheModelTheCalibrationStates) {
   const test::CrbNetwork n = test::ascent_network();
   const test::GaussMarkovPpk ppk = test::measured_ppk_model(30);
-  const PpkErrorModel model = measured_model(ppk);
+  const PpkErrorModel model = test::network_model(ppk);  // the .pos sd reports the total
   MonteCarloCamera c = ascent_camera(n, 0, ppk, model);
   const std::string path = (test::scratch_dir("montecarlo_model") / "calibration.json").string();
   write_calibration_json(path, c.reference);
