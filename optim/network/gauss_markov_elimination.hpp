@@ -22,14 +22,36 @@ struct GaussMarkovSystem {
   Eigen::VectorXd gradient;               ///< b_g, the states' reduced gradient (a Gauss–Newton step's)
 };
 
+/// G's block Cholesky factor L (G = L·Lᵀ, L block lower bidiagonal): L_jj lower triangular, its
+/// inverse (the substitutions multiply by it: faster than a triangular solve on 3 rows), and
+/// L_{j,j−1}.
+struct GaussMarkovFactor {
+  std::vector<Eigen::Matrix3d> diagonal, diagonal_inverse, below;
+};
+
+/// Factors G (system->diagonal, system->below). Throws rangecal::Error (calibration) when G is not
+/// positive definite.
+GaussMarkovFactor factor_gauss_markov(const GaussMarkovSystem& system);
+
+/// rhs ← G⁻¹·rhs (3·states rows, any columns), by the factor's forward and backward
+/// substitutions: O(states).
+void solve_gauss_markov(const GaussMarkovFactor& factor, Eigen::MatrixXd* rhs);
+
+/// The blocks (G⁻¹)_{j,j−1} (index j; the first unused) from the factor and the diagonal blocks of
+/// G⁻¹ that eliminate_gauss_markov returns: LᵀG⁻¹ = L⁻¹ is lower triangular, so
+/// (G⁻¹)_{j,j−1} = −(G⁻¹)_jj·L_{j,j−1}·L_{j−1,j−1}⁻¹.
+std::vector<Eigen::Matrix3d> gauss_markov_inverse_below(const GaussMarkovFactor& factor,
+                                                        const std::vector<Eigen::Matrix3d>& inverse_diagonal);
+
 /// Eliminates the states: S −= Bᵀ·G⁻¹·B (both triangles of S kept), system->B replaced by Z = G⁻¹·B.
 /// With `state_rhs` (b_g) and `camera_rhs` (b_c) for a Gauss–Newton step: b_c −= Bᵀ·G⁻¹·b_g and
 /// b_g replaced by G⁻¹·b_g. With `log_det`, log|G| (from the factor's diagonal, for the restricted
 /// likelihood: ppk_error_estimation.hpp). Returns the diagonal blocks of G⁻¹. Throws rangecal::Error
-/// (calibration) when G is not positive definite.
+/// (calibration) when G is not positive definite. With `factor`, G's factor is kept there.
 std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* system, Eigen::MatrixXd* S,
                                                     Eigen::VectorXd* state_rhs = nullptr,
                                                     Eigen::VectorXd* camera_rhs = nullptr,
-                                                    double* log_det = nullptr);
+                                                    double* log_det = nullptr,
+                                                    GaussMarkovFactor* factor = nullptr);
 
 }  // namespace rangecal

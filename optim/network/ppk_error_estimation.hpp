@@ -2,15 +2,10 @@
 // The PPK error model estimated from the mission (docs/optimisation.md "Correlated PPK errors —
 // estimation"; /work/shared/notes/correlated_ppk.md §2c): restricted maximum likelihood (REML) of
 // the white scale, the Gauss–Markov sd and τ, horizontal and vertical, on the network linearised at
-// the robust solution. With the states g integrated out under their AR(1) prior P and the cameras,
-// points (x) under a flat prior, the restricted deviance is
-//   −2ℓ_R(θ) = log|W| + log|P| + log|M| + χ²_min + const,
-// W the fixes' white covariance (S·Σ_pos·S per fix), M the normal matrix of (x, g) — the product of
-// the eliminations the solve already makes: log|M| = Σ log|V_k| + log|G| + log|S| — and χ²_min the
-// linearised least-squares minimum (the Schur identity bᵀM⁻¹b = Σ b_kᵀV_k⁻¹b_k + b̃_gᵀG⁻¹b̃_g +
-// b̃_cᵀS⁻¹b̃_c). The REML form charges the degrees of freedom the cameras and points use, which fitting
-// the corrections' autocorrelation does not (correlated_ppk.md §2c). Image σ and the poles' survey σ
-// are taken as stated.
+// the robust solution (the likelihood, its gradient and average information:
+// restricted_likelihood.hpp). The REML form charges the degrees of freedom the cameras and points
+// use, which fitting the corrections' autocorrelation does not (correlated_ppk.md §2c). Image σ and
+// the poles' survey σ are taken as stated.
 #include <cstddef>
 #include <vector>
 
@@ -24,23 +19,19 @@ namespace rangecal {
 /// RTKLIB gives the whole error (docs/gnss.md "PPK error model") — and τ re-estimated with it, so the
 /// rate the record does show is kept: the offset's variance is then the cautious one.
 inline constexpr double kRecordPerTau = 4;
-/// The estimate uses at most this many epochs of the chain, every stride-th (ppk_error_estimation.cpp
-/// thin_chain): an evaluation then costs the same on a mission of 20,000 epochs as on one of 2,000,
+/// The estimate uses at most this many epochs of the chain, every stride-th (restricted_likelihood.hpp
+/// reml_mission): an evaluation then costs the same on a mission of 20,000 epochs as on one of 2,000,
 /// and τ is resolved down to a few times the thinned spacing (docs/optimisation.md "Correlated PPK
 /// errors — estimation"). The solve under the estimate uses every epoch.
 inline constexpr std::size_t kEstimationEpochs = 2000;
 /// 2Δℓ below which the white model is kept: χ²(4 dof) at 95 % (the GM adds sd and τ on two axes).
 inline constexpr double kWhiteLikelihoodRatio = 9.49;
 
-/// −2ℓ_R of `model` (correlated or white) at the linearisation `blocks` (the white approximation's
-/// solution, states zero) over `selection`. `layout` is any layout of the mission's cameras, points
-/// and observations (its own model is not used).
-double restricted_deviance(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
-                           const NetworkSelection& selection, const PpkErrorModel& model);
-
-/// The REML estimate (Nelder–Mead in log-parameters from a grid over τ; σ from the deviance's
-/// numerical Hessian, Cov(log θ) = 2·H⁻¹). Needs ≥ 2 fixes with a time; otherwise the white model
-/// with scale 1 is returned unestimated.
+/// The REML estimate: the white family (two scales) and the Gauss–Markov family (six parameters)
+/// each fitted by Levenberg–Marquardt on the average-information Newton step in log-parameters, the
+/// latter from the better of a grid over τ and a start near the white fit; σ from the average
+/// information, Cov(log θ) = AI⁻¹. Needs ≥ 2 fixes with a time; otherwise the white model with
+/// scale 1 is returned unestimated.
 PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
                                           const NetworkSelection& selection);
 

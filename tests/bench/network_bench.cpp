@@ -11,8 +11,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "optim/network/network_adjustment.hpp"
+#include "optim/network/ppk_error_estimation.hpp"
+#include "optim/network/restricted_likelihood.hpp"
 #include "support/synthetic_network.hpp"
 
 namespace rangecal {
@@ -112,6 +115,67 @@ BENCHMARK(BM_NetworkEstimatedModel)
     ->Args({2, 1000})  // the solve's target < 100 ms
     ->Args({8, 5000})
     ->Args({8, 20000});  // the solve's target < 4 s
+
+// The same on fixes whose error is correlated: the synthetic network's 1 cm white errors plus a
+// Gauss–Markov process (0.8 / 1.4 cm, τ = 30 s, the realistic preset's) drawn over the 5 Hz epochs,
+// each fix's covariance the total, as RTKLIB reports it. The estimate is then correlated and the
+// final solve carries the states: the estimate's whole cost on the missions it is for.
+void BM_NetworkEstimatedModelCorrelatedFixes(benchmark::State& state) {
+  test::SyntheticNetwork n =
+      test::synthetic_network(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 11);
+  std::mt19937_64 rng(29);
+  std::normal_distribution<double> N01;
+  const Eigen::Vector3d sd(0.008, 0.008, 0.014);
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < n.points.size(); ++k) {
+    const double phi = k == 0 ? 0 : std::exp(-(n.points[k].time_s - n.points[k - 1].time_s) / 30.0);
+    for (int a = 0; a < 3; ++a) g[a] = phi * g[a] + sd[a] * std::sqrt(1 - phi * phi) * N01(rng);
+    n.points[k].prior_enu += g;
+    n.points[k].prior_cov += Eigen::Matrix3d(sd.cwiseProduct(sd).asDiagonal());
+  }
+  NetworkOptions o;
+  o.estimate_ppk_error = true;
+  NetworkResult r;
+  for (auto _ : state) {
+    r = network_adjust(n.cameras, n.points, n.observations, o);
+    benchmark::DoNotOptimize(r.statistics.chi2);
+  }
+  state.counters["peak_rss_MB"] = peak_rss_mb();
+  if (r.ppk_estimate) {
+    state.counters["evaluations"] = r.ppk_estimate->evaluations;
+    state.counters["white"] = r.ppk_estimate->white;
+    state.counters["tau_h_s"] = r.ppk_estimate->model.tau_h_s;
+    state.counters["gm_sd_v_cm"] = 100 * r.ppk_estimate->model.gm_sd_v_m;
+  }
+}
+BENCHMARK(BM_NetworkEstimatedModelCorrelatedFixes)
+    ->Apply(network_sizes)
+    ->Args({2, 1000})  // target < 100 ms
+    ->Args({8, 5000})
+    ->Args({8, 20000});  // target < 4 s
+
+// One evaluation of the restricted likelihood the estimate maximises (restricted_likelihood.hpp), on
+// the synthetic network linearised at its start, under the correlated model of BM_NetworkCorrelated:
+// the deviance alone (second argument 0) and with its gradient and average information (1), the
+// estimate's two kinds of step (docs/performance.md).
+void BM_RestrictedLikelihood(benchmark::State& state) {
+  const test::SyntheticNetwork n = test::synthetic_network(static_cast<int>(state.range(0)), 1000, 11);
+  const NetworkLayout layout = make_network_layout(n.cameras, n.points, n.observations);
+  NetworkSelection selection{
+      std::vector<char>(n.observations.size(), 1), std::vector<char>(n.points.size(), 1), {}, {}};
+  const RemlMission mission = reml_mission(layout, starting_blocks(layout), selection, kEstimationEpochs);
+  PpkErrorModel m;
+  m.white_scale_h = m.white_scale_v = 0.35;
+  m.gm_sd_h_m = 0.008, m.gm_sd_v_m = 0.014, m.tau_h_s = m.tau_v_s = 30;
+  for (auto _ : state) {
+    const RemlEvaluation e = evaluate_restricted_likelihood(mission, m, true, state.range(1) != 0);
+    benchmark::DoNotOptimize(e.deviance);
+  }
+}
+BENCHMARK(BM_RestrictedLikelihood)
+    ->ArgNames({"cameras", "derivatives"})
+    ->Unit(benchmark::kMillisecond)
+    ->ArgsProduct({{2, 8}, {0, 1}});
 
 // The same with the datum floor the calibrate stage asks for (NetworkOptions::datum_floor_image_factor,
 // one more joint covariance): its cost as a ratio to BM_Network at the same size, measured in the
