@@ -18,8 +18,8 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 const std::array<double, 6> kLow = {0.01, 0.01, 1e-4, 1e-4, 0.1, 0.1};
 const std::array<double, 6> kHigh = {10, 10, 1, 1, 1e5, 1e5};
 /// Newton's iterations per fit at most, the largest step (log units: a factor e^1.5 at once), and
-/// the decrease of D (predicted, or made by a step) below which a fit has converged: 10⁻³ of the
-/// unit ΔD a 1σ change makes.
+/// the decrease of D (predicted, or made by a step) below which a fit has converged: 1 % of the
+/// ΔD a 1σ change of a parameter makes (the estimate is then within ~0.1σ of the maximum).
 constexpr int kMaxIterations = 40;
 constexpr double kMaxStep = 1.5;
 constexpr double kConverged = 1e-2;

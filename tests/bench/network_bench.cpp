@@ -147,6 +147,7 @@ void BM_NetworkEstimatedModelCorrelatedFixes(benchmark::State& state) {
     state.counters["tau_h_s"] = r.ppk_estimate->model.tau_h_s;
     state.counters["gm_sd_v_cm"] = 100 * r.ppk_estimate->model.gm_sd_v_m;
   }
+  state.counters["iterations"] = r.statistics.iterations;
 }
 BENCHMARK(BM_NetworkEstimatedModelCorrelatedFixes)
     ->Apply(network_sizes)
