@@ -46,6 +46,9 @@ int network_gauss_newton(const NetworkLayout& l, NetworkParameterBlocks* blocks,
       } catch (const Error&) {
         continue;  // a point left the image or went behind a camera: a shorter step
       }
+      // A whole step that changes χ² only within rounding is at the minimum: halving it would form
+      // kMaxHalvings more steps for nothing.
+      if (h == 0 && std::abs(next_chi2 - chi2) <= kRoundingChi2 * chi2) return iterations;
       if (!(next_chi2 <= chi2)) continue;
       const bool converged = chi2 - next_chi2 <= tolerance * chi2;
       *blocks = std::move(trial), step = std::move(next), chi2 = next_chi2, accepted = true;

@@ -11,6 +11,8 @@
 namespace rangecal {
 
 inline constexpr int kMaxHalvings = 10;
+/// A relative change of χ² within which a whole step has reached the minimum (rounding).
+inline constexpr double kRoundingChi2 = 1e-10;
 
 /// Solves in place to relative χ² change `tolerance`; returns the iterations (steps formed).
 /// Throws rangecal::Error (calibration) when a step cannot be formed or lowers nothing from the
