@@ -68,7 +68,7 @@ void add_pole_bars(const DemoIntersection& d, DemoBars* out) {
                    !applied   ? fmt::format("not applied: the predicted sigma needs {:.2f} cm", 100 * needed)
                    : abs_pass ? "ok"
                               : "FAIL"),
-       abs_pass, applied});
+       abs_pass});
 }
 
 }  // namespace

@@ -23,9 +23,10 @@ inline constexpr double kDemoBarsAlpha = 0.01;
 inline constexpr double kDemoMeanDrBar_m = 0.010;
 
 struct DemoBar {
-  std::string line;     ///< what is printed: the figure, its limit, ok / FAIL / not applied
-  bool pass = true;     ///< false: a correct calibration fails this with probability < its share of α
-  bool applied = true;  ///< false: the absolute bar the predicted σ does not support (never fails)
+  std::string line;  ///< what is printed: the figure, its limit, ok / FAIL / not applied
+  /// false: a correct calibration fails this with probability < its share of α (an absolute bar the
+  /// predicted σ does not support is not applied, and passes)
+  bool pass = true;
 };
 
 struct DemoBars {
