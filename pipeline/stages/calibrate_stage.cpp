@@ -22,6 +22,7 @@
 #include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/steps/calibration_methods.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
+#include "pipeline/steps/covariance_under_model.hpp"
 #include "pipeline/steps/network_problem.hpp"
 #include "vision/camera/dlt_export.hpp"
 #include "vision/camera/opencv_camera_export.hpp"
@@ -243,6 +244,15 @@ void restate_bundle_under(const NetworkResult& r, CameraInputs* in, CalibrationR
   *bundle = std::move(restated);
 }
 
+/// Under the same model, every other compared method's σ: the bundle's sandwich at that method's
+/// own solution (pipeline/steps/covariance_under_model.hpp); its estimate stays.
+void restate_compared_under(const NetworkResult& r, const CameraInputs& in,
+                            std::vector<CalibrationResult>* compared) {
+  if (!r.ppk_estimate || !r.ppk_error.correlated()) return;
+  for (CalibrationResult& x : *compared)
+    if (x.method != "bundle" && x.method != "network") restate_covariance_under(r.ppk_error, in.problem, &x);
+}
+
 /// Each camera's result replaced by its network result (the per-camera bundle kept first among the
 /// compared), its exports and residuals redone, its record's fit and the warnings updated.
 void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origin, PerCameraPass* pass) {
@@ -260,6 +270,7 @@ void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origi
                                      [](const CalibrationResult& x) { return x.method == "network"; }),
                       cc.compared.end());
     restate_bundle_under(r, &pass->inputs[c], &cc.main);
+    restate_compared_under(r, pass->inputs[c], &cc.compared);
     cc.compared.insert(cc.compared.begin(), cc.main);
     cc.main = net;
     // The network lists each camera's rejected observations in that camera's own order, the

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/bundle/calibration_warning.hpp"
 #include "pipeline/steps/calibration_method_names.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
@@ -37,6 +38,10 @@ struct CalibrationRun {
 CalibrationRun run_calibration_method(const std::string& method, const CalibrationProblem& problem);
 /// run_calibration_method's result alone.
 CalibrationResult calibrate_camera(const std::string& method, const CalibrationProblem& problem);
+
+/// The options method `bundle` solves `problem` with: its free set, σ_px, PPK error model and the
+/// priors on the parameters that are free.
+BundleOptions bundle_options(const CalibrationProblem& problem);
 
 /// Per-observation reprojection residual (projected − observed, px) of `cam`, each world point
 /// moved to where the lamp stood at the true exposure time for a camera clock offset (s,
