@@ -445,6 +445,18 @@ Eigen::VectorXd free_values(const CrbNetwork& n, std::size_t c, const Camera& ca
   return values_of(n.cameras[c], cam);
 }
 
+CrbNetwork one_camera(const CrbNetwork& n) {
+  CrbNetwork one;
+  one.cameras = {n.cameras[0]};
+  for (const CrbView& v : n.views) {
+    if (v.camera != 0 || v.point >= n.epochs.size()) continue;
+    one.views.push_back({0, one.epochs.size(), v.pixel_sigma_px});
+    one.epochs.push_back(n.epochs[v.point]);
+    one.epoch_time_s.push_back(n.epoch_time_s[v.point]);
+  }
+  return one;
+}
+
 PpkErrorModel network_model(const GaussMarkovPpk& m) {
   const Eigen::Vector3d total = m.total_sigma();
   PpkErrorModel e;

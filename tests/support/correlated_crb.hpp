@@ -150,6 +150,10 @@ struct AscentNetworkOptions {
 };
 CrbNetwork ascent_network(const AscentNetworkOptions& options = {});
 
+/// Camera 0 of `n` alone, with only the epochs it sees (renumbered, in time order): the per-camera
+/// bundle's and the compare methods' mission.
+CrbNetwork one_camera(const CrbNetwork& n);
+
 /// `n` as network_adjust's input: cameras starting at `start` (or the truth when empty) with their
 /// free sets and station priors (centred on `station_error` + truth when given), a-priori
 /// covariance (not scaled); one point per epoch at truth + `ppk_error[k]` (zero when empty) under the

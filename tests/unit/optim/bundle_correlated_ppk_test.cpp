@@ -28,30 +28,6 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-/// The bundle's model of fixes whose .pos covariance is the model's total: white scale = white /
-/// total per axis, the GM part as it is (docs/gnss.md "PPK error model").
-PpkErrorModel bundle_model(const GaussMarkovPpk& m) {
-  const Vector3d total = m.total_sigma();
-  PpkErrorModel e;
-  e.white_scale_h = m.white_h_m / total.x(), e.white_scale_v = m.white_v_m / total.z();
-  e.gm_sd_h_m = m.gm_h_m, e.gm_sd_v_m = m.gm_v_m;
-  e.tau_h_s = m.tau_h_s, e.tau_v_s = m.tau_v_s;
-  return e;
-}
-
-/// Camera 0 of the ascent network alone, with only the epochs it sees (renumbered, in time order).
-CrbNetwork one_camera(const CrbNetwork& n) {
-  CrbNetwork one;
-  one.cameras = {n.cameras[0]};
-  for (const CrbView& v : n.views) {
-    if (v.camera != 0 || v.point >= n.epochs.size()) continue;
-    one.views.push_back({0, one.epochs.size(), v.pixel_sigma_px});
-    one.epochs.push_back(n.epochs[v.point]);
-    one.epoch_time_s.push_back(n.epoch_time_s[v.point]);
-  }
-  return one;
-}
-
 /// The bundle's observations of `n` (one camera): each view's epoch at truth + ppk_error[k] under
 /// diag(total²) with its time, its pixel at truth + pixel_noise[i].
 std::vector<BundleObservation> observations(const CrbNetwork& n, const GaussMarkovPpk& model,
@@ -152,7 +128,7 @@ TEST(BundleCorrelatedPpk, BundleWeightingIsTheCovarianceAsItWas) {
   // Under a GM model: the same estimate bit for bit, the sandwich scaled by the same variance factor,
   // and bundle_covariance_under gives it again after the solve.
   BundleOptions correlated = ascent_options();
-  correlated.ppk_error = bundle_model(m);
+  correlated.ppk_error = network_model(m);
   const BundleResult gm = bundle_adjust(start, obs, correlated);
   EXPECT_TRUE(gm.calibration.camera.pose.T == before.calibration.camera.pose.T);
   EXPECT_EQ(gm.calibration.camera.intr.f_mm, before.calibration.camera.intr.f_mm);
@@ -210,7 +186,7 @@ TEST(BundleCorrelatedPpk, SandwichIsTheDenseSandwich) {
     pole.pixel_sigma_px = 0.3;
     obs.insert(obs.begin() + 30, pole);
   }
-  PpkErrorModel model = bundle_model(gm);
+  PpkErrorModel model = network_model(gm);
   model.tau_v_s = 70, model.white_scale_v = 0.45;
   BundleOptions opt = ascent_options();
   opt.priors.use_center = true;
@@ -292,7 +268,7 @@ TEST(BundleCorrelatedPpk, SandwichAtTheTruthIsTheIndependentOne) {
     solution.camera = n.cameras[0].truth;
     const BundleOptions opt = ascent_options();
     const BundleCovariance w = bundle_covariance_under(PpkErrorModel{}, obs, opt, solution);
-    const BundleCovariance g = bundle_covariance_under(bundle_model(m), obs, opt, solution);
+    const BundleCovariance g = bundle_covariance_under(network_model(m), obs, opt, solution);
     ASSERT_EQ(g.free, n.cameras[0].free);
     EXPECT_EQ(g.gauss_markov_states, static_cast<int>(obs.size()));
     const VectorXd sw = bound_white.sigma(0), sg = bound_gm.sigma(0);
@@ -322,7 +298,7 @@ struct ZScores {
 
 ZScores z_scores(const CrbNetwork& n, const GaussMarkovPpk& m, int missions, std::uint64_t seed) {
   BundleOptions opt = ascent_options();
-  opt.ppk_error = bundle_model(m);
+  opt.ppk_error = network_model(m);
   const Camera start = perturbed(n.cameras[0].truth);
   const std::vector<CameraParameter>& free = n.cameras[0].free;
   const CameraParameter scored[4] = {CameraParameter::f, kCenterParameters[0], kCenterParameters[1],

@@ -25,19 +25,6 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-/// Camera 0 of the ascent network alone, with only the epochs it sees (in time order).
-CrbNetwork one_camera(const CrbNetwork& n) {
-  CrbNetwork one;
-  one.cameras = {n.cameras[0]};
-  for (const CrbView& v : n.views) {
-    if (v.camera != 0 || v.point >= n.epochs.size()) continue;
-    one.views.push_back({0, one.epochs.size(), v.pixel_sigma_px});
-    one.epochs.push_back(n.epochs[v.point]);
-    one.epoch_time_s.push_back(n.epoch_time_s[v.point]);
-  }
-  return one;
-}
-
 /// The calibrate stage's problem of `n` (one camera, free f, k1, pose, the principal point held at
 /// the truth's): each fix at truth + ppk_error under diag(total²) with its time, each pixel at
 /// truth + pixel_noise.
