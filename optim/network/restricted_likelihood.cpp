@@ -76,20 +76,18 @@ struct ChainStep {
 
 std::vector<ChainStep> chain_steps(const NetworkLayout& l, const PpkErrorModel& m) {
   std::vector<ChainStep> steps(l.gm_chain.size());
-  const Vector3d sd = m.gm_sd(), tau = m.tau();
+  const Vector3d tau = m.tau();
   for (std::size_t j = 0; j < steps.size(); ++j) {
     ChainStep& s = steps[j];
-    if (j == 0) {
-      s.w2 = sd.cwiseProduct(sd).cwiseInverse();
-      continue;
-    }
-    const double dt = std::abs((*l.points)[l.gm_chain[j]].time_s - (*l.points)[l.gm_chain[j - 1]].time_s);
+    const double dt =
+        j == 0 ? 0 : std::abs((*l.points)[l.gm_chain[j]].time_s - (*l.points)[l.gm_chain[j - 1]].time_s);
+    if (j > 0) s.phi = gauss_markov_transition(m, dt);
+    const Vector3d w = gauss_markov_weight(m, j > 0 ? &s.phi : nullptr);
+    s.w2 = w.cwiseProduct(w);
+    if (j == 0) continue;
     for (int a = 0; a < 3; ++a) {
-      s.phi[a] = std::exp(-dt / tau[a]);
       s.dphi[a] = s.phi[a] * dt / tau[a];
-      const double rest = std::max(1e-300, 1 - s.phi[a] * s.phi[a]);
-      s.w2[a] = 1 / (sd[a] * sd[a] * rest);
-      s.dw2[a] = s.w2[a] * 2 * s.phi[a] * s.dphi[a] / rest;
+      s.dw2[a] = s.w2[a] * 2 * s.phi[a] * s.dphi[a] / std::max(1e-300, 1 - s.phi[a] * s.phi[a]);
     }
   }
   return steps;
@@ -248,7 +246,7 @@ Solution solve(const RemlMission& f, const Factors& F, MatrixXd rc, const Matrix
   return s;
 }
 
-/// The fitted residual of fix k in column `j` (X + g − fix at the minimiser, m) from the step
+/// The fitted residual of fix k (X + g − fix at the minimiser, m) from the step
 /// Δ = M⁻¹·b: the minimiser is −Δ.
 Vector3d fix_residual(const RemlMission& f, const Factors& F, const Solution& s, std::size_t k) {
   Vector3d e = f.residual[k] - s.X(rows3(k), 0);
