@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "optim/network/restricted_likelihood.hpp"
 
@@ -36,17 +37,34 @@ LogParameters in_box(LogParameters x) {
   return x;
 }
 
-/// The likelihood of one model family (white, or white + Gauss–Markov) on the mission, counting its
-/// evaluations.
+/// The likelihood of one model family (white, or white + Gauss–Markov) on the mission, counting the
+/// points it is factored at (its evaluations).
 struct Likelihood {
   const RemlMission& mission;
   bool chain;
   int* evaluations;
-  RemlEvaluation at(const LogParameters& x, bool derivatives) const {
+  /// D at x, factored into `factors`.
+  double deviance(const LogParameters& x, RemlFactors* factors) const {
     ++*evaluations;
-    return evaluate_restricted_likelihood(mission, model_of(x), chain, derivatives);
+    factor_restricted_likelihood(mission, model_of(x), chain, factors);
+    return factors->deviance;
+  }
+  RemlEvaluation derivatives(const RemlFactors& factors) const {
+    return restricted_likelihood_derivatives(mission, factors);
   }
 };
+
+/// A point of the search with the normal equations factored there.
+struct Point {
+  LogParameters x = LogParameters::Zero();
+  RemlFactors factors;
+};
+
+Point point_at(const Likelihood& likelihood, const LogParameters& x) {
+  Point p{in_box(x), {}};
+  likelihood.deviance(p.x, &p.factors);
+  return p;
+}
 
 /// A fit: the minimiser and the evaluation there (with derivatives).
 struct Fit {
@@ -89,9 +107,10 @@ double next_damping(double lambda, double gain) {
 /// Minimises D over the parameters `free` (the others held at `x`) by Levenberg–Marquardt on
 /// Newton's step with the average information as the curvature (Fisher scoring's safeguard where
 /// the start is far from the maximum and AI is a poor curvature), each step kept in the box.
-Fit fit(const Likelihood& likelihood, LogParameters x, const std::vector<int>& free) {
-  x = in_box(x);
-  RemlEvaluation here = likelihood.at(x, true);
+Fit fit(const Likelihood& likelihood, Point start, const std::vector<int>& free) {
+  LogParameters x = start.x;
+  RemlFactors here_factors = std::move(start.factors), tried;
+  RemlEvaluation here = likelihood.derivatives(here_factors);
   double lambda = 0;
   for (int iteration = 0; iteration < kMaxIterations && std::isfinite(here.deviance); ++iteration) {
     const std::vector<int> moving = moving_parameters(x, here.gradient, free);
@@ -117,16 +136,16 @@ Fit fit(const Likelihood& likelihood, LogParameters x, const std::vector<int>& f
       LogParameters y = x;
       for (Eigen::Index a = 0; a < n; ++a) y[moving[static_cast<std::size_t>(a)]] += step[a];
       y = in_box(y);
-      // The first attempt with its derivatives (it is usually taken); the shorter ones without.
-      const RemlEvaluation there = likelihood.at(y, attempt == 0);
-      const double actual = here.deviance - there.deviance;
+      // D alone at the trial point; the derivatives only where the step is taken, from its factors.
+      const double actual = here.deviance - likelihood.deviance(y, &tried);
       if (!(actual > 0)) {
         lambda = std::max(1e-2, 4 * lambda);
         continue;
       }
       lambda = next_damping(lambda, actual / predicted);
       converged = actual < kConverged;
-      x = y, here = attempt == 0 ? there : likelihood.at(y, true), moved = true;
+      std::swap(here_factors, tried);
+      x = y, here = likelihood.derivatives(here_factors), moved = true;
     }
     if (!moved || converged) break;
   }
@@ -174,21 +193,23 @@ Eigen::Vector2d reported_sd(const RemlMission& f) {
 /// The Gauss–Markov fit's start: a shared τ from a grid with the variance split ¼ white,
 /// ¾ Gauss–Markov; or, where D is lower there, the white fit's scales with a small Gauss–Markov part
 /// (¼ of the .pos sd) at that τ — the start near the white model the family nests.
-LogParameters starting_point(const Likelihood& likelihood, const LogParameters& white) {
+Point starting_point(const Likelihood& likelihood, const LogParameters& white) {
   const Eigen::Vector2d sd = reported_sd(likelihood.mission);
-  LogParameters x;
-  x << std::log(0.5), std::log(0.5), std::log(0.85 * sd[0]), std::log(0.85 * sd[1]), 0, 0;
-  double best = kInfinity, best_tau = 30;
+  Point best, tried;
+  tried.x << std::log(0.5), std::log(0.5), std::log(0.85 * sd[0]), std::log(0.85 * sd[1]), 0, 0;
+  bool first = true;
   for (double tau : {1.0, 10.0, 100.0, 1000.0}) {
-    x[4] = x[5] = std::log(tau);
-    const double v = likelihood.at(x, false).deviance;
-    if (v < best) best = v, best_tau = tau;
+    tried.x[4] = tried.x[5] = std::log(tau);
+    const LogParameters x = tried.x;
+    if (likelihood.deviance(tried.x, &tried.factors) < best.factors.deviance || first) std::swap(best, tried);
+    tried.x = x;
+    first = false;
   }
-  x[4] = x[5] = std::log(best_tau);
-  LogParameters near_white = x;
-  near_white.head<2>() = white.head<2>();
-  near_white[2] = std::log(0.25 * sd[0]), near_white[3] = std::log(0.25 * sd[1]);
-  return likelihood.at(near_white, false).deviance < best ? near_white : x;
+  tried.x = best.x;
+  tried.x.head<2>() = white.head<2>();
+  tried.x[2] = std::log(0.25 * sd[0]), tried.x[3] = std::log(0.25 * sd[1]);
+  if (likelihood.deviance(tried.x, &tried.factors) < best.factors.deviance) std::swap(best, tried);
+  return best;
 }
 
 }  // namespace
@@ -207,7 +228,7 @@ PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const Net
   const Likelihood white_family{f, false, &out.evaluations}, gm_family{f, true, &out.evaluations};
   LogParameters white_x = LogParameters::Zero();
   white_x[2] = white_x[3] = low(2), white_x[4] = white_x[5] = 0;
-  const Fit white = fit(white_family, white_x, {0, 1});
+  const Fit white = fit(white_family, point_at(white_family, white_x), {0, 1});
   const Fit gm = fit(gm_family, starting_point(gm_family, white.x), {0, 1, 2, 3, 4, 5});
   out.likelihood_ratio = white.at.deviance - gm.at.deviance;
   if (!(out.likelihood_ratio >= kWhiteLikelihoodRatio)) {
@@ -232,7 +253,8 @@ PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const Net
     LogParameters x = gm.x;
     if (out.gm_sd_held_h) x[2] = std::log(pos_sd[0]), x[4] += 2 * (x[2] - gm.x[2]);
     if (out.gm_sd_held_v) x[3] = std::log(pos_sd[1]), x[5] += 2 * (x[3] - gm.x[3]);
-    best = fit(gm_family, x, free);  // started on the ridge: τ scaled with σ_g² (same rate)
+    // Started on the ridge: τ scaled with σ_g² (the same rate).
+    best = fit(gm_family, point_at(gm_family, x), free);
   }
   out.model = model_of(best.x);
   out.sd = sd_of(best.x, log_sd(best, free));

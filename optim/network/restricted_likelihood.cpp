@@ -122,6 +122,7 @@ struct Factors {
   std::vector<Matrix3d> g_inverse;  ///< diagonal blocks of G⁻¹
   VectorXd d;                       ///< S's scaling: S = d⁻¹·(LDLᵀ)·d⁻¹
   Eigen::LDLT<MatrixXd> ldlt;
+  MatrixXd H;  ///< factorise's workspace: a chunk of points' W·L⁻ᵀ side by side
 };
 
 /// The chain's AR(1) prior into G; returns log|Q|.
@@ -145,11 +146,12 @@ double factorise(const RemlMission& f, const PpkErrorModel& m, bool chain, Facto
   GaussMarkovSystem& gm = F->gm;
   gm.diagonal.assign(F->states, Matrix3d::Zero());
   gm.below.assign(F->states, Vector3d::Zero());
-  gm.B = MatrixXd::Zero(n3, l.n_camera_parameters);
+  gm.B.setZero(n3, l.n_camera_parameters);
   double log_det = 0;
   if (chain) F->steps = chain_steps(l, m), log_det += add_chain_prior(F->steps, &gm);
   MatrixXd S = f.U;
-  MatrixXd H = MatrixXd::Zero(l.n_camera_parameters, 3 * kChunk);
+  MatrixXd& H = F->H;
+  H.setZero(l.n_camera_parameters, 3 * kChunk);
   int filled = 0;
   const auto flush = [&]() {
     if (filled == 0) return;
@@ -213,37 +215,35 @@ auto rows3(std::size_t i) {
   return Eigen::seqN(3 * static_cast<Eigen::Index>(i), 3);
 }
 
-Solution solve(const RemlMission& f, const Factors& F, MatrixXd rc, const MatrixXd& rX, MatrixXd rg) {
+void solve(const RemlMission& f, const Factors& F, MatrixXd rc, const MatrixXd& rX, const MatrixXd& rg,
+           Solution* s) {
   const NetworkLayout& l = f.layout;
   const Eigen::Index m = rX.cols();
   Eigen::Matrix<double, 3, Eigen::Dynamic> VrX(3, m), r(3, m);
+  s->g = rg;  // reduced in place, then G⁻¹·r_g
   for (std::size_t k = 0; k < f.lin.size(); ++k) {
     if (!f.in_solve[k]) continue;
     VrX.noalias() = F.Vinv[k] * rX(rows3(k), Eigen::all);
     for (const auto& [c, W] : f.lin[k].W) rc.middleRows(l.offset[c], W.rows()).noalias() -= W * VrX;
     if (F.states > 0 && f.fix[k])
-      rg(rows3(static_cast<std::size_t>(l.gm_state[k])), Eigen::all).noalias() -= F.P[k] * VrX;
+      s->g(rows3(static_cast<std::size_t>(l.gm_state[k])), Eigen::all).noalias() -= F.P[k] * VrX;
   }
-  Solution s;
-  MatrixXd q;
   if (F.states > 0) {
-    q = rg;
-    solve_gauss_markov(F.L, &q);
-    rc.noalias() -= F.gm.B.transpose() * rg;  // B becomes Z = G⁻¹·B: Bᵀ·G⁻¹·r_g = Zᵀ·r_g
+    rc.noalias() -= F.gm.B.transpose() * s->g;  // B becomes Z = G⁻¹·B: Bᵀ·G⁻¹·r_g = Zᵀ·r_g
+    solve_gauss_markov(F.L, &s->g);
   }
-  s.c = F.d.asDiagonal() * F.ldlt.solve(F.d.asDiagonal() * rc);
-  if (F.states > 0) s.g = q, s.g.noalias() -= F.gm.B * s.c;
-  s.X = MatrixXd::Zero(rX.rows(), m);
+  s->c = F.d.asDiagonal() * F.ldlt.solve(F.d.asDiagonal() * rc);
+  if (F.states > 0) s->g.noalias() -= F.gm.B * s->c;
+  s->X.setZero(rX.rows(), m);
   for (std::size_t k = 0; k < f.lin.size(); ++k) {
     if (!f.in_solve[k]) continue;
     r = rX(rows3(k), Eigen::all);
     for (const auto& [c, W] : f.lin[k].W)
-      r.noalias() -= W.transpose() * s.c.middleRows(l.offset[c], W.rows());
+      r.noalias() -= W.transpose() * s->c.middleRows(l.offset[c], W.rows());
     if (F.states > 0 && f.fix[k])
-      r.noalias() -= F.P[k] * s.g(rows3(static_cast<std::size_t>(l.gm_state[k])), Eigen::all);
-    s.X(rows3(k), Eigen::all).noalias() = F.Vinv[k] * r;
+      r.noalias() -= F.P[k] * s->g(rows3(static_cast<std::size_t>(l.gm_state[k])), Eigen::all);
+    s->X(rows3(k), Eigen::all).noalias() = F.Vinv[k] * r;
   }
-  return s;
 }
 
 /// The fitted residual of fix k (X + g − fix at the minimiser, m) from the step
@@ -261,11 +261,12 @@ struct Covariance {
   std::vector<Matrix3d> gg, gg_below;
 };
 
-Covariance covariance(const Factors& F) {
-  Covariance C;
+void covariance(const Factors& F, Covariance* out) {
+  Covariance& C = *out;
   C.cc = F.d.asDiagonal() * F.ldlt.solve(MatrixXd(F.d.asDiagonal()));
-  if (F.states == 0) return C;
+  if (F.states == 0) return;
   const MatrixXd& Z = F.gm.B;
+  C.T.resize(Z.rows(), C.cc.cols());
   C.T.noalias() = Z * C.cc;
   const std::vector<Matrix3d> below = gauss_markov_inverse_below(F.L, F.g_inverse);
   C.gg.resize(F.states), C.gg_below.resize(F.states);
@@ -276,7 +277,6 @@ Covariance covariance(const Factors& F) {
       C.gg_below[j] =
           below[j] + C.T(rows, Eigen::all) * Z(Eigen::seqN(rows[0] - 3, 3), Eigen::all).transpose();
   }
-  return C;
 }
 
 /// Cov(X_k + g_k) for fix k: with u = (cameras, g_k), X_k + g_k = D·u + V_k⁻¹-noise,
@@ -390,21 +390,31 @@ std::vector<std::vector<Vector3d>> working_variates(const RemlMission& f, const 
   return w;
 }
 
+/// The derivatives' buffers, kept between evaluations (as large as the step's).
+struct DerivativeWorkspace {
+  Covariance C;
+  MatrixXd rX, rg;
+  Solution s;
+};
+
 /// AI_ij = ½·wᵢᵀ·P·wⱼ: P·wⱼ on the fixes is R⁻¹ times wⱼ's residual when wⱼ is fitted as data by
 /// the same normal equations (one solve for all of them).
-Eigen::Matrix<double, 6, 6> average_information(const RemlMission& f, const Factors& F, const Minimiser& mn) {
+Eigen::Matrix<double, 6, 6> average_information(const RemlMission& f, const Factors& F, const Minimiser& mn,
+                                                DerivativeWorkspace* work) {
   const std::vector<std::vector<Vector3d>> w = working_variates(f, F, mn);
   const std::size_t np = f.lin.size();
   const int n = F.states > 0 ? 6 : 2;
-  MatrixXd rX = MatrixXd::Zero(3 * static_cast<Eigen::Index>(np), n),
-           rg = MatrixXd::Zero(3 * static_cast<Eigen::Index>(F.states), n);
+  MatrixXd& rX = work->rX;
+  MatrixXd& rg = work->rg;
+  rX.setZero(3 * static_cast<Eigen::Index>(np), n), rg.setZero(3 * static_cast<Eigen::Index>(F.states), n);
   for (std::size_t k = 0; k < np; ++k) {
     if (!f.fix[k]) continue;
     for (int i = 0; i < n; ++i) rX(rows3(k), i) = F.P[k] * w[static_cast<std::size_t>(i)][k];
     if (F.states > 0)
       rg(rows3(static_cast<std::size_t>(f.layout.gm_state[k])), Eigen::all) += rX(rows3(k), Eigen::all);
   }
-  const Solution s = solve(f, F, MatrixXd::Zero(f.layout.n_camera_parameters, n), rX, rg);
+  solve(f, F, MatrixXd::Zero(f.layout.n_camera_parameters, n), rX, rg, &work->s);
+  const Solution& s = work->s;
   Eigen::Matrix<double, 6, 6> ai = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 3, Eigen::Dynamic> W(3, n), fitted(3, n);
   for (std::size_t k = 0; k < np; ++k) {
@@ -450,39 +460,70 @@ RemlMission reml_mission(const NetworkLayout& any, const NetworkParameterBlocks&
   return f;
 }
 
-RemlEvaluation evaluate_restricted_likelihood(const RemlMission& f, const PpkErrorModel& m, bool chain,
-                                              bool derivatives) {
-  RemlEvaluation out;
+struct RemlFactors::State {
   Factors F;
+  Solution step;    ///< Δ = M⁻¹·b
+  MatrixXd bX, bg;  ///< b on the points and the states
+  mutable DerivativeWorkspace work;
+};
+
+RemlFactors::RemlFactors() : state(std::make_unique<State>()) {}
+RemlFactors::~RemlFactors() = default;
+RemlFactors::RemlFactors(RemlFactors&&) noexcept = default;
+RemlFactors& RemlFactors::operator=(RemlFactors&&) noexcept = default;
+
+void factor_restricted_likelihood(const RemlMission& f, const PpkErrorModel& m, bool chain,
+                                  RemlFactors* out) {
+  RemlFactors::State& st = *out->state;
+  Factors& F = st.F;
   const double log_det = factorise(f, m, chain, &F);
-  if (!std::isfinite(log_det)) {
-    out.deviance = kInfinity;
-    return out;
-  }
+  out->deviance = kInfinity;
+  if (!std::isfinite(log_det)) return;
   // The step Δ = M⁻¹·b, and χ²_min = χ² − bᵀ·Δ.
   const std::size_t np = f.lin.size();
-  MatrixXd bX = MatrixXd::Zero(3 * static_cast<Eigen::Index>(np), 1),
-           bg = MatrixXd::Zero(3 * static_cast<Eigen::Index>(F.states), 1);
+  st.bX.setZero(3 * static_cast<Eigen::Index>(np), 1);
+  st.bg.setZero(3 * static_cast<Eigen::Index>(F.states), 1);
   for (std::size_t k = 0; k < np; ++k) {
     if (!f.in_solve[k]) continue;
-    bX(rows3(k), 0) = f.lin[k].grad_point;
+    st.bX(rows3(k), 0) = f.lin[k].grad_point;
     if (!f.fix[k]) continue;
     const Vector3d Pe = F.P[k] * f.residual[k];
-    bX(rows3(k), 0) += Pe;
-    if (F.states > 0) bg(rows3(static_cast<std::size_t>(f.layout.gm_state[k])), 0) += Pe;
+    st.bX(rows3(k), 0) += Pe;
+    if (F.states > 0) st.bg(rows3(static_cast<std::size_t>(f.layout.gm_state[k])), 0) += Pe;
   }
-  const Solution s = solve(f, F, f.gradient, bX, bg);
-  const double decrease =
-      f.gradient.dot(s.c.col(0)) + bX.col(0).dot(s.X.col(0)) + (F.states > 0 ? bg.col(0).dot(s.g.col(0)) : 0);
-  out.deviance = log_det + F.chi2 - decrease;
-  if (!derivatives) return out;
+  solve(f, F, f.gradient, st.bX, st.bg, &st.step);
+  const Solution& s = st.step;
+  const double decrease = f.gradient.dot(s.c.col(0)) + st.bX.col(0).dot(s.X.col(0)) +
+                          (F.states > 0 ? st.bg.col(0).dot(s.g.col(0)) : 0);
+  out->deviance = log_det + F.chi2 - decrease;
+}
+
+RemlEvaluation restricted_likelihood_derivatives(const RemlMission& f, const RemlFactors& factors) {
+  RemlEvaluation out;
+  out.deviance = factors.deviance;
+  if (!std::isfinite(out.deviance)) return out;
+  const Factors& F = factors.state->F;
+  const Solution& s = factors.state->step;
+  const std::size_t np = f.lin.size();
   Minimiser mn;
   mn.e_hat.assign(np, Vector3d::Zero());
   for (std::size_t k = 0; k < np; ++k)
     if (f.fix[k]) mn.e_hat[k] = -fix_residual(f, F, s, k);
   if (F.states > 0) mn.g_hat = -s.g.col(0);
-  out.gradient = deviance_gradient(f, F, covariance(F), mn);
-  out.information = average_information(f, F, mn);
+  DerivativeWorkspace& work = factors.state->work;
+  covariance(F, &work.C);
+  out.gradient = deviance_gradient(f, F, work.C, mn);
+  out.information = average_information(f, F, mn, &work);
+  return out;
+}
+
+RemlEvaluation evaluate_restricted_likelihood(const RemlMission& f, const PpkErrorModel& m, bool chain,
+                                              bool derivatives) {
+  RemlFactors factors;
+  factor_restricted_likelihood(f, m, chain, &factors);
+  if (derivatives) return restricted_likelihood_derivatives(f, factors);
+  RemlEvaluation out;
+  out.deviance = factors.deviance;
   return out;
 }
 

@@ -20,6 +20,8 @@
 // P·wⱼ is one more solve with the factors the deviance has made. AI is the mean of the observed and
 // expected information of ℓ_R, so Newton's step on D is −(2·AI)⁻¹·∇D and Cov(θ̂) = AI⁻¹.
 #include <Eigen/Core>
+#include <limits>
+#include <memory>
 #include <vector>
 
 #include "optim/network/network_covariance.hpp"
@@ -62,8 +64,30 @@ struct RemlEvaluation {
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
-/// D of `model` on the mission; with `chain` false the white model S·Σ_pos·S alone (the model's
-/// Gauss–Markov fields unused). With `derivatives`, its gradient and average information too.
+/// The mission's normal equations factored under one model, with the least-squares step there: D,
+/// and what its derivatives need without factoring again. Factored again under another model, it
+/// keeps its buffers: a search holds two, the point it is at and the one it tries.
+struct RemlFactors {
+  struct State;  ///< restricted_likelihood.cpp
+  std::unique_ptr<State> state;
+  double deviance = std::numeric_limits<double>::infinity();
+  RemlFactors();
+  ~RemlFactors();
+  RemlFactors(RemlFactors&&) noexcept;
+  RemlFactors& operator=(RemlFactors&&) noexcept;
+};
+
+/// D of `model` on the mission into `out` (out->deviance, +∞ where the normal equations are not
+/// positive definite); with `chain` false the white model S·Σ_pos·S alone (the model's Gauss–Markov
+/// fields unused).
+void factor_restricted_likelihood(const RemlMission& mission, const PpkErrorModel& model, bool chain,
+                                  RemlFactors* out);
+
+/// D with its gradient and average information (and the corrections) at the model `factors` were
+/// made under, on the same mission; D alone where it is +∞.
+RemlEvaluation restricted_likelihood_derivatives(const RemlMission& mission, const RemlFactors& factors);
+
+/// Both in one: D of `model`, and with `derivatives` its gradient and average information.
 RemlEvaluation evaluate_restricted_likelihood(const RemlMission& mission, const PpkErrorModel& model,
                                               bool chain, bool derivatives);
 
