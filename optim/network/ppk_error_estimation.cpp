@@ -190,24 +190,63 @@ Eigen::Vector2d reported_sd(const RemlMission& f) {
   return n > 0 ? Eigen::Vector2d((sum / n).cwiseSqrt()) : Eigen::Vector2d(0.01, 0.01);
 }
 
-/// The Gauss–Markov fit's start: a shared τ from a grid with the variance split ¼ white,
-/// ¾ Gauss–Markov; or, where D is lower there, the white fit's scales with a small Gauss–Markov part
-/// (¼ of the .pos sd) at that τ — the start near the white model the family nests.
-Point starting_point(const Likelihood& likelihood, const LogParameters& white) {
+/// Moments of the white fit's corrections per axis group (h: E and N pooled, v: U): their mean square
+/// c₀ and half the mean square of successive differences d₁, with the mean Δt between them (s).
+struct CorrectionMoments {
+  Eigen::Vector2d c0 = Eigen::Vector2d::Zero(), d1 = Eigen::Vector2d::Zero();
+  std::vector<double> dt;
+};
+
+CorrectionMoments correction_moments(const std::vector<Eigen::Vector3d>& e, const std::vector<double>& t) {
+  CorrectionMoments m;
+  const double n = static_cast<double>(e.size());
+  for (const Eigen::Vector3d& v : e)
+    m.c0 += Eigen::Vector2d(0.5 * v.head<2>().squaredNorm(), v[2] * v[2]) / n;
+  for (std::size_t j = 1; j < e.size(); ++j) {
+    const Eigen::Vector3d d = e[j] - e[j - 1];
+    m.d1 += Eigen::Vector2d(0.25 * d.head<2>().squaredNorm(), 0.5 * d[2] * d[2]) / (n - 1);
+    m.dt.push_back(t[j] - t[j - 1]);
+  }
+  return m;
+}
+
+/// The split of the corrections' variance between white noise and a Gauss–Markov process of time
+/// constant τ that their moments give: c₀ = σ_w² + σ_g², d₁ = σ_w² + σ_g²·(1 − φ̄), φ̄ the mean
+/// exp(−Δt/τ) between successive fixes; each part kept ≥ 5 % of c₀. Returns (log s_h, log s_v,
+/// log σ_h, log σ_v) for the .pos sd `sd`.
+Eigen::Vector4d moment_split(const CorrectionMoments& m, double tau, const Eigen::Vector2d& sd) {
+  double phi = 0;
+  for (double dt : m.dt) phi += std::exp(-dt / tau) / static_cast<double>(m.dt.size());
+  Eigen::Vector4d x;
+  for (int a = 0; a < 2; ++a) {
+    const double c0 = std::max(m.c0[a], 1e-12);
+    const double gm = std::clamp((m.c0[a] - m.d1[a]) / std::max(phi, 1e-6), 0.05 * c0, 0.95 * c0);
+    x[a] = 0.5 * std::log((c0 - gm) / (sd[a] * sd[a]));
+    x[2 + a] = 0.5 * std::log(gm);
+  }
+  return x;
+}
+
+/// The Gauss–Markov fit's start: a shared τ from a grid, the variance split at each τ as the white
+/// fit's corrections give it (moment_split); or, where D is lower there, the white fit's scales with a
+/// small Gauss–Markov part (¼ of the .pos sd) at that τ — the start near the white model the family
+/// nests.
+Point starting_point(const Likelihood& likelihood, const Fit& white, const std::vector<double>& t) {
   const Eigen::Vector2d sd = reported_sd(likelihood.mission);
+  const CorrectionMoments moments = correction_moments(white.at.corrections, t);
   Point best, tried;
-  tried.x << std::log(0.5), std::log(0.5), std::log(0.85 * sd[0]), std::log(0.85 * sd[1]), 0, 0;
   bool first = true;
   for (double tau : {1.0, 10.0, 100.0, 1000.0}) {
-    tried.x[4] = tried.x[5] = std::log(tau);
-    const LogParameters x = tried.x;
+    const Eigen::Vector4d split = moment_split(moments, tau, sd);
+    tried.x << split[0], split[1], split[2], split[3], std::log(tau), std::log(tau);
+    tried.x = in_box(tried.x);
     if (likelihood.deviance(tried.x, &tried.factors) < best.factors.deviance || first) std::swap(best, tried);
-    tried.x = x;
     first = false;
   }
   tried.x = best.x;
-  tried.x.head<2>() = white.head<2>();
+  tried.x.head<2>() = white.x.head<2>();
   tried.x[2] = std::log(0.25 * sd[0]), tried.x[3] = std::log(0.25 * sd[1]);
+  tried.x = in_box(tried.x);
   if (likelihood.deviance(tried.x, &tried.factors) < best.factors.deviance) std::swap(best, tried);
   return best;
 }
@@ -229,7 +268,7 @@ PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const Net
   LogParameters white_x = LogParameters::Zero();
   white_x[2] = white_x[3] = low(2), white_x[4] = white_x[5] = 0;
   const Fit white = fit(white_family, point_at(white_family, white_x), {0, 1});
-  const Fit gm = fit(gm_family, starting_point(gm_family, white.x), {0, 1, 2, 3, 4, 5});
+  const Fit gm = fit(gm_family, starting_point(gm_family, white, t), {0, 1, 2, 3, 4, 5});
   out.likelihood_ratio = white.at.deviance - gm.at.deviance;
   if (!(out.likelihood_ratio >= kWhiteLikelihoodRatio)) {
     out.white = true;

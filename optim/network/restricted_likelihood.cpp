@@ -514,6 +514,8 @@ RemlEvaluation restricted_likelihood_derivatives(const RemlMission& f, const Rem
   covariance(F, &work.C);
   out.gradient = deviance_gradient(f, F, work.C, mn);
   out.information = average_information(f, F, mn, &work);
+  for (std::size_t k : f.layout.gm_chain)
+    if (f.fix[k]) out.corrections.push_back(mn.e_hat[k]);
   return out;
 }
 

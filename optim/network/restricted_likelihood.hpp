@@ -62,6 +62,9 @@ struct RemlEvaluation {
   /// empty unless asked for.
   LogParameters gradient = LogParameters::Zero();
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  /// ê = fix − X − g at the minimiser per chained fix, in chain order (m); empty unless derivatives
+  /// were asked for.
+  std::vector<Eigen::Vector3d> corrections;
 };
 
 /// The mission's normal equations factored under one model, with the least-squares step there: D,
