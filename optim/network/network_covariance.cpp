@@ -456,6 +456,9 @@ double network_gauss_newton_step(const NetworkLayout& l, const NetworkParameterB
     throw_calibration_error("network", "the cameras' normal equations are not positive definite");
   const VectorXd dc = d.asDiagonal() * ldlt.solve(-(d.asDiagonal() * grad_c));
   const VectorXd dg = -(state_solve + gm.B * dc);  // δg = −G⁻¹·(b_g + B·δc)
+  step->predicted_decrease = -grad_c.dot(dc) + gm.gradient.dot(state_solve);
+  for (std::size_t k = 0; k < l.by_point.size(); ++k)
+    step->predicted_decrease += points.lin[k].grad_point.dot(points.Vinv[k] * points.lin[k].grad_point);
   step->cameras.resize(l.setups.size());
   for (std::size_t c = 0; c < l.setups.size(); ++c)
     step->cameras[c] = dc.segment(l.offset[c], l.setups[c].n_free);

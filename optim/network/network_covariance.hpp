@@ -82,6 +82,9 @@ struct NetworkStep {
   std::vector<Eigen::VectorXd> cameras;  ///< per camera, its free parameters in order
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector3d> states;
+  /// The fall of χ² the linearised model predicts for the whole step, bᵀ·M⁻¹·b — by the Schur
+  /// identity Σ b_Xᵀ·V⁻¹·b_X + b̃_gᵀ·G⁻¹·b̃_g + b̃_cᵀ·S⁻¹·b̃_c over the same eliminations.
+  double predicted_decrease = 0;
 };
 double network_gauss_newton_step(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
                                  const NetworkSelection& selection, NetworkStep* step);

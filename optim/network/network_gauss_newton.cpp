@@ -7,11 +7,8 @@
 #include "optim/network/network_covariance.hpp"
 
 namespace rangecal {
-namespace {
-
-/// `blocks` moved by `scale` × `step`; rotations re-based on the moved camera.
-NetworkParameterBlocks moved(const NetworkLayout& l, const NetworkParameterBlocks& blocks,
-                             const NetworkStep& step, double scale) {
+NetworkParameterBlocks moved_by_step(const NetworkLayout& l, const NetworkParameterBlocks& blocks,
+                                     const NetworkStep& step, double scale) {
   NetworkParameterBlocks out = blocks;
   for (std::size_t c = 0; c < out.cameras.size(); ++c) {
     CameraBlock cb = CameraBlock::pack(l.setups[c], out.cameras[c], l.starts[c]);
@@ -26,19 +23,23 @@ NetworkParameterBlocks moved(const NetworkLayout& l, const NetworkParameterBlock
   return out;
 }
 
-}  // namespace
-
 int network_gauss_newton(const NetworkLayout& l, NetworkParameterBlocks* blocks, const NetworkSelection& sel,
                          double tolerance, int max_iterations) {
   NetworkStep step;
   double chi2 = network_gauss_newton_step(l, *blocks, sel, &step);
   if (!std::isfinite(chi2)) throw_calibration_error("network", "the χ² at the solve's start is not finite");
+  // A step that predicts a fall of χ² within rounding is at the minimum: trying it would form one
+  // more step, as costly as a whole iteration, only to find no change.
+  const auto at_minimum = [](const NetworkStep& s, double at) {
+    return s.predicted_decrease <= kRoundingChi2 * at;
+  };
+  if (at_minimum(step, chi2)) return 1;
   int iterations = 1;
   for (; iterations < max_iterations; ++iterations) {
     bool accepted = false;
     double scale = 1;
     for (int h = 0; h <= kMaxHalvings && !accepted; ++h, scale *= 0.5) {
-      NetworkParameterBlocks trial = moved(l, *blocks, step, scale);
+      NetworkParameterBlocks trial = moved_by_step(l, *blocks, step, scale);
       NetworkStep next;
       double next_chi2;
       try {
@@ -53,6 +54,7 @@ int network_gauss_newton(const NetworkLayout& l, NetworkParameterBlocks* blocks,
       const bool converged = chi2 - next_chi2 <= tolerance * chi2;
       *blocks = std::move(trial), step = std::move(next), chi2 = next_chi2, accepted = true;
       if (converged) return iterations;
+      if (at_minimum(step, chi2)) return iterations + 1;
     }
     if (!accepted) return iterations;  // no step lowers χ²: at the minimum within rounding
   }

@@ -6,6 +6,7 @@
 // cameras' dense system last — O(epochs·cameras²) per iteration. It starts from the robust solve
 // of the white approximation (network_adjustment.cpp), where the model is close to linear: each
 // step is taken whole when it lowers χ², else halved (at most kMaxHalvings times).
+#include "optim/network/network_covariance.hpp"
 #include "optim/network/network_parameters.hpp"
 
 namespace rangecal {
@@ -13,6 +14,11 @@ namespace rangecal {
 inline constexpr int kMaxHalvings = 10;
 /// A relative change of χ² within which a whole step has reached the minimum (rounding).
 inline constexpr double kRoundingChi2 = 1e-10;
+
+/// `blocks` moved by `scale` × `step` (network_gauss_newton_step); rotations re-based on the moved
+/// camera.
+NetworkParameterBlocks moved_by_step(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
+                                     const NetworkStep& step, double scale = 1);
 
 /// Solves in place to relative χ² change `tolerance`; returns the iterations (steps formed).
 /// Throws rangecal::Error (calibration) when a step cannot be formed or lowers nothing from the
