@@ -279,26 +279,50 @@ void covariance(const Factors& F, Covariance* out) {
   }
 }
 
+/// W_kᵀ·Σ_cc·W_k per point in the solve (3×3), a chunk of points at a time: their W side by side
+/// (zero where a camera did not see the point), multiplied by Σ_cc as one product, as factorise
+/// forms the camera system.
+void projected_camera_covariances(const RemlMission& f, const Covariance& C, MatrixXd* H, MatrixXd* Y,
+                                  std::vector<Matrix3d>* out) {
+  const NetworkLayout& l = f.layout;
+  out->assign(f.lin.size(), Matrix3d::Zero());
+  H->setZero(l.n_camera_parameters, 3 * kChunk);
+  std::vector<std::size_t> chunk;
+  const auto flush = [&]() {
+    if (chunk.empty()) return;
+    const Eigen::Index cols = 3 * static_cast<Eigen::Index>(chunk.size());
+    Y->noalias() = C.cc * H->leftCols(cols);
+    for (std::size_t i = 0; i < chunk.size(); ++i) {
+      const Eigen::Index at = 3 * static_cast<Eigen::Index>(i);
+      for (const auto& [c, W] : f.lin[chunk[i]].W)
+        (*out)[chunk[i]].noalias() += W.transpose() * Y->block(l.offset[c], at, W.rows(), 3);
+    }
+    H->leftCols(cols).setZero();
+    chunk.clear();
+  };
+  for (std::size_t k = 0; k < f.lin.size(); ++k) {
+    if (!f.fix[k]) continue;
+    const Eigen::Index at = 3 * static_cast<Eigen::Index>(chunk.size());
+    for (const auto& [c, W] : f.lin[k].W) H->block(l.offset[c], at, W.rows(), 3) = W;
+    chunk.push_back(k);
+    if (chunk.size() == static_cast<std::size_t>(kChunk)) flush();
+  }
+  flush();
+}
+
 /// Cov(X_k + g_k) for fix k: with u = (cameras, g_k), X_k + g_k = D·u + V_k⁻¹-noise,
-/// D = [−V_k⁻¹·W_kᵀ, I − V_k⁻¹·P_k], so Cov = V_k⁻¹ + D·Σ_uu·Dᵀ. The products are small (3 rows):
-/// made coefficient by coefficient, not by the blocked GEMM.
-Matrix3d fix_covariance(const RemlMission& f, const Factors& F, const Covariance& C, std::size_t k) {
+/// D = [−V_k⁻¹·W_kᵀ, I − V_k⁻¹·P_k], so Cov = V_k⁻¹ + D·Σ_uu·Dᵀ; `WSW` = W_kᵀ·Σ_cc·W_k
+/// (projected_camera_covariances).
+Matrix3d fix_covariance(const RemlMission& f, const Factors& F, const Covariance& C, std::size_t k,
+                        const Matrix3d& WSW) {
   const NetworkLayout& l = f.layout;
   const Matrix3d& Vinv = F.Vinv[k];
-  const bool state = F.states > 0;
-  const Eigen::Index j = state ? 3 * static_cast<Eigen::Index>(l.gm_state[k]) : 0;
-  Matrix3d WSW = Matrix3d::Zero(), WT = Matrix3d::Zero();  // Σ Wᵀ·Σ_cc·W and Σ Wᵀ·Tᵀ (T = Z·Σ_cc)
-  for (const auto& [ca, Wa] : f.lin[k].W) {
-    const Eigen::Index oa = l.offset[ca], na = Wa.rows();
-    for (const auto& [cb, Wb] : f.lin[k].W) {
-      const Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kBundleParameterCount> t =
-          Wa.transpose().lazyProduct(C.cc.block(oa, l.offset[cb], na, Wb.rows()));
-      WSW.noalias() += t.lazyProduct(Wb);
-    }
-    if (state) WT.noalias() += Wa.transpose().lazyProduct(C.T.block(j, oa, 3, na).transpose());
-  }
   Matrix3d cov = Vinv + Vinv * WSW * Vinv;
-  if (!state) return cov;
+  if (F.states == 0) return cov;
+  const Eigen::Index j = 3 * static_cast<Eigen::Index>(l.gm_state[k]);
+  Matrix3d WT = Matrix3d::Zero();  // Σ Wᵀ·Tᵀ (T = Z·Σ_cc)
+  for (const auto& [c, W] : f.lin[k].W)
+    WT.noalias() += W.transpose().lazyProduct(C.T.block(j, l.offset[c], 3, W.rows()).transpose());
   // Σ_cg = −Tᵀ: D_c·Σ_cg·D_gᵀ = V⁻¹·(Wᵀ·Tᵀ)·D_gᵀ.
   const Matrix3d Dg = Matrix3d::Identity() - Vinv * F.P[k];
   const Matrix3d cross = Vinv * WT * Dg.transpose();
@@ -315,12 +339,12 @@ struct Minimiser {
 /// ∂D/∂θ (restricted_likelihood.hpp): the white scales from each fix's R, Cov(X_k + g_k) and ê_k;
 /// the chain's parameters from Q⁻¹'s tridiagonal derivatives against Σ_gg + ĝ·ĝᵀ.
 LogParameters deviance_gradient(const RemlMission& f, const Factors& F, const Covariance& C,
-                                const Minimiser& mn) {
+                                const std::vector<Matrix3d>& WSW, const Minimiser& mn) {
   LogParameters grad = LogParameters::Zero();
   for (std::size_t k = 0; k < f.lin.size(); ++k) {
     if (!f.fix[k]) continue;
     // ∂R⁻¹/∂log s = −(E·R⁻¹ + R⁻¹·E), E the axes the scale covers; ∂log|R|/∂log s = 2 per axis.
-    const Matrix3d PC = F.P[k] * fix_covariance(f, F, C, k);
+    const Matrix3d PC = F.P[k] * fix_covariance(f, F, C, k, WSW[k]);
     const Vector3d Pe = F.P[k] * mn.e_hat[k];
     for (int a = 0; a < 3; ++a) grad[scale_index(a)] += 2 - 2 * PC(a, a) - 2 * mn.e_hat[k][a] * Pe[a];
   }
@@ -393,6 +417,8 @@ std::vector<std::vector<Vector3d>> working_variates(const RemlMission& f, const 
 /// The derivatives' buffers, kept between evaluations (as large as the step's).
 struct DerivativeWorkspace {
   Covariance C;
+  std::vector<Matrix3d> WSW;  ///< W_kᵀ·Σ_cc·W_k per point
+  MatrixXd H, Y;              ///< projected_camera_covariances' chunk
   MatrixXd rX, rg;
   Solution s;
 };
@@ -512,7 +538,8 @@ RemlEvaluation restricted_likelihood_derivatives(const RemlMission& f, const Rem
   if (F.states > 0) mn.g_hat = -s.g.col(0);
   DerivativeWorkspace& work = factors.state->work;
   covariance(F, &work.C);
-  out.gradient = deviance_gradient(f, F, work.C, mn);
+  projected_camera_covariances(f, work.C, &work.H, &work.Y, &work.WSW);
+  out.gradient = deviance_gradient(f, F, work.C, work.WSW, mn);
   out.information = average_information(f, F, mn, &work);
   for (std::size_t k : f.layout.gm_chain)
     if (f.fix[k]) out.corrections.push_back(mn.e_hat[k]);
