@@ -15,7 +15,6 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 const std::array<double, 6> kLow = {0.01, 0.01, 1e-4, 1e-4, 0.1, 0.1};
 const std::array<double, 6> kHigh = {10, 10, 1, 1, 1e5, 1e5};
 /// Newton's iterations per fit at most, the largest step (log units: a factor e^1.5 at once), and
@@ -191,7 +190,7 @@ Eigen::Vector2d reported_sd(const RemlMission& f) {
 }
 
 /// Moments of the white fit's corrections per axis group (h: E and N pooled, v: U): their mean square
-/// c₀ and half the mean square of successive differences d₁, with the mean Δt between them (s).
+/// c₀ and half the mean square of successive differences d₁, with the Δt of each difference (s).
 struct CorrectionMoments {
   Eigen::Vector2d c0 = Eigen::Vector2d::Zero(), d1 = Eigen::Vector2d::Zero();
   std::vector<double> dt;
