@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <utility>
 
 #include "config/error.hpp"
 
@@ -59,7 +60,7 @@ std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* g, Eigen:
   std::vector<Eigen::Matrix3d> inverse_diagonal(n, Eigen::Matrix3d::Zero());
   if (log_det) *log_det = 0;
   if (n == 0) return inverse_diagonal;
-  const GaussMarkovFactor L = factor_gauss_markov(*g);
+  GaussMarkovFactor L = factor_gauss_markov(*g);
   if (log_det)
     for (const Eigen::Matrix3d& Ljj : L.diagonal) *log_det += 2 * Ljj.diagonal().array().log().sum();
   Eigen::MatrixXd& Y = g->B;
@@ -97,7 +98,7 @@ std::vector<Eigen::Matrix3d> eliminate_gauss_markov(GaussMarkovSystem* g, Eigen:
       inverse_diagonal[j] += C.transpose() * inverse_diagonal[j + 1] * C;
     }
   }
-  if (factor_out) *factor_out = L;
+  if (factor_out) *factor_out = std::move(L);  // kept, not copied: the likelihood factors every evaluation
   return inverse_diagonal;
 }
 
