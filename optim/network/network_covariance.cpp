@@ -135,16 +135,13 @@ GaussMarkovSystem gauss_markov_system(const NetworkLayout& l, const NetworkParam
   return gm;
 }
 
-/// A chained point's coupling with its state once the point is eliminated: G_jj += P − P·V⁻¹·P,
-/// B_j = −P·V⁻¹·Wᵀ (gauss_markov_elimination.hpp).
+/// A chained point's coupling with its state once the point is eliminated (couple_fix_to_state), and
+/// its share of the states' reduced gradient, b_g − P·V⁻¹·b_X.
 void couple_state(const NetworkLayout& l, std::size_t k, const PointLinearisation& lin,
                   const Eigen::Matrix3d& Vinv, GaussMarkovSystem* gm) {
   const std::size_t j = static_cast<std::size_t>(l.gm_state[k]);
-  const Eigen::Matrix3d PV = lin.P * Vinv;
-  gm->diagonal[j] += lin.P - PV * lin.P;
+  const Eigen::Matrix3d PV = couple_fix_to_state(l, j, lin.P, Vinv, lin, gm);
   gm->gradient.segment<3>(3 * static_cast<Eigen::Index>(j)) += lin.grad_state - PV * lin.grad_point;
-  for (const auto& [c, W] : lin.W)
-    gm->B.block(3 * static_cast<Eigen::Index>(j), l.offset[c], 3, W.rows()).noalias() -= PV * W.transpose();
 }
 
 /// A point's share of the cameras' reduced gradient, b_c − W·V⁻¹·b_X (V⁻¹ zero when the point is not
@@ -351,6 +348,16 @@ void add_camera_priors(const NetworkLayout& l, const NetworkParameterBlocks& b, 
       *rows += 3;
     }
   }
+}
+
+Eigen::Matrix3d couple_fix_to_state(const NetworkLayout& l, std::size_t j, const Eigen::Matrix3d& P,
+                                    const Eigen::Matrix3d& Vinv, const PointLinearisation& lin,
+                                    GaussMarkovSystem* gm) {
+  const Eigen::Matrix3d PV = P * Vinv;
+  gm->diagonal[j] += P - PV * P;
+  for (const auto& [c, W] : lin.W)
+    gm->B.block(3 * static_cast<Eigen::Index>(j), l.offset[c], 3, W.rows()).noalias() -= PV * W.transpose();
+  return PV;
 }
 
 PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParameterBlocks& b,

@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "optim/network/gauss_markov_elimination.hpp"
 #include "optim/network/network_parameters.hpp"
 
 namespace rangecal {
@@ -50,6 +51,13 @@ struct PointLinearisation {
 PointLinearisation linearise_point(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
                                    const NetworkSelection& selection, std::size_t k, Eigen::MatrixXd* U,
                                    double* chi2, int* rows);
+
+/// A chained fix's coupling with its Gauss–Markov state `state` once its point is eliminated
+/// (gauss_markov_elimination.hpp): G_jj += P − P·V⁻¹·P and B_j −= P·V⁻¹·Wᵀ, with `P` the fix's white
+/// information and `Vinv` the point's V⁻¹ (fix included). Returns P·V⁻¹.
+Eigen::Matrix3d couple_fix_to_state(const NetworkLayout& layout, std::size_t state, const Eigen::Matrix3d& P,
+                                    const Eigen::Matrix3d& Vinv, const PointLinearisation& lin,
+                                    GaussMarkovSystem* gm);
 
 /// The camera priors' information into `U` (joint columns), their χ² and residual count, and with
 /// `gradient` their share of Jᵀr (principal point, centre: as the per-camera bundle's priors).

@@ -182,12 +182,8 @@ double factorise(const RemlMission& f, const PpkErrorModel& m, bool chain, Facto
     // network_covariance.cpp reduces the camera system.
     for (const auto& [c, W] : f.lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * LinvT;
     if (++filled == kChunk) flush();
-    if (F->states == 0 || !f.fix[k]) continue;
-    const Eigen::Index j = 3 * static_cast<Eigen::Index>(l.gm_state[k]);
-    const Matrix3d PV = F->P[k] * Vinv;
-    gm.diagonal[static_cast<std::size_t>(l.gm_state[k])] += F->P[k] - PV * F->P[k];
-    for (const auto& [c, W] : f.lin[k].W)
-      gm.B.block(j, l.offset[c], 3, W.rows()).noalias() -= PV * W.transpose();
+    if (F->states > 0 && f.fix[k])
+      couple_fix_to_state(l, static_cast<std::size_t>(l.gm_state[k]), F->P[k], Vinv, f.lin[k], &gm);
   }
   flush();
   if (F->states > 0) {
