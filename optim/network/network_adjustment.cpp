@@ -326,6 +326,16 @@ void add_network_warnings(const NetworkLayout& layout, const NetworkStatistics& 
                         " Gauss–Markov sd cannot be told from τ; it was held at the .pos sd and τ estimated "
                         "with it (docs/optimisation.md \"Correlated PPK errors — estimation\")");
   }
+  if (estimate)
+    for (std::size_t c = 0; c < estimate->image_scale.size(); ++c) {
+      const double s = estimate->image_scale[c], sd = estimate->image_scale_sd[c];
+      if (sd <= kUndeterminedImageSigma * s) continue;  // determined (a NaN σ is not)
+      const double stated = (*layout.cameras)[c].options.pixel_sigma_px / s;
+      warnings->push_back((*layout.cameras)[c].initial.id +
+                          ": its centroid σ is poorly determined by this mission (" +
+                          format_number("%.3g", stated * s) + " ± " + format_number("%.2g", stated * sd) +
+                          " px): the PPK fixes' own error is not told from it; its calibration σ carry it");
+    }
   if (!stats.ppk_outliers.empty())
     warnings->push_back(
         std::to_string(stats.ppk_outliers.size()) +
@@ -335,13 +345,9 @@ void add_network_warnings(const NetworkLayout& layout, const NetworkStatistics& 
                         " shares no epoch with another camera: calibrated from its own epochs alone");
 }
 
-}  // namespace
-
-NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
-                             const std::vector<NetworkPoint>& points,
-                             const std::vector<NetworkObservation>& observations,
-                             const NetworkOptions& options) {
-  check_network_input(cameras, points, observations);
+/// The whole adjustment with the cameras' centroids at the σ `cameras` state (network_adjust).
+NetworkResult adjust(const std::vector<NetworkCamera>& cameras, const std::vector<NetworkPoint>& points,
+                     const std::vector<NetworkObservation>& observations, const NetworkOptions& options) {
   const NetworkLayout layout = make_network_layout(cameras, points, observations, options.ppk_error);
   // Under a correlated model the robust solve and the outlier tests run on its white approximation
   // (each fix under its whole covariance), the final solve on the model (network_gauss_newton.hpp).
@@ -377,10 +383,16 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
   if (options.resolve_without_outliers) drop_image_outliers(layout, test, &selection);
   // Under an estimated model the final solve is on the estimate, white or correlated.
   NetworkLayout estimated;
+  std::vector<NetworkCamera> estimated_cameras;  // `estimated` points into it
   if (options.estimate_ppk_error) {
-    out.ppk_estimate = estimate_ppk_error_model(separating, blocks, selection);
+    out.ppk_estimate = estimate_ppk_error_model(separating, blocks, selection,
+                                                {options.estimate_image_sigma, options.estimate_white_only});
     out.ppk_error = out.ppk_estimate->model;
-    estimated = make_network_layout(cameras, points, observations, out.ppk_error);
+    // Each camera's lamp centroids at the σ estimated with the model (pole picks keep their own).
+    estimated_cameras = cameras;
+    for (std::size_t c = 0; c < cameras.size(); ++c)
+      estimated_cameras[c].options.pixel_sigma_px *= out.ppk_estimate->image_scale[c];
+    estimated = make_network_layout(estimated_cameras, points, observations, out.ppk_error);
     out.gauss_markov_states = static_cast<int>(estimated.gm_chain.size());
     blocks.gm.assign(estimated.gm_chain.size(), {0.0, 0.0, 0.0});
   }
@@ -427,6 +439,42 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
     out.cameras.push_back(camera_result(final_layout, blocks, c, out.camera_observations[c], test, dropped,
                                         selection, cov, stats, n_solves, options.scale_covariance));
   return out;
+}
+
+/// An estimated image scale beyond this factor of the stated σ (either way) means the outlier tests
+/// weighed the rays wrongly: the adjustment runs again at the estimated σ.
+constexpr double kImageScaleRetest = 1.5;
+
+}  // namespace
+
+NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
+                             const std::vector<NetworkPoint>& points,
+                             const std::vector<NetworkObservation>& observations,
+                             const NetworkOptions& options) {
+  check_network_input(cameras, points, observations);
+  NetworkResult first = adjust(cameras, points, observations, options);
+  if (!first.ppk_estimate || !options.estimate_image_sigma) return first;
+  const std::vector<double>& scale = first.ppk_estimate->image_scale;
+  const bool far = std::any_of(scale.begin(), scale.end(),
+                               [](double s) { return s > kImageScaleRetest || s < 1 / kImageScaleRetest; });
+  if (!far) return first;
+  // The outlier tests (robust solve, PPK and image outliers) weighed each ray by the stated σ: with
+  // centroids 5× noisier than stated every ray looks 5× sharper than it is, and fixes and pixels that
+  // fit as well as the rest are dropped. Once more from the start with each camera's centroids at
+  // their estimated σ; the scales the second estimate finds are relative to those.
+  // A camera whose scale sits on a bound of the estimate's box keeps its stated σ: the second estimate
+  // then searches the same box again rather than one beyond it.
+  std::vector<NetworkCamera> estimated = cameras;
+  std::vector<double> applied(cameras.size(), 1.0);
+  for (std::size_t c = 0; c < cameras.size(); ++c)
+    if (scale[c] > kLowestImageScale * kImageScaleRetest && scale[c] < kHighestImageScale / kImageScaleRetest)
+      applied[c] = scale[c], estimated[c].options.pixel_sigma_px *= scale[c];
+  NetworkResult again = adjust(estimated, points, observations, options);
+  PpkErrorEstimate& e = *again.ppk_estimate;
+  for (std::size_t c = 0; c < cameras.size(); ++c)
+    e.image_scale[c] *= applied[c], e.image_scale_sd[c] *= applied[c];
+  e.evaluations += first.ppk_estimate->evaluations;
+  return again;
 }
 
 }  // namespace rangecal

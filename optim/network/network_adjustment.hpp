@@ -15,8 +15,12 @@
 // Steps (network_adjustment.cpp): robust solve (Huber or Cauchy on image residuals and on the
 // priors), PPK outliers (optim/network/network_outliers.hpp: epochs whose multi-ray position
 // disagrees with their fix, whitened test; prior dropped), image outliers (the per-camera bundle's
-// rule), a plain least-squares solve without them, then the joint covariance of all cameras (the
-// Schur complement, optim/network/network_covariance.hpp) and each adjusted point's covariance.
+// rule), with NetworkOptions::estimate_ppk_error the variance components (PPK model, each camera's
+// image σ: optim/network/ppk_error_estimation.hpp), a plain least-squares solve without the
+// outliers, then the joint covariance of all cameras (the Schur complement,
+// optim/network/network_covariance.hpp) and each adjusted point's covariance. When a camera's
+// estimated centroid σ is more than 1.5× off its stated σ, the steps run once more at the estimated
+// σ, so that the outlier tests weigh each ray by what it is worth.
 //
 // A camera that shares no epoch with another is calibrated from its own epochs exactly as the
 // per-camera bundle would: eliminating a point seen once under its prior gives the bundle's
@@ -69,6 +73,14 @@ struct NetworkOptions {
   /// weighs the robust solve and the outlier tests (white by default), the final solve and every σ
   /// use the estimate.
   bool estimate_ppk_error = false;
+  /// With estimate_ppk_error: each camera's lamp-centroid σ estimated with the model (its image
+  /// variance component, restricted_likelihood.hpp), and the final solve and every σ use it; false
+  /// holds the stated σ (BundleOptions::pixel_sigma_px).
+  bool estimate_image_sigma = true;
+  /// With estimate_ppk_error: the white family alone (the white scales and image scales), when a
+  /// check outside the network has refused the correlated model (docs/optimisation.md "The guarded
+  /// model").
+  bool estimate_white_only = false;
 };
 
 /// The network's datum floor (docs/accuracy_analysis.md, "Datum floor"): its joint covariance with

@@ -5,8 +5,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <utility>
 
+#include "config/number_format.hpp"
 #include "optim/network/restricted_likelihood.hpp"
 
 namespace rangecal {
@@ -15,24 +17,28 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-const std::array<double, 6> kLow = {0.01, 0.01, 1e-4, 1e-4, 0.1, 0.1};
-const std::array<double, 6> kHigh = {10, 10, 1, 1, 1e5, 1e5};
+/// The box of the PPK parameters (white scales, Gauss–Markov sd in m, τ in s), then of every image
+/// scale (ppk_error_estimation.hpp).
+const std::array<double, kPpkParameters + 1> kLow = {0.01, 0.01, 1e-4, 1e-4, 0.1, 0.1, kLowestImageScale};
+const std::array<double, kPpkParameters + 1> kHigh = {10, 10, 1, 1, 1e5, 1e5, kHighestImageScale};
 /// Newton's iterations per fit at most, the largest step (log units: a factor e^1.5 at once), and
 /// the decrease of D (predicted, or made by a step) below which a fit has converged: 1 % of the
 /// ΔD a 1σ change of a parameter makes (the estimate is then within ~0.1σ of the maximum).
 constexpr int kMaxIterations = 40;
+/// Within this of a bound (log units: 0.01 %) a parameter is on it.
+constexpr double kOnBound = 1e-4;
 constexpr double kMaxStep = 1.5;
 constexpr double kConverged = 1e-2;
 
 double low(int i) {
-  return std::log(kLow[static_cast<std::size_t>(i)]);
+  return std::log(kLow[static_cast<std::size_t>(std::min(i, kPpkParameters))]);
 }
 double high(int i) {
-  return std::log(kHigh[static_cast<std::size_t>(i)]);
+  return std::log(kHigh[static_cast<std::size_t>(std::min(i, kPpkParameters))]);
 }
 
 LogParameters in_box(LogParameters x) {
-  for (int i = 0; i < 6; ++i) x[i] = std::clamp(x[i], low(i), high(i));
+  for (int i = 0; i < static_cast<int>(x.size()); ++i) x[i] = std::clamp(x[i], low(i), high(i));
   return x;
 }
 
@@ -45,7 +51,7 @@ struct Likelihood {
   /// D at x, factored into `factors`.
   double deviance(const LogParameters& x, RemlFactors* factors) const {
     ++*evaluations;
-    factor_restricted_likelihood(mission, model_of(x), chain, factors);
+    factor_restricted_likelihood(mission, x, chain, factors);
     return factors->deviance;
   }
   RemlEvaluation derivatives(const RemlFactors& factors) const {
@@ -55,7 +61,7 @@ struct Likelihood {
 
 /// A point of the search with the normal equations factored there.
 struct Point {
-  LogParameters x = LogParameters::Zero();
+  LogParameters x;
   RemlFactors factors;
 };
 
@@ -159,7 +165,7 @@ LogParameters log_sd(const Fit& best, const std::vector<int>& free) {
   for (Eigen::Index a = 0; a < n; ++a)
     for (Eigen::Index b = 0; b < n; ++b)
       ai(a, b) = best.at.information(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
-  LogParameters sd = LogParameters::Constant(std::numeric_limits<double>::quiet_NaN());
+  LogParameters sd = LogParameters::Constant(best.x.size(), std::numeric_limits<double>::quiet_NaN());
   const Eigen::LLT<MatrixXd> llt(ai);
   if (llt.info() != Eigen::Success) return sd;
   const MatrixXd cov = llt.solve(MatrixXd::Identity(n, n));
@@ -173,8 +179,67 @@ PpkErrorModel sd_of(const LogParameters& x, const LogParameters& sd) {
   const double values[6] = {m.white_scale_h, m.white_scale_v, m.gm_sd_h_m, m.gm_sd_v_m, m.tau_h_s, m.tau_v_s};
   double* fields[6] = {&s.white_scale_h, &s.white_scale_v, &s.gm_sd_h_m,
                        &s.gm_sd_v_m,     &s.tau_h_s,       &s.tau_v_s};
-  for (int i = 0; i < 6; ++i) *fields[i] = values[i] * sd[i];
+  for (int i = 0; i < kPpkParameters; ++i) *fields[i] = values[i] * sd[i];
   return s;
+}
+
+/// A parameter's name in messages (the order of LogParameters).
+std::string parameter_label(int i) {
+  static const char* const kPpk[kPpkParameters] = {
+      "horizontal white scale",   "vertical white scale", "horizontal Gauss–Markov sd",
+      "vertical Gauss–Markov sd", "horizontal τ",         "vertical τ"};
+  return i < kPpkParameters ? kPpk[i] : "camera " + std::to_string(i - kPpkParameters) + " image scale";
+}
+
+/// True when parameter i's lower bound is a variance component at zero — a white scale or a
+/// Gauss–Markov sd: an estimate there says that part of the error is negligible, which REML may
+/// rightly find (Harville 1977), not that the mission cannot tell.
+bool zero_at_low_bound(int i) {
+  return i < 4;
+}
+
+/// The free parameters of x on a bound of their box that the mission does not determine, named
+/// (parameter_label) with their value: any bound of τ and of an image scale, the upper bound of a
+/// white scale or sd (a variance component at zero, zero_at_low_bound, is not among them).
+std::vector<std::string> on_bound(const LogParameters& x, const std::vector<int>& free) {
+  std::vector<std::string> out;
+  for (int i : free)
+    if ((x[i] <= low(i) + kOnBound && !zero_at_low_bound(i)) || x[i] >= high(i) - kOnBound)
+      out.push_back(parameter_label(i) + " on its bound (" + format_number("%g", std::exp(x[i])) + ")");
+  return out;
+}
+
+/// The Gauss–Markov fit's PPK parameters that the mission does not determine (on_bound).
+std::vector<std::string> unidentified(const LogParameters& x, const std::vector<int>& free) {
+  std::vector<int> ppk;
+  for (int i : free)
+    if (i < kPpkParameters) ppk.push_back(i);
+  return on_bound(x, ppk);
+}
+
+/// The image scales of x and their 1σ (delta method) into the estimate.
+void image_scales_into(const LogParameters& x, const LogParameters& sd, PpkErrorEstimate* out) {
+  const auto cameras = static_cast<std::size_t>(x.size() - kPpkParameters);
+  out->image_scale.assign(cameras, 1), out->image_scale_sd.assign(cameras, 0);
+  for (std::size_t c = 0; c < cameras; ++c) {
+    const Eigen::Index i = kPpkParameters + static_cast<Eigen::Index>(c);
+    out->image_scale[c] = std::exp(x[i]);
+    out->image_scale_sd[c] = out->image_scale[c] * sd[i];
+  }
+}
+
+/// The image scales' start: each camera's lamp centroids' rms whitened residual at the
+/// linearisation (the robust solution); the cameras without one are not estimated (held at 1).
+std::vector<int> start_image_scales(const RemlMission& f, LogParameters* x) {
+  std::vector<int> free;
+  for (std::size_t c = 0; c < f.cameras(); ++c) {
+    if (f.image_rows[c] == 0) continue;
+    const int i = kPpkParameters + static_cast<int>(c);
+    (*x)[i] =
+        std::clamp(0.5 * std::log(std::max(f.image_chi2[c], 1e-300) / f.image_rows[c]), low(i), high(i));
+    free.push_back(i);
+  }
+  return free;
 }
 
 /// The .pos sd per axis group (rms of E, N and of U over the chained fixes; m).
@@ -237,7 +302,8 @@ Point starting_point(const Likelihood& likelihood, const Fit& white, const std::
   bool first = true;
   for (double tau : {1.0, 10.0, 100.0, 1000.0}) {
     const Eigen::Vector4d split = moment_split(moments, tau, sd);
-    tried.x << split[0], split[1], split[2], split[3], std::log(tau), std::log(tau);
+    tried.x = white.x;
+    tried.x.head<kPpkParameters>() << split[0], split[1], split[2], split[3], std::log(tau), std::log(tau);
     tried.x = in_box(tried.x);
     if (likelihood.deviance(tried.x, &tried.factors) < best.factors.deviance || first) std::swap(best, tried);
     first = false;
@@ -253,49 +319,84 @@ Point starting_point(const Likelihood& likelihood, const Fit& white, const std::
 }  // namespace
 
 PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
-                                          const NetworkSelection& selection) {
+                                          const NetworkSelection& selection,
+                                          const PpkEstimationOptions& options) {
   PpkErrorEstimate out;
   const RemlMission f = reml_mission(layout, blocks, selection, kEstimationEpochs);
   std::vector<double> t;
   for (std::size_t k : f.layout.gm_chain)
     if (f.fix[k]) t.push_back((*f.layout.points)[k].time_s);
+  out.image_scale.assign(f.cameras(), 1), out.image_scale_sd.assign(f.cameras(), 0);
   if (t.size() < 2) return out;
   out.record_s = t.back() - t.front();
 
-  // The white model (scales alone) and the Gauss–Markov model, each at its maximum.
+  // The white model (scales alone) and the Gauss–Markov model, each at its maximum, both with the
+  // cameras' image scales.
   const Likelihood white_family{f, false, &out.evaluations}, gm_family{f, true, &out.evaluations};
-  LogParameters white_x = LogParameters::Zero();
+  LogParameters white_x = LogParameters::Zero(kPpkParameters + static_cast<Eigen::Index>(f.cameras()));
   white_x[2] = white_x[3] = low(2), white_x[4] = white_x[5] = 0;
-  const Fit white = fit(white_family, point_at(white_family, white_x), {0, 1});
-  const Fit gm = fit(gm_family, starting_point(gm_family, white, t), {0, 1, 2, 3, 4, 5});
+  const std::vector<int> images = options.image_sigma ? start_image_scales(f, &white_x) : std::vector<int>{};
+  const auto with_images = [&](std::vector<int> free) {
+    free.insert(free.end(), images.begin(), images.end());
+    return free;
+  };
+  const Fit white = fit(white_family, point_at(white_family, white_x), with_images({0, 1}));
+  const Fit gm = options.white_only
+                     ? white
+                     : fit(gm_family, starting_point(gm_family, white, t), with_images({0, 1, 2, 3, 4, 5}));
   out.likelihood_ratio = white.at.deviance - gm.at.deviance;
-  if (!(out.likelihood_ratio >= kWhiteLikelihoodRatio)) {
+  const auto keep_white = [&]() {
     out.white = true;
     out.model = model_of(white.x);
     out.model.gm_sd_h_m = out.model.gm_sd_v_m = out.model.tau_h_s = out.model.tau_v_s = 0;
-    out.sd = sd_of(white.x, log_sd(white, {0, 1}));
+    const std::vector<int> free = with_images({0, 1});
+    const LogParameters sd = log_sd(white, free);
+    out.sd = sd_of(white.x, sd);
+    image_scales_into(white.x, sd, &out);
     out.sd.gm_sd_h_m = out.sd.gm_sd_v_m = out.sd.tau_h_s = out.sd.tau_v_s =
         std::numeric_limits<double>::quiet_NaN();
+    out.on_bound = on_bound(white.x, free);
     return out;
-  }
+  };
+  if (options.white_only || !(out.likelihood_ratio >= kWhiteLikelihoodRatio)) return keep_white();
   // A record shorter than kRecordPerTau·τ̂ pins the increments' rate σ_g²/τ, not σ_g and τ apart
   // (ppk_error_estimation.hpp): hold σ_g at the .pos sd and estimate τ (and s) with it.
   Fit best = gm;
-  std::vector<int> free = {0, 1, 4, 5};
+  std::vector<int> free = with_images({0, 1, 4, 5});
   out.gm_sd_held_h = out.record_s < kRecordPerTau * std::exp(gm.x[4]);
   out.gm_sd_held_v = out.record_s < kRecordPerTau * std::exp(gm.x[5]);
   if (!out.gm_sd_held_h) free.push_back(2);
   if (!out.gm_sd_held_v) free.push_back(3);
+  const Eigen::Vector2d pos_sd = reported_sd(f);
   if (out.gm_sd_held_h || out.gm_sd_held_v) {
-    const Eigen::Vector2d pos_sd = reported_sd(f);
     LogParameters x = gm.x;
     if (out.gm_sd_held_h) x[2] = std::log(pos_sd[0]), x[4] += 2 * (x[2] - gm.x[2]);
     if (out.gm_sd_held_v) x[3] = std::log(pos_sd[1]), x[5] += 2 * (x[3] - gm.x[3]);
     // Started on the ridge: τ scaled with σ_g² (the same rate).
     best = fit(gm_family, point_at(gm_family, x), free);
   }
-  out.model = model_of(best.x);
-  out.sd = sd_of(best.x, log_sd(best, free));
+  // The guard: a Gauss–Markov fit the mission does not identify, or whose slow part no fixed PPK
+  // solution has, is refused, and the white fit stands.
+  std::vector<std::string> refused = unidentified(best.x, free);
+  const PpkErrorModel m = model_of(best.x);
+  for (int a = 0; a < 2; ++a) {
+    const double sd = a == 0 ? m.gm_sd_h_m : m.gm_sd_v_m;
+    if (sd > kPlausibleSlowPerPosSd * pos_sd[a])
+      refused.push_back(std::string(a == 0 ? "horizontal" : "vertical") + " slow part " +
+                        format_number("%.1f", 100 * sd) + " cm is more than " +
+                        format_number("%g", kPlausibleSlowPerPosSd) + " times the .pos sd (" +
+                        format_number("%.1f", 100 * pos_sd[a]) + " cm)");
+  }
+  if (!refused.empty()) {
+    keep_white();
+    out.guard_reasons = std::move(refused);
+    return out;
+  }
+  out.model = m;
+  const LogParameters sd = log_sd(best, free);
+  out.sd = sd_of(best.x, sd);
+  image_scales_into(best.x, sd, &out);
+  out.on_bound = on_bound(best.x, free);
   return out;
 }
 

@@ -1,11 +1,11 @@
 #pragma once
-// The PPK error model estimated from the mission (docs/optimisation.md "Correlated PPK errors —
-// estimation"; /work/shared/notes/correlated_ppk.md §2c): restricted maximum likelihood (REML) of
-// the white scale, the Gauss–Markov sd and τ, horizontal and vertical, on the network linearised at
-// the robust solution (the likelihood, its gradient and average information:
-// restricted_likelihood.hpp). The REML form charges the degrees of freedom the cameras and points
-// use, which fitting the corrections' autocorrelation does not (correlated_ppk.md §2c). Image σ and
-// the poles' survey σ are taken as stated.
+// The network's variance components estimated from the mission (docs/optimisation.md "Correlated PPK
+// errors — estimation" and "Image variance components"): restricted maximum likelihood (REML) of the
+// PPK white scale, the Gauss–Markov sd and τ, horizontal and vertical, and of each camera's image
+// scale, on the network linearised at the robust solution (the likelihood, its gradient and average
+// information: restricted_likelihood.hpp). The REML form charges the degrees of freedom the cameras
+// and points use, which fitting the corrections' autocorrelation does not (Harville 1977). The
+// poles' survey σ and the pole picks' σ are taken as stated.
 #include <cstddef>
 #include <vector>
 
@@ -32,7 +32,35 @@ inline constexpr double kWhiteLikelihoodRatio = 9.49;
 /// latter from the better of a grid over τ and a start near the white fit; σ from the average
 /// information, Cov(log θ) = AI⁻¹. Needs ≥ 2 fixes with a time; otherwise the white model with
 /// scale 1 is returned unestimated.
+/// The guard's plausibility rule: a fixed PPK solution's slow error beyond this many times its .pos
+/// sd (rms over the fixes, per axis group) is not a PPK error but the cameras' misfit booked as one.
+/// RTKLIB's sd of a fixed epoch is its Kalman covariance under the integers it fixed, optimistic
+/// (up to √2 in combined mode, more with correlated multipath) but not by an order of magnitude;
+/// published slow PPK errors are 0.8–1.5 cm horizontally, 1.5–3 cm vertically (docs/gnss.md "PPK
+/// error model"; docs/references.md).
+inline constexpr double kPlausibleSlowPerPosSd = 3;
+
+/// The image scales' box: a camera's centroid σ from 1/10 to 1000 times the stated one (a detector's
+/// centroid is not ten times better than stated, and a camera weighed more would make the normal
+/// equations stiff without adding what the fixes do not already give).
+inline constexpr double kLowestImageScale = 0.1;
+inline constexpr double kHighestImageScale = 1000;
+
+/// An image scale whose 1σ exceeds this fraction of it is not determined by the mission: the network
+/// warns (its σ still carries the uncertainty the estimate states).
+inline constexpr double kUndeterminedImageSigma = 0.25;
+
+struct PpkEstimationOptions {
+  bool image_sigma = true;  ///< estimate each camera's image scale (false: held at 1, the stated σ)
+  bool white_only = false;  ///< the white family alone (the guard's fallback after a failed check)
+};
+
+/// The guard (docs/optimisation.md "The guarded model"): the Gauss–Markov fit is refused — the white
+/// fit stands, PpkErrorEstimate::guard_reasons says why — when one of its PPK parameters sits on a
+/// bound of the search box (the mission does not identify it) or its slow part exceeds
+/// kPlausibleSlowPerPosSd times the .pos sd.
 PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const NetworkParameterBlocks& blocks,
-                                          const NetworkSelection& selection);
+                                          const NetworkSelection& selection,
+                                          const PpkEstimationOptions& options = {});
 
 }  // namespace rangecal

@@ -14,6 +14,8 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 namespace rangecal {
 
@@ -83,6 +85,17 @@ struct PpkErrorEstimate {
   /// with it (ppk_error_estimation.hpp).
   bool gm_sd_held_h = false, gm_sd_held_v = false;
   int evaluations = 0;  ///< likelihood evaluations
+  /// Per camera (the network's order), s_c: its lamp centroids' σ as a multiple of the stated σ
+  /// (restricted_likelihood.hpp), estimated with the model; 1 where the camera has no centroid in the
+  /// estimate. And its 1σ (0 where not estimated).
+  std::vector<double> image_scale, image_scale_sd;
+  /// Why the Gauss–Markov fit was refused and the white fit kept (ppk_error_estimation.hpp, the
+  /// guard); empty when it was accepted or the likelihood-ratio test kept the white model.
+  std::vector<std::string> guard_reasons;
+  /// The estimated parameters on a bound of the search box that the mission does not determine
+  /// (any bound of τ or of an image scale, the upper bound of a white scale or sd), named, with their
+  /// value. A white scale or sd at its lower bound is a variance component at zero, not among them.
+  std::vector<std::string> on_bound;
 };
 
 /// Below this many independent looks the datum rests on few PPK samples (docs/accuracy_analysis.md

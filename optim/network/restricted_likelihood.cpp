@@ -16,18 +16,23 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-LogParameters log_parameters_of(const PpkErrorModel& m) {
-  LogParameters x;
-  x << std::log(m.white_scale_h), std::log(m.white_scale_v), std::log(m.gm_sd_h_m), std::log(m.gm_sd_v_m),
-      std::log(m.tau_h_s), std::log(m.tau_v_s);
+LogParameters log_parameters_of(const PpkErrorModel& m, std::size_t cameras) {
+  LogParameters x = LogParameters::Zero(kPpkParameters + static_cast<Eigen::Index>(cameras));
+  x.head<kPpkParameters>() << std::log(m.white_scale_h), std::log(m.white_scale_v), std::log(m.gm_sd_h_m),
+      std::log(m.gm_sd_v_m), std::log(m.tau_h_s), std::log(m.tau_v_s);
   return x;
+}
+
+double image_scale_of(const LogParameters& x, std::size_t c) {
+  const Eigen::Index i = kPpkParameters + static_cast<Eigen::Index>(c);
+  return i < x.size() ? std::exp(x[i]) : 1.0;
 }
 
 PpkErrorModel model_of(const LogParameters& x) {
   PpkErrorModel m;
   double* fields[6] = {&m.white_scale_h, &m.white_scale_v, &m.gm_sd_h_m,
                        &m.gm_sd_v_m,     &m.tau_h_s,       &m.tau_v_s};
-  for (int i = 0; i < 6; ++i) *fields[i] = std::exp(x[i]);
+  for (int i = 0; i < kPpkParameters; ++i) *fields[i] = std::exp(x[i]);
   return m;
 }
 
@@ -113,6 +118,12 @@ Vector3d chain_below(const std::vector<ChainStep>& s, std::size_t j, bool d_tau)
 /// The normal equations of (cameras, points, states) under a model, factored as the solve
 /// eliminates them: points (V_k⁻¹), states (G = L·Lᵀ, B → Z = G⁻¹·B), cameras (S, scaled LDLT).
 struct Factors {
+  /// The normal equations' image part under the image scales: each camera's lamp centroids
+  /// (RemlMission::images) divided by s_c² and added to what no component changes.
+  std::vector<PointLinearisation> lin;
+  MatrixXd U;
+  VectorXd gradient;
+  VectorXd image_weight;  ///< 1/s_c² per camera
   std::size_t states = 0;
   std::vector<ChainStep> steps;
   std::vector<Matrix3d> Vinv, P;  ///< per point; P the fix's white information (zero without a fix)
@@ -125,6 +136,45 @@ struct Factors {
   MatrixXd H;  ///< factorise's workspace: a chunk of points' W·L⁻ᵀ side by side
 };
 
+/// The normal equations' image part under the scales of `x` into F (Factors::lin, U, gradient and
+/// χ² at the linearisation); returns log|R| of the lamp centroids, Σ n_c·log s_c².
+double scale_images(const RemlMission& f, const LogParameters& x, Factors* F) {
+  const NetworkLayout& l = f.layout;
+  const std::size_t nc = f.cameras();
+  F->image_weight.resize(static_cast<Eigen::Index>(nc));
+  F->chi2 = f.chi2;
+  double log_det = 0;
+  for (std::size_t c = 0; c < nc; ++c) {
+    const double s = image_scale_of(x, c);
+    F->image_weight[static_cast<Eigen::Index>(c)] = 1 / (s * s);
+    F->chi2 += f.image_chi2[c] / (s * s);
+    log_det += 2 * f.image_rows[c] * std::log(s);
+  }
+  F->U = f.U;
+  F->gradient = f.gradient;
+  for (std::size_t c = 0; c < nc; ++c) {
+    const auto cols = Eigen::seqN(l.offset[c], static_cast<Eigen::Index>(l.free[c].size()));
+    const double w = F->image_weight[static_cast<Eigen::Index>(c)];
+    F->U(cols, cols) += w * f.image_U(cols, cols);
+    F->gradient(cols) += w * f.image_gradient(cols);
+  }
+  F->lin.resize(f.lin.size());
+  for (std::size_t k = 0; k < f.lin.size(); ++k) {
+    PointLinearisation& p = F->lin[k];
+    p.V = f.lin[k].V, p.grad_point = f.lin[k].grad_point, p.W = f.lin[k].W;
+    for (const ImageGroup& g : f.images[k]) {
+      const double w = F->image_weight[static_cast<Eigen::Index>(g.camera)];
+      p.V += w * g.V, p.grad_point += w * g.grad_point;
+      auto it = std::find_if(p.W.begin(), p.W.end(), [&](const auto& e) { return e.first == g.camera; });
+      if (it == p.W.end())
+        p.W.emplace_back(g.camera, w * g.W);
+      else
+        it->second += w * g.W;
+    }
+  }
+  return log_det;
+}
+
 /// The chain's AR(1) prior into G; returns log|Q|.
 double add_chain_prior(const std::vector<ChainStep>& steps, GaussMarkovSystem* gm) {
   double log_det = 0;
@@ -136,20 +186,21 @@ double add_chain_prior(const std::vector<ChainStep>& steps, GaussMarkovSystem* g
   return log_det;
 }
 
-/// Factors the normal equations of `m`; returns the log-determinants' part of D (log|R| + log|Q| +
+/// Factors the normal equations at `x`; returns the log-determinants' part of D (log|R| + log|Q| +
 /// log|M|), +∞ where they are not positive definite.
-double factorise(const RemlMission& f, const PpkErrorModel& m, bool chain, Factors* F) {
+double factorise(const RemlMission& f, const LogParameters& x, bool chain, Factors* F) {
   const NetworkLayout& l = f.layout;
+  const PpkErrorModel m = model_of(x);
   const std::size_t np = f.lin.size();
+  double log_det = scale_images(f, x, F);
   F->states = chain ? l.gm_chain.size() : 0;
   const auto n3 = 3 * static_cast<Eigen::Index>(F->states);
   GaussMarkovSystem& gm = F->gm;
   gm.diagonal.assign(F->states, Matrix3d::Zero());
   gm.below.assign(F->states, Vector3d::Zero());
   gm.B.setZero(n3, l.n_camera_parameters);
-  double log_det = 0;
   if (chain) F->steps = chain_steps(l, m), log_det += add_chain_prior(F->steps, &gm);
-  MatrixXd S = f.U;
+  MatrixXd S = F->U;
   MatrixXd& H = F->H;
   H.setZero(l.n_camera_parameters, 3 * kChunk);
   int filled = 0;
@@ -159,12 +210,11 @@ double factorise(const RemlMission& f, const PpkErrorModel& m, bool chain, Facto
     H.leftCols(3 * filled).setZero();
     filled = 0;
   };
-  F->chi2 = f.chi2;
   F->Vinv.assign(np, Matrix3d::Zero()), F->P.assign(np, Matrix3d::Zero());
   const Matrix3d scale = m.white_scale().asDiagonal();
   for (std::size_t k = 0; k < np; ++k) {
     if (!f.in_solve[k]) continue;
-    Matrix3d V = f.lin[k].V;
+    Matrix3d V = F->lin[k].V;
     if (f.fix[k]) {  // the fix X + g + w, Cov(w) = S·Σ_pos·S (ppk_error_model.hpp)
       const Matrix3d white = scale * (*l.points)[k].prior_cov * scale;
       F->P[k] = white.inverse();
@@ -180,10 +230,11 @@ double factorise(const RemlMission& f, const PpkErrorModel& m, bool chain, Facto
     // S −= W·V⁻¹·Wᵀ = (W·L⁻ᵀ)(W·L⁻ᵀ)ᵀ, V = L·Lᵀ: a chunk of points' columns side by side, one
     // product per chunk on S's lower triangle (all the eliminations and the LDLT read), as
     // network_covariance.cpp reduces the camera system.
-    for (const auto& [c, W] : f.lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * LinvT;
+    for (const auto& [c, W] : F->lin[k].W)
+      H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * LinvT;
     if (++filled == kChunk) flush();
     if (F->states > 0 && f.fix[k])
-      couple_fix_to_state(l, static_cast<std::size_t>(l.gm_state[k]), F->P[k], Vinv, f.lin[k], &gm);
+      couple_fix_to_state(l, static_cast<std::size_t>(l.gm_state[k]), F->P[k], Vinv, F->lin[k], &gm);
   }
   flush();
   if (F->states > 0) {
@@ -220,7 +271,7 @@ void solve(const RemlMission& f, const Factors& F, MatrixXd rc, const MatrixXd& 
   for (std::size_t k = 0; k < f.lin.size(); ++k) {
     if (!f.in_solve[k]) continue;
     VrX.noalias() = F.Vinv[k] * rX(rows3(k), Eigen::all);
-    for (const auto& [c, W] : f.lin[k].W) rc.middleRows(l.offset[c], W.rows()).noalias() -= W * VrX;
+    for (const auto& [c, W] : F.lin[k].W) rc.middleRows(l.offset[c], W.rows()).noalias() -= W * VrX;
     if (F.states > 0 && f.fix[k])
       s->g(rows3(static_cast<std::size_t>(l.gm_state[k])), Eigen::all).noalias() -= F.P[k] * VrX;
   }
@@ -234,7 +285,7 @@ void solve(const RemlMission& f, const Factors& F, MatrixXd rc, const MatrixXd& 
   for (std::size_t k = 0; k < f.lin.size(); ++k) {
     if (!f.in_solve[k]) continue;
     r = rX(rows3(k), Eigen::all);
-    for (const auto& [c, W] : f.lin[k].W)
+    for (const auto& [c, W] : F.lin[k].W)
       r.noalias() -= W.transpose() * s->c.middleRows(l.offset[c], W.rows());
     if (F.states > 0 && f.fix[k])
       r.noalias() -= F.P[k] * s->g(rows3(static_cast<std::size_t>(l.gm_state[k])), Eigen::all);
@@ -275,13 +326,54 @@ void covariance(const Factors& F, Covariance* out) {
   }
 }
 
-/// W_kᵀ·Σ_cc·W_k per point in the solve (3×3), a chunk of points at a time: their W side by side
-/// (zero where a camera did not see the point), multiplied by Σ_cc as one product, as factorise
-/// forms the camera system.
-void projected_camera_covariances(const RemlMission& f, const Covariance& C, MatrixXd* H, MatrixXd* Y,
-                                  std::vector<Matrix3d>* out) {
+/// What the derivatives need of each point's camera columns in M⁻¹, from Y_k = Σ_cc·W_k (W_k over
+/// the point's cameras), formed a chunk of points at a time as one product with Σ_cc, as factorise
+/// forms the camera system: per point W_kᵀ·Σ_cc·W_k and Σ_c W_cᵀ·T_{j,c}ᵀ (its fix's state j, T =
+/// Z·Σ_cc; zero without a chain); per camera tr(M⁻¹·N_c) over its lamp centroids' normal equations
+/// (image_traces).
+struct PointProducts {
+  std::vector<Matrix3d> WSW, WT;
+  VectorXd image_trace;
+};
+
+/// Cov(X_k) (m²): with u = (cameras, g_j), X_k = D·u + V_k⁻¹-noise, D = [−V_k⁻¹·W_kᵀ, −V_k⁻¹·P_k], so
+/// Cov = V⁻¹ + V⁻¹·(WSW − WT·P − P·WTᵀ + P·Σ_gg,jj·P)·V⁻¹ (Σ_cg = −Tᵀ).
+Matrix3d point_covariance(const RemlMission& f, const Factors& F, const Covariance& C, std::size_t k,
+                          const Matrix3d& WSW, const Matrix3d& WT) {
+  const Matrix3d& Vinv = F.Vinv[k];
+  Matrix3d inner = WSW;
+  if (F.states > 0 && f.fix[k]) {
+    const Matrix3d& P = F.P[k];
+    inner += -WT * P - P * WT.transpose() + P * C.gg[static_cast<std::size_t>(f.layout.gm_state[k])] * P;
+  }
+  return Vinv + Vinv * inner * Vinv;
+}
+
+/// Point k's share of tr(M⁻¹·N_c) for each camera c with lamp centroids of it: 2·⟨Cov(c, X_k), W_kc⟩
+/// + ⟨Cov(X_k), V_kc⟩, with Cov(c, X_k) = (−Y_k,c + T_{j,c}ᵀ·P_k)·V_k⁻¹ (the camera's rows of Σ_uu·Dᵀ).
+void add_image_traces(const RemlMission& f, const Factors& F, const Covariance& C, std::size_t k,
+                      const Eigen::Ref<const MatrixXd>& Yk, const Matrix3d& cov, VectorXd* trace) {
   const NetworkLayout& l = f.layout;
-  out->assign(f.lin.size(), Matrix3d::Zero());
+  const bool chained = F.states > 0 && f.fix[k];
+  const Eigen::Index j = chained ? 3 * static_cast<Eigen::Index>(l.gm_state[k]) : 0;
+  for (const ImageGroup& g : f.images[k]) {
+    const double w = F.image_weight[static_cast<Eigen::Index>(g.camera)];
+    const auto rows = Eigen::seqN(l.offset[g.camera], g.W.rows());
+    CameraPointBlock cross = -Yk(rows, Eigen::all);
+    if (chained) cross.noalias() += C.T(Eigen::seqN(j, 3), rows).transpose() * F.P[k];
+    const CameraPointBlock cam_point = cross * F.Vinv[k];
+    (*trace)[static_cast<Eigen::Index>(g.camera)] +=
+        w * (2 * cam_point.cwiseProduct(g.W).sum() + cov.cwiseProduct(g.V).sum());
+  }
+}
+
+void point_products(const RemlMission& f, const Factors& F, const Covariance& C, MatrixXd* H, MatrixXd* Y,
+                    PointProducts* out) {
+  const NetworkLayout& l = f.layout;
+  const std::size_t np = f.lin.size();
+  out->WSW.assign(np, Matrix3d::Zero());
+  out->WT.assign(np, Matrix3d::Zero());
+  out->image_trace = VectorXd::Zero(static_cast<Eigen::Index>(f.cameras()));
   H->setZero(l.n_camera_parameters, 3 * kChunk);
   std::vector<std::size_t> chunk;
   const auto flush = [&]() {
@@ -289,58 +381,115 @@ void projected_camera_covariances(const RemlMission& f, const Covariance& C, Mat
     const Eigen::Index cols = 3 * static_cast<Eigen::Index>(chunk.size());
     Y->noalias() = C.cc * H->leftCols(cols);
     for (std::size_t i = 0; i < chunk.size(); ++i) {
-      const Eigen::Index at = 3 * static_cast<Eigen::Index>(i);
-      for (const auto& [c, W] : f.lin[chunk[i]].W)
-        (*out)[chunk[i]].noalias() += W.transpose() * Y->block(l.offset[c], at, W.rows(), 3);
+      const std::size_t k = chunk[i];
+      const auto Yk = Y->middleCols(3 * static_cast<Eigen::Index>(i), 3);
+      for (const auto& [c, W] : F.lin[k].W) {
+        out->WSW[k].noalias() += W.transpose() * Yk.middleRows(l.offset[c], W.rows());
+        if (F.states > 0 && f.fix[k])
+          out->WT[k].noalias() += W.transpose().lazyProduct(
+              C.T.block(3 * static_cast<Eigen::Index>(l.gm_state[k]), l.offset[c], 3, W.rows()).transpose());
+      }
+      if (!f.images[k].empty())
+        add_image_traces(f, F, C, k, Yk, point_covariance(f, F, C, k, out->WSW[k], out->WT[k]),
+                         &out->image_trace);
     }
     H->leftCols(cols).setZero();
     chunk.clear();
   };
-  for (std::size_t k = 0; k < f.lin.size(); ++k) {
-    if (!f.fix[k]) continue;
+  for (std::size_t k = 0; k < np; ++k) {
+    if (!f.in_solve[k] || (!f.fix[k] && f.images[k].empty())) continue;
     const Eigen::Index at = 3 * static_cast<Eigen::Index>(chunk.size());
-    for (const auto& [c, W] : f.lin[k].W) H->block(l.offset[c], at, W.rows(), 3) = W;
+    for (const auto& [c, W] : F.lin[k].W) H->block(l.offset[c], at, W.rows(), 3) = W;
     chunk.push_back(k);
     if (chunk.size() == static_cast<std::size_t>(kChunk)) flush();
   }
   flush();
+  // The cameras' own block of N_c: tr(Σ_cc,c·U_c).
+  for (std::size_t c = 0; c < f.cameras(); ++c) {
+    const auto cols = Eigen::seqN(l.offset[c], static_cast<Eigen::Index>(l.free[c].size()));
+    out->image_trace[static_cast<Eigen::Index>(c)] +=
+        F.image_weight[static_cast<Eigen::Index>(c)] *
+        C.cc(cols, cols).cwiseProduct(f.image_U(cols, cols)).sum();
+  }
 }
 
 /// Cov(X_k + g_k) for fix k: with u = (cameras, g_k), X_k + g_k = D·u + V_k⁻¹-noise,
-/// D = [−V_k⁻¹·W_kᵀ, I − V_k⁻¹·P_k], so Cov = V_k⁻¹ + D·Σ_uu·Dᵀ; `WSW` = W_kᵀ·Σ_cc·W_k
-/// (projected_camera_covariances).
+/// D = [−V_k⁻¹·W_kᵀ, I − V_k⁻¹·P_k], so Cov = V_k⁻¹ + D·Σ_uu·Dᵀ (point_products' WSW and WT).
 Matrix3d fix_covariance(const RemlMission& f, const Factors& F, const Covariance& C, std::size_t k,
-                        const Matrix3d& WSW) {
-  const NetworkLayout& l = f.layout;
+                        const PointProducts& pp) {
   const Matrix3d& Vinv = F.Vinv[k];
-  Matrix3d cov = Vinv + Vinv * WSW * Vinv;
+  Matrix3d cov = Vinv + Vinv * pp.WSW[k] * Vinv;
   if (F.states == 0) return cov;
-  const Eigen::Index j = 3 * static_cast<Eigen::Index>(l.gm_state[k]);
-  Matrix3d WT = Matrix3d::Zero();  // Σ Wᵀ·Tᵀ (T = Z·Σ_cc)
-  for (const auto& [c, W] : f.lin[k].W)
-    WT.noalias() += W.transpose().lazyProduct(C.T.block(j, l.offset[c], 3, W.rows()).transpose());
   // Σ_cg = −Tᵀ: D_c·Σ_cg·D_gᵀ = V⁻¹·(Wᵀ·Tᵀ)·D_gᵀ.
   const Matrix3d Dg = Matrix3d::Identity() - Vinv * F.P[k];
-  const Matrix3d cross = Vinv * WT * Dg.transpose();
-  return cov + cross + cross.transpose() + Dg * C.gg[static_cast<std::size_t>(j / 3)] * Dg.transpose();
+  const Matrix3d cross = Vinv * pp.WT[k] * Dg.transpose();
+  const auto j = static_cast<std::size_t>(f.layout.gm_state[k]);
+  return cov + cross + cross.transpose() + Dg * C.gg[j] * Dg.transpose();
 }
 
-/// The model's effect on the fixes and the states at the minimiser: ê = fix − X − g per fix (m) and
-/// ĝ per state.
+/// The minimiser −Δ (Δ = M⁻¹·b, the factors' step): ê = fix − X − g per fix (m), ĝ per state, and
+/// per camera its lamp centroids' χ² there, χ²_c − 2·b_cᵀΔ + Δᵀ·N_c·Δ, with b_c and N_c its share of
+/// the gradient and the normal equations; and N_c·Δ (on the camera's columns and per point).
 struct Minimiser {
   std::vector<Vector3d> e_hat;
   VectorXd g_hat;
+  VectorXd image_chi2;
+  VectorXd camera_N_delta;                           ///< per camera, on its own columns
+  std::vector<std::vector<Vector3d>> point_N_delta;  ///< per point, per ImageGroup
 };
 
+Minimiser minimiser(const RemlMission& f, const Factors& F, const Solution& s) {
+  const NetworkLayout& l = f.layout;
+  const std::size_t np = f.lin.size();
+  Minimiser mn;
+  mn.e_hat.assign(np, Vector3d::Zero());
+  for (std::size_t k = 0; k < np; ++k)
+    if (f.fix[k]) mn.e_hat[k] = -fix_residual(f, F, s, k);
+  if (F.states > 0) mn.g_hat = -s.g.col(0);
+  const VectorXd& dc = s.c.col(0);
+  mn.image_chi2 = VectorXd::Zero(static_cast<Eigen::Index>(f.cameras()));
+  mn.camera_N_delta = VectorXd::Zero(l.n_camera_parameters);
+  mn.point_N_delta.resize(np);
+  for (std::size_t c = 0; c < f.cameras(); ++c) {
+    const auto cols = Eigen::seqN(l.offset[c], static_cast<Eigen::Index>(l.free[c].size()));
+    const double w = F.image_weight[static_cast<Eigen::Index>(c)];
+    mn.camera_N_delta(cols) = w * f.image_U(cols, cols) * dc(cols);
+    mn.image_chi2[static_cast<Eigen::Index>(c)] =
+        w * (f.image_chi2[c] - 2 * f.image_gradient(cols).dot(dc(cols)));
+  }
+  for (std::size_t k = 0; k < np; ++k) {
+    mn.point_N_delta[k].clear();
+    const Vector3d dX = s.X(rows3(k), 0);
+    for (const ImageGroup& g : f.images[k]) {
+      const double w = F.image_weight[static_cast<Eigen::Index>(g.camera)];
+      const auto cols = Eigen::seqN(l.offset[g.camera], g.W.rows());
+      mn.camera_N_delta(cols) += w * g.W * dX;
+      mn.point_N_delta[k].push_back(w * (g.W.transpose() * dc(cols) + g.V * dX));
+      mn.image_chi2[static_cast<Eigen::Index>(g.camera)] -= 2 * w * g.grad_point.dot(dX);
+    }
+  }
+  // + Δᵀ·N_c·Δ: the camera columns' and the points' shares of N_c·Δ against Δ.
+  for (std::size_t c = 0; c < f.cameras(); ++c) {
+    const auto cols = Eigen::seqN(l.offset[c], static_cast<Eigen::Index>(l.free[c].size()));
+    mn.image_chi2[static_cast<Eigen::Index>(c)] += mn.camera_N_delta(cols).dot(dc(cols));
+  }
+  for (std::size_t k = 0; k < np; ++k)
+    for (std::size_t i = 0; i < f.images[k].size(); ++i)
+      mn.image_chi2[static_cast<Eigen::Index>(f.images[k][i].camera)] +=
+          mn.point_N_delta[k][i].dot(s.X(rows3(k), 0));
+  return mn;
+}
+
 /// ∂D/∂θ (restricted_likelihood.hpp): the white scales from each fix's R, Cov(X_k + g_k) and ê_k;
-/// the chain's parameters from Q⁻¹'s tridiagonal derivatives against Σ_gg + ĝ·ĝᵀ.
+/// the chain's parameters from Q⁻¹'s tridiagonal derivatives against Σ_gg + ĝ·ĝᵀ; each image scale
+/// from its camera's redundancy and χ² at the minimiser.
 LogParameters deviance_gradient(const RemlMission& f, const Factors& F, const Covariance& C,
-                                const std::vector<Matrix3d>& WSW, const Minimiser& mn) {
-  LogParameters grad = LogParameters::Zero();
+                                const PointProducts& pp, const Minimiser& mn) {
+  LogParameters grad = LogParameters::Zero(kPpkParameters + static_cast<Eigen::Index>(f.cameras()));
   for (std::size_t k = 0; k < f.lin.size(); ++k) {
     if (!f.fix[k]) continue;
     // ∂R⁻¹/∂log s = −(E·R⁻¹ + R⁻¹·E), E the axes the scale covers; ∂log|R|/∂log s = 2 per axis.
-    const Matrix3d PC = F.P[k] * fix_covariance(f, F, C, k, WSW[k]);
+    const Matrix3d PC = F.P[k] * fix_covariance(f, F, C, k, pp);
     const Vector3d Pe = F.P[k] * mn.e_hat[k];
     for (int a = 0; a < 3; ++a) grad[scale_index(a)] += 2 - 2 * PC(a, a) - 2 * mn.e_hat[k][a] * Pe[a];
   }
@@ -357,6 +506,11 @@ LogParameters deviance_gradient(const RemlMission& f, const Factors& F, const Co
         term += d_tau ? -F.steps[j].dw2[a] / F.steps[j].w2[a] : 2;
         grad[d_tau ? tau_index(a) : gm_sd_index(a)] += term;
       }
+  // ∂Σ_c/∂log s_c = 2·Σ_c: 2·(n_c − tr(M⁻¹·N_c) − χ²_c,min).
+  for (std::size_t c = 0; c < f.cameras(); ++c) {
+    const auto i = static_cast<Eigen::Index>(c);
+    grad[kPpkParameters + i] = 2 * (f.image_rows[c] - pp.image_trace[i] - mn.image_chi2[i]);
+  }
   return grad;
 }
 
@@ -372,13 +526,13 @@ VectorXd chain_covariance_times(const std::vector<ChainStep>& s, int a, const Ve
   return (forward + backward) / s[0].w2[a];
 }
 
-/// The working variates wᵢ = ∂Σ/∂θ_i·P·y on the fixes (restricted_likelihood.hpp), per parameter
+/// The working variates wᵢ = ∂Σ/∂θ_i·P·y on the fixes (restricted_likelihood.hpp), per PPK parameter
 /// and fix: Ṙ·R⁻¹·ê for a white scale (Ṙ = E·R + R·E); Q̇·Q⁻¹·ĝ = −Q·∂Q⁻¹·ĝ at the fix's state for
 /// a chain parameter (2·ĝ for σ_g).
 std::vector<std::vector<Vector3d>> working_variates(const RemlMission& f, const Factors& F,
                                                     const Minimiser& mn) {
   const std::size_t np = f.lin.size();
-  std::vector<std::vector<Vector3d>> w(6, std::vector<Vector3d>(np, Vector3d::Zero()));
+  std::vector<std::vector<Vector3d>> w(kPpkParameters, std::vector<Vector3d>(np, Vector3d::Zero()));
   for (std::size_t k = 0; k < np; ++k) {
     if (!f.fix[k]) continue;
     const Vector3d Pe = F.P[k] * mn.e_hat[k];
@@ -413,39 +567,60 @@ std::vector<std::vector<Vector3d>> working_variates(const RemlMission& f, const 
 /// The derivatives' buffers, kept between evaluations (as large as the step's).
 struct DerivativeWorkspace {
   Covariance C;
-  std::vector<Matrix3d> WSW;  ///< W_kᵀ·Σ_cc·W_k per point
-  MatrixXd H, Y;              ///< projected_camera_covariances' chunk
-  MatrixXd rX, rg;
+  PointProducts pp;
+  MatrixXd H, Y;  ///< point_products' chunk
+  MatrixXd rc, rX, rg;
   Solution s;
 };
 
-/// AI_ij = ½·wᵢᵀ·P·wⱼ: P·wⱼ on the fixes is R⁻¹ times wⱼ's residual when wⱼ is fitted as data by
-/// the same normal equations (one solve for all of them).
-Eigen::Matrix<double, 6, 6> average_information(const RemlMission& f, const Factors& F, const Minimiser& mn,
-                                                DerivativeWorkspace* work) {
+/// AI_ij = ½·wᵢᵀ·P·wⱼ = ½·(wᵢᵀ·Σ⁻¹·wⱼ − bᵢᵀ·M⁻¹·bⱼ), bᵢ = Jᵀ·Σ⁻¹·wᵢ the variate fitted as data by the
+/// same normal equations (one solve for all of them). A PPK variate's b is P·w on its fix's point
+/// and state; an image variate's, with ẽ_c the camera's whitened residuals observed − fitted as the
+/// fixes' ê (the linearisation's r is fitted − observed: ẽ_c = −(r_c − J_c·Δ)), −2·(b_c − N_c·Δ) on
+/// its camera's columns and points, and its Σ⁻¹-norm 4·χ²_c,min (the cameras' centroids are disjoint
+/// rows).
+Eigen::MatrixXd average_information(const RemlMission& f, const Factors& F, const Minimiser& mn,
+                                    DerivativeWorkspace* work) {
+  const NetworkLayout& l = f.layout;
   const std::vector<std::vector<Vector3d>> w = working_variates(f, F, mn);
   const std::size_t np = f.lin.size();
-  const int n = F.states > 0 ? 6 : 2;
+  const auto nc = static_cast<Eigen::Index>(f.cameras());
+  const Eigen::Index n = kPpkParameters + nc;
+  MatrixXd& rc = work->rc;
   MatrixXd& rX = work->rX;
   MatrixXd& rg = work->rg;
+  rc.setZero(l.n_camera_parameters, n);
   rX.setZero(3 * static_cast<Eigen::Index>(np), n), rg.setZero(3 * static_cast<Eigen::Index>(F.states), n);
+  MatrixXd gram = MatrixXd::Zero(n, n);
+  Eigen::Matrix<double, 3, kPpkParameters> W;
   for (std::size_t k = 0; k < np; ++k) {
     if (!f.fix[k]) continue;
-    for (int i = 0; i < n; ++i) rX(rows3(k), i) = F.P[k] * w[static_cast<std::size_t>(i)][k];
+    for (int i = 0; i < kPpkParameters; ++i) W.col(i) = w[static_cast<std::size_t>(i)][k];
+    rX(rows3(k), Eigen::seqN(0, kPpkParameters)).noalias() = F.P[k] * W;
+    gram.topLeftCorner<kPpkParameters, kPpkParameters>().noalias() += W.transpose() * F.P[k] * W;
     if (F.states > 0)
-      rg(rows3(static_cast<std::size_t>(f.layout.gm_state[k])), Eigen::all) += rX(rows3(k), Eigen::all);
+      rg(rows3(static_cast<std::size_t>(l.gm_state[k])), Eigen::seqN(0, kPpkParameters)) +=
+          rX(rows3(k), Eigen::seqN(0, kPpkParameters));
   }
-  solve(f, F, MatrixXd::Zero(f.layout.n_camera_parameters, n), rX, rg, &work->s);
+  for (std::size_t c = 0; c < f.cameras(); ++c) {
+    const Eigen::Index i = kPpkParameters + static_cast<Eigen::Index>(c);
+    const auto cols = Eigen::seqN(l.offset[c], static_cast<Eigen::Index>(l.free[c].size()));
+    rc(cols, i) =
+        -2 * (F.image_weight[i - kPpkParameters] * f.image_gradient(cols) - mn.camera_N_delta(cols));
+    gram(i, i) = 4 * mn.image_chi2[i - kPpkParameters];
+  }
+  for (std::size_t k = 0; k < np; ++k)
+    for (std::size_t g = 0; g < f.images[k].size(); ++g) {
+      const ImageGroup& group = f.images[k][g];
+      const double weight = F.image_weight[static_cast<Eigen::Index>(group.camera)];
+      rX(rows3(k), kPpkParameters + static_cast<Eigen::Index>(group.camera)) +=
+          -2 * (weight * group.grad_point - mn.point_N_delta[k][g]);
+    }
+  solve(f, F, rc, rX, rg, &work->s);
   const Solution& s = work->s;
-  Eigen::Matrix<double, 6, 6> ai = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 3, Eigen::Dynamic> W(3, n), fitted(3, n);
-  for (std::size_t k = 0; k < np; ++k) {
-    if (!f.fix[k]) continue;
-    for (int i = 0; i < n; ++i) W.col(i) = w[static_cast<std::size_t>(i)][k];
-    fitted = s.X(rows3(k), Eigen::all);
-    if (F.states > 0) fitted += s.g(rows3(static_cast<std::size_t>(f.layout.gm_state[k])), Eigen::all);
-    ai.topLeftCorner(n, n).noalias() += 0.5 * W.transpose() * F.P[k] * (W - fitted);
-  }
+  MatrixXd fitted = rc.transpose() * s.c + rX.transpose() * s.X;
+  if (F.states > 0) fitted += rg.transpose() * s.g;
+  const MatrixXd ai = 0.5 * (gram - fitted);
   return 0.5 * (ai + ai.transpose());
 }
 
@@ -469,14 +644,39 @@ RemlMission reml_mission(const NetworkLayout& any, const NetworkParameterBlocks&
       f.fix[k] = 1, images.prior[k] = 0;
       f.residual[k] = Eigen::Map<const Vector3d>(b.points[k].data()) - (*l.points)[k].prior_enu;
     }
+  // The lamp centroids (observations at their camera's stated σ) of points in the solve apart, by
+  // camera; the rest — pole picks at their own σ, single-view points — in lin.
+  const std::vector<NetworkObservation>& obs = *l.observations;
+  const auto centroid = [&](std::size_t i) {
+    return images.observation[i] && obs[i].pixel_sigma_px <= 0 && !images.single_view[obs[i].point];
+  };
+  NetworkSelection rest = images, one = images;
+  one.prior.assign(np, 0);
+  one.observation.assign(obs.size(), 0);
+  for (std::size_t i = 0; i < obs.size(); ++i)
+    if (centroid(i)) rest.observation[i] = 0;
   const int n = l.n_camera_parameters;
+  const std::size_t nc = l.setups.size();
   f.U = MatrixXd::Zero(n, n), f.gradient = VectorXd::Zero(n);
+  f.image_U = MatrixXd::Zero(n, n), f.image_gradient = VectorXd::Zero(n);
+  f.image_chi2.assign(nc, 0), f.image_rows.assign(nc, 0);
   int rows = 0;
-  f.lin.resize(np);
+  f.lin.resize(np), f.images.resize(np);
   for (std::size_t k = 0; k < np; ++k) {
-    f.lin[k] = linearise_point(l, b, images, k, &f.U, &f.chi2, &rows);
+    f.lin[k] = linearise_point(l, b, rest, k, &f.U, &f.chi2, &rows);
     for (const auto& [c, g] : f.lin[k].grad_camera) f.gradient.segment(l.offset[c], g.size()) += g;
-    f.in_solve[k] = f.fix[k] || !f.lin[k].V.isZero(0);
+    for (std::size_t c = 0; c < nc; ++c) {
+      bool any_centroid = false;
+      for (std::size_t i : l.by_point[k])
+        if (obs[i].camera == c && centroid(i)) one.observation[i] = 1, any_centroid = true;
+      if (!any_centroid) continue;
+      const PointLinearisation p =
+          linearise_point(l, b, one, k, &f.image_U, &f.image_chi2[c], &f.image_rows[c]);
+      for (std::size_t i : l.by_point[k]) one.observation[i] = 0;
+      f.image_gradient.segment(l.offset[c], p.grad_camera[0].second.size()) += p.grad_camera[0].second;
+      f.images[k].push_back({c, p.V, p.W[0].second, p.grad_point});
+    }
+    f.in_solve[k] = f.fix[k] || !f.lin[k].V.isZero(0) || !f.images[k].empty();
   }
   add_camera_priors(l, b, &f.U, &f.chi2, &rows, &f.gradient);
   return f;
@@ -494,11 +694,11 @@ RemlFactors::~RemlFactors() = default;
 RemlFactors::RemlFactors(RemlFactors&&) noexcept = default;
 RemlFactors& RemlFactors::operator=(RemlFactors&&) noexcept = default;
 
-void factor_restricted_likelihood(const RemlMission& f, const PpkErrorModel& m, bool chain,
+void factor_restricted_likelihood(const RemlMission& f, const LogParameters& x, bool chain,
                                   RemlFactors* out) {
   RemlFactors::State& st = *out->state;
   Factors& F = st.F;
-  const double log_det = factorise(f, m, chain, &F);
+  const double log_det = factorise(f, x, chain, &F);
   out->deviance = kInfinity;
   if (!std::isfinite(log_det)) return;
   // The step Δ = M⁻¹·b, and χ²_min = χ² − bᵀ·Δ.
@@ -507,15 +707,15 @@ void factor_restricted_likelihood(const RemlMission& f, const PpkErrorModel& m, 
   st.bg.setZero(3 * static_cast<Eigen::Index>(F.states), 1);
   for (std::size_t k = 0; k < np; ++k) {
     if (!f.in_solve[k]) continue;
-    st.bX(rows3(k), 0) = f.lin[k].grad_point;
+    st.bX(rows3(k), 0) = F.lin[k].grad_point;
     if (!f.fix[k]) continue;
     const Vector3d Pe = F.P[k] * f.residual[k];
     st.bX(rows3(k), 0) += Pe;
     if (F.states > 0) st.bg(rows3(static_cast<std::size_t>(f.layout.gm_state[k])), 0) += Pe;
   }
-  solve(f, F, f.gradient, st.bX, st.bg, &st.step);
+  solve(f, F, F.gradient, st.bX, st.bg, &st.step);
   const Solution& s = st.step;
-  const double decrease = f.gradient.dot(s.c.col(0)) + st.bX.col(0).dot(s.X.col(0)) +
+  const double decrease = F.gradient.dot(s.c.col(0)) + st.bX.col(0).dot(s.X.col(0)) +
                           (F.states > 0 ? st.bg.col(0).dot(s.g.col(0)) : 0);
   out->deviance = log_det + F.chi2 - decrease;
 }
@@ -525,27 +725,21 @@ RemlEvaluation restricted_likelihood_derivatives(const RemlMission& f, const Rem
   out.deviance = factors.deviance;
   if (!std::isfinite(out.deviance)) return out;
   const Factors& F = factors.state->F;
-  const Solution& s = factors.state->step;
-  const std::size_t np = f.lin.size();
-  Minimiser mn;
-  mn.e_hat.assign(np, Vector3d::Zero());
-  for (std::size_t k = 0; k < np; ++k)
-    if (f.fix[k]) mn.e_hat[k] = -fix_residual(f, F, s, k);
-  if (F.states > 0) mn.g_hat = -s.g.col(0);
+  const Minimiser mn = minimiser(f, F, factors.state->step);
   DerivativeWorkspace& work = factors.state->work;
   covariance(F, &work.C);
-  projected_camera_covariances(f, work.C, &work.H, &work.Y, &work.WSW);
-  out.gradient = deviance_gradient(f, F, work.C, work.WSW, mn);
+  point_products(f, F, work.C, &work.H, &work.Y, &work.pp);
+  out.gradient = deviance_gradient(f, F, work.C, work.pp, mn);
   out.information = average_information(f, F, mn, &work);
   for (std::size_t k : f.layout.gm_chain)
     if (f.fix[k]) out.corrections.push_back(mn.e_hat[k]);
   return out;
 }
 
-RemlEvaluation evaluate_restricted_likelihood(const RemlMission& f, const PpkErrorModel& m, bool chain,
+RemlEvaluation evaluate_restricted_likelihood(const RemlMission& f, const LogParameters& x, bool chain,
                                               bool derivatives) {
   RemlFactors factors;
-  factor_restricted_likelihood(f, m, chain, &factors);
+  factor_restricted_likelihood(f, x, chain, &factors);
   if (derivatives) return restricted_likelihood_derivatives(f, factors);
   RemlEvaluation out;
   out.deviance = factors.deviance;

@@ -168,9 +168,10 @@ void BM_RestrictedLikelihood(benchmark::State& state) {
   PpkErrorModel m;
   m.white_scale_h = m.white_scale_v = 0.35;
   m.gm_sd_h_m = 0.008, m.gm_sd_v_m = 0.014, m.tau_h_s = m.tau_v_s = 30;
+  const LogParameters x = log_parameters_of(m, mission.cameras());
   RemlFactors factors;  // re-used, as the search re-uses its own
   for (auto _ : state) {
-    factor_restricted_likelihood(mission, m, true, &factors);
+    factor_restricted_likelihood(mission, x, true, &factors);
     if (state.range(1) != 0) benchmark::DoNotOptimize(restricted_likelihood_derivatives(mission, factors));
     benchmark::DoNotOptimize(factors.deviance);
   }

@@ -409,6 +409,13 @@ NetworkInput network_input(const CrbNetwork& n, const GaussMarkovPpk& weights, c
     }
     in.cameras.push_back(nc);
   }
+  // A camera's lamp centroids at its default σ (its first lamp view's), as the pipeline gives them
+  // (pipeline/steps/network_problem.cpp): the network's image variance component scales them;
+  // another σ (a pole pick's) stays the observation's own.
+  std::vector<char> has_default(n.cameras.size(), 0);
+  for (const CrbView& v : n.views)
+    if (v.point < n.epochs.size() && !has_default[v.camera])
+      in.cameras[v.camera].options.pixel_sigma_px = v.pixel_sigma_px, has_default[v.camera] = 1;
   const Vector3d s = weights.total_sigma();
   for (std::size_t k = 0; k < n.epochs.size(); ++k) {
     NetworkPoint p;
@@ -435,7 +442,9 @@ NetworkInput network_input(const CrbNetwork& n, const GaussMarkovPpk& weights, c
     ob.point = v.point;
     ob.pixel = pixel(n.cameras[v.camera].truth, X) +
                (noise.pixel_noise.empty() ? Vector2d::Zero() : noise.pixel_noise[i]);
-    ob.pixel_sigma_px = v.pixel_sigma_px;
+    const bool centroid =
+        v.point < n.epochs.size() && v.pixel_sigma_px == in.cameras[v.camera].options.pixel_sigma_px;
+    ob.pixel_sigma_px = centroid ? 0 : v.pixel_sigma_px;
     in.observations.push_back(ob);
   }
   return in;

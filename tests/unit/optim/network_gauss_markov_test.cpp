@@ -19,6 +19,7 @@
 
 #include "optim/network/network_gauss_newton.hpp"
 #include "support/correlated_crb.hpp"
+#include "support/network_honesty.hpp"
 
 namespace rangecal::test {
 namespace {
@@ -248,15 +249,6 @@ TEST(NetworkGaussMarkov, PointCovarianceMatchesItsScatter) {
   EXPECT_NEAR(d2 / count, 3.0, 0.75);
 }
 
-/// The figures of a Monte Carlo over missions of `n` with correlated errors of `model`.
-struct HonestyFigures {
-  double actual_m = 0;     ///< rms over missions of the calibration-only intersection error
-  double predicted_m = 0;  ///< rms over missions of the intersection σ the network predicts
-  double bound_m = 0;      ///< the correlated Cramér–Rao bound's intersection σ
-  double z_rms = 0;        ///< rms z-score of f and the camera centres
-  double z_worst = 0;      ///< the largest |z|
-};
-
 struct MonteCarloRun {
   HonestyFigures correlated, white;
   HonestyFigures estimated;  ///< the model estimated from each mission (with_estimate)
@@ -264,7 +256,7 @@ struct MonteCarloRun {
 
 /// ≥ 20 missions: for each, network_adjust weighted by the true model and by white noise (today's
 /// network), plain least squares; each estimate's calibration-only intersection error over the flight
-/// volume (its δθ as a rank-one covariance, tests/support/correlated_crb.hpp) and its z-scores.
+/// volume (its δθ as a rank-one covariance, tests/support/network_honesty.hpp) and its z-scores.
 MonteCarloRun honesty_monte_carlo(const CrbNetwork& n, const GaussMarkovPpk& model, int missions,
                                   std::uint64_t seed, bool with_estimate = false) {
   const CameraJointCovariance bound = cramer_rao_bound(n, ppk_joint_covariance(n.epoch_time_s, model));
@@ -280,63 +272,18 @@ MonteCarloRun honesty_monte_carlo(const CrbNetwork& n, const GaussMarkovPpk& mod
   const NetworkOptions* options[3] = {&correlated, &base, &estimating};
   DeterministicRandom rng(seed);
   MonteCarloRun run;
-  int z_count = 0;
   for (int d = 0; d < missions; ++d) {
     const NetworkNoise noise = draw_network_noise(n, model, &rng);
     for (int which = 0; which < (with_estimate ? 3 : 2); ++which) {
       HonestyFigures& f = which == 0 ? run.correlated : which == 1 ? run.white : run.estimated;
       const NetworkInput in = network_input(n, model, noise);
-      const NetworkResult r = network_adjust(in.cameras, in.points, in.observations, *options[which]);
-      CameraJointCovariance predicted = bound, error = bound;
-      predicted.joint = MatrixXd::Zero(bound.joint.rows(), bound.joint.cols());
-      VectorXd err(bound.joint.rows());
-      for (std::size_t c = 0; c < n.cameras.size(); ++c) {
-        const CalibrationResult& cal = r.cameras[c].calibration;
-        const VectorXd e = free_values(n, c, cal.camera) - free_values(n, c, n.cameras[c].truth);
-        err.segment(bound.offset[c], e.size()) = e;
-        // The network's joint covariance in the bound's order, cross-camera blocks included.
-        const std::vector<CameraParameter>& mine = n.cameras[c].free;
-        for (std::size_t c2 = 0; c2 < n.cameras.size(); ++c2) {
-          const CalibrationResult& cal2 = r.cameras[c2].calibration;
-          const std::vector<CameraParameter>& other = n.cameras[c2].free;
-          for (std::size_t a = 0; a < mine.size(); ++a)
-            for (std::size_t b = 0; b < other.size(); ++b)
-              predicted.joint(bound.offset[c] + static_cast<Eigen::Index>(a),
-                              bound.offset[c2] + static_cast<Eigen::Index>(b)) =
-                  r.joint_covariance(r.joint_offset[c] + cal.parameter_index(mine[a]),
-                                     r.joint_offset[c2] + cal2.parameter_index(other[b]));
-        }
-        // z-scores of f and the centre (CE, CN, CU), the free set's first and last three.
-        const VectorXd s = r.cameras[c].details.sigma_unscaled;
-        for (CameraParameter p :
-             {CameraParameter::f, kCenterParameters[0], kCenterParameters[1], kCenterParameters[2]}) {
-          std::size_t a = 0;
-          while (a < mine.size() && mine[a] != p) ++a;
-          const double z = e[static_cast<Eigen::Index>(a)] / s[cal.parameter_index(p)];
-          f.z_rms += z * z;
-          f.z_worst = std::max(f.z_worst, std::abs(z));
-          if (which == 0) ++z_count;
-        }
-      }
-      error.joint = err * err.transpose();
-      f.actual_m += std::pow(intersection_sigma_m(n, error, volume), 2) / missions;
-      f.predicted_m += std::pow(intersection_sigma_m(n, predicted, volume), 2) / missions;
+      add_mission(n, network_adjust(in.cameras, in.points, in.observations, *options[which]), bound, volume,
+                  &f);
     }
   }
-  for (HonestyFigures* f : {&run.correlated, &run.white, &run.estimated}) {
-    f->actual_m = std::sqrt(f->actual_m), f->predicted_m = std::sqrt(f->predicted_m);
-    f->z_rms = std::sqrt(f->z_rms / z_count);
-    f->bound_m = intersection_sigma_m(n, bound, volume);
-  }
+  for (HonestyFigures* f : {&run.correlated, &run.white, &run.estimated})
+    if (f->missions > 0) finish(n, bound, volume, f);
   return run;
-}
-
-void print(const char* what, const HonestyFigures& f) {
-  std::printf(
-      "  %-10s intersection error rms %.3f cm, predicted %.3f cm (x%.2f), bound %.3f cm (x%.2f); z rms "
-      "%.2f, worst %.1f\n",
-      what, 100 * f.actual_m, 100 * f.predicted_m, f.actual_m / f.predicted_m, 100 * f.bound_m,
-      f.actual_m / f.bound_m, f.z_rms, f.z_worst);
 }
 
 TEST(NetworkGaussMarkov, SigmaHoldsUnderCorrelatedErrors) {
