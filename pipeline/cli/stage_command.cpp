@@ -17,6 +17,13 @@ namespace rangecal {
 void require_complete_outcome(const MissionConfig& cfg) {
   const RunOutcome outcome = read_run_outcome(cfg);
   if (outcome.status == "complete") return;
+  if (outcome.status == "degraded") {
+    // Complete, exit 0; the batch reads run.json's outcome, the user this line.
+    std::cerr << "rangecal: warning: " << mission_output(cfg, kRunJson)
+              << ": the mission is degraded (look before trusting it): " << outcome_reasons_text(outcome)
+              << "\n";
+    return;
+  }
   const ErrorKind kind = outcome.exit_code == 2 || outcome.exit_code == 3
                              ? static_cast<ErrorKind>(outcome.exit_code)
                              : ErrorKind::calibration;

@@ -38,6 +38,7 @@ nlohmann::json camera_json(const CalibrateCameraRecord& c) {
     return j;
   }
   write_fields(kFitFields, c, &j);
+  if (!c.exports_refused.empty()) j["exports_refused"] = c.exports_refused;
   j["method_time_s"] = nlohmann::json::object();
   for (const auto& [m, s] : c.method_time_s) j["method_time_s"][m] = s;
   j["warnings"] = nlohmann::json::array();
@@ -75,6 +76,10 @@ CalibrateCameraRecord parse_camera(const JsonView& v) {
   c.failed = string_field(v, "failed");
   if (!c.failed.empty()) return c;
   read_fields(kFitFields, v, &c);
+  if (const auto e = v.find("exports_refused")) {
+    const std::size_t n = e->require_array("an array of strings");
+    for (std::size_t i = 0; i < n; ++i) c.exports_refused.push_back(e->element(i).string("a string"));
+  }
   if (const auto t = v.find("method_time_s")) {
     t->require_object("an object {method: seconds}");
     for (const auto& [m, s] : t->json().items())

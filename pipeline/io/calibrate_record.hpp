@@ -4,7 +4,7 @@
 //   cameras.<id>     per camera of the config, {pairs, control_poles, failed} when its calibration
 //                    failed, else {pairs, control_poles, method, rms_px, n_used, n_rejected,
 //                    opencv_fit_max_px, opencv_undistort_max_px, dlt_only_rms_px, dlt_only_max_px,
-//                    dlt_profile_max_px, method_time_s {method: s},
+//                    dlt_profile_max_px, exports_refused [text], method_time_s {method: s},
 //                    warnings [{kind, camera, parameters}]}
 //   network          the network's statistics (pipeline/io/network_json.hpp), when it ran
 //   method_choice    {method, shared_epochs, why}: the default rule's choice (docs/config.md
@@ -43,6 +43,8 @@ struct CalibrateCameraRecord {
   /// profile's and its undistortion's.
   double opencv_fit_max_px = 0, opencv_undistort_max_px = 0;
   double dlt_only_rms_px = 0, dlt_only_max_px = 0, dlt_profile_max_px = 0;
+  /// The export files not written because they cannot reproduce the camera (file name: why).
+  std::vector<std::string> exports_refused;
   std::map<std::string, double> method_time_s;  ///< wall time of each per-camera method run (s, 0.1 ms)
   std::vector<WarningCodeRecord> warnings;      ///< calibration.json's warnings, coded, in its order
 };

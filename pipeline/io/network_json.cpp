@@ -115,6 +115,20 @@ nlohmann::json ppk_error_estimate_json(const PpkErrorEstimate& e) {
              {"tau_s", hv(e.sd.tau_h_s, e.sd.tau_v_s)}};
   j["gauss_markov_sd_held"] = {{"horizontal", e.gm_sd_held_h}, {"vertical", e.gm_sd_held_v}};
   j["evaluations"] = e.evaluations;
+  j["guard_refused"] = e.guard_reasons;
+  j["on_bound"] = e.on_bound;
+  return j;
+}
+
+nlohmann::json image_sigma_json(const NetworkResult& r) {
+  const PpkErrorEstimate& e = *r.ppk_estimate;
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t c = 0; c < r.cameras.size() && c < e.image_scale.size(); ++c) {
+    const double used = r.cameras[c].details.pixel_sigma_px;
+    j[r.cameras[c].calibration.camera_id] = {{"stated_px", used / e.image_scale[c]},
+                                             {"estimated_px", used},
+                                             {"sd_px", used / e.image_scale[c] * e.image_scale_sd[c]}};
+  }
   return j;
 }
 
@@ -141,6 +155,7 @@ nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector
     j["ppk_error_model"]["gauss_markov"]["independent_looks"] = {{"horizontal", s.ppk_looks_h},
                                                                  {"vertical", s.ppk_looks_v}};
   if (r.ppk_estimate) j["ppk_error_model"]["estimate"] = ppk_error_estimate_json(*r.ppk_estimate);
+  if (r.ppk_estimate && !r.ppk_estimate->image_scale.empty()) j["image_sigma"] = image_sigma_json(r);
   return j;
 }
 

@@ -29,6 +29,10 @@ nlohmann::json ppk_error_model_json(const PpkErrorModel& model, int gauss_markov
 /// σ (null where held), whether the white model was kept, the likelihood ratio, the record length
 /// and which τ were held at the fallback (optim/network/ppk_error_estimation.hpp).
 nlohmann::json ppk_error_estimate_json(const PpkErrorEstimate& estimate);
+/// Each camera's lamp-centroid σ (px) estimated with the model: {id: {stated_px, estimated_px,
+/// sd_px}} — the image variance components (docs/optimisation.md "Image variance components"); the
+/// statistics' `image_sigma` when the network estimated them.
+nlohmann::json image_sigma_json(const NetworkResult& r);
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 
 /// `ppk_error_model` read back (the report's PPK error model section): the model, each value's σ

@@ -47,6 +47,7 @@ void update_run_log(const MissionConfig& cfg, const StageLog& log) {
   stage["counts"] = log.counts;
   stage["warnings"] = log.warnings;
   if (!log.shortfalls.empty()) stage["shortfalls"] = log.shortfalls;
+  if (!log.degradations.empty()) stage["degradations"] = log.degradations;
   stage["removed_outputs"] = log.removed_outputs.size();
   if (!j["stages"].is_object()) j["stages"] = nlohmann::json::object();
   j["stages"][log.stage] = stage;

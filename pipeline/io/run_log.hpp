@@ -23,6 +23,11 @@ struct StageLog {
   /// intersection check without poles): run.json's `shortfalls`, making the run's outcome partial
   /// (pipeline/io/run_outcome.hpp, exit 4) with the outputs kept.
   std::vector<std::string> shortfalls;
+  /// What the stage delivered but a user should not trust without a look (a variance factor far
+  /// above 1, an estimate on its bound, many PPK priors dropped, an export that cannot reproduce its
+  /// camera): run.json's `degradations`, making a run that is otherwise complete `degraded`
+  /// (pipeline/io/run_outcome.hpp, exit 0; 4 under run.fail_on_degraded).
+  std::vector<std::string> degradations;
   bool failed = false;             ///< the stage threw: `error` says why, and it wrote no outputs
   nlohmann::json error = nullptr;  ///< {message, exit_code, file, line, field} when failed
   /// Previous outputs removed before the stage ran (its own and the later stages').

@@ -9,6 +9,7 @@ namespace rangecal {
 
 RunOutcome run_outcome(const nlohmann::json& run_json, const std::string& before_stage) {
   RunOutcome out;
+  std::vector<std::string> degradations;
   if (!run_json.is_object() || !run_json.contains("stages") || !run_json["stages"].is_object()) return out;
   const nlohmann::json& stages = run_json["stages"];
   for (const std::string& name : mission_stage_names()) {
@@ -29,11 +30,17 @@ RunOutcome run_outcome(const nlohmann::json& run_json, const std::string& before
     if (s.contains("shortfalls") && s["shortfalls"].is_array())
       for (const nlohmann::json& r : s["shortfalls"])
         if (r.is_string()) out.reasons.push_back(name + ": " + r.get<std::string>());
+    if (s.contains("degradations") && s["degradations"].is_array())
+      for (const nlohmann::json& r : s["degradations"])
+        if (r.is_string()) degradations.push_back(name + ": " + r.get<std::string>());
   }
   if (out.status != "failed" && !out.reasons.empty()) {
     out.status = "partial";
     out.exit_code = 4;
   }
+  if (out.status == "complete" && !degradations.empty()) out.status = "degraded";
+  // A partial or failed run lists what it misses first, then what is degraded.
+  out.reasons.insert(out.reasons.end(), degradations.begin(), degradations.end());
   return out;
 }
 

@@ -4,7 +4,9 @@
 // and none recorded a shortfall; partial (exit 4) when a stage finished but could not deliver
 // what a complete mission needs — a configured camera not calibrated, an intersection check
 // without the poles it needs, a poorly determined parameter under run.fail_on_poorly_determined
-// — its outputs kept and marked; failed (the error's exit code) when a stage threw.
+// — its outputs kept and marked; degraded (exit 0) when it is complete but a stage recorded a
+// degradation — figures it delivered that the user should look at before trusting them; failed (the
+// error's exit code) when a stage threw.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -14,13 +16,13 @@
 namespace rangecal {
 
 struct RunOutcome {
-  std::string status = "complete";   ///< complete | partial | failed
-  int exit_code = 0;                 ///< 0 complete, 4 partial, the stage error's code when failed
-  std::vector<std::string> reasons;  ///< "<stage>: <what is missing>", in stage order
+  std::string status = "complete";  ///< complete | degraded | partial | failed
+  int exit_code = 0;                ///< 0 complete or degraded, 4 partial, the stage error's code when failed
+  std::vector<std::string> reasons;  ///< "<stage>: <what is missing or degraded>", in stage order
 };
 
 /// The outcome of run.json's stage sections (`stages.<name>.status`, `.error.exit_code`,
-/// `.shortfalls`), in mission order, leaving out `before_stage` and the stages after it (all
+/// `.shortfalls`, `.degradations`), in mission order, leaving out `before_stage` and the stages after it (all
 /// when empty).
 RunOutcome run_outcome(const nlohmann::json& run_json, const std::string& before_stage = "");
 

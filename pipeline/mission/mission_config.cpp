@@ -325,9 +325,24 @@ CameraPriors parse_priors(const JsonView& pr, const SensorConfig& sensor) {
   return priors;
 }
 
+// The a-priori pixel σ per kind of observation: each > 0 and at most 100 px.
+PixelSigmaConfig parse_pixel_sigma(const JsonView& v) {
+  v.require_object("an object {\"centroid\": px, \"pick\": px}");
+  v.check_keys({"centroid", "pick"});
+  PixelSigmaConfig out;
+  const std::string form = "a positive standard deviation in pixels, at most 100";
+  for (const auto& [key, field] : {std::pair<const char*, double*>{"centroid", &out.centroid_px},
+                                   std::pair<const char*, double*>{"pick", &out.pick_px}})
+    if (auto x = v.find(key)) {
+      *field = Loader::positive(*x, form);
+      if (*field > 100) x->fail_expected(form);
+    }
+  return out;
+}
+
 CameraConfig parse_camera(const Loader& L, const JsonView& c) {
   c.require_object("a camera object {\"id\", \"frames\", \"sensor\", \"lens\", ...}");
-  c.check_keys({"id", "frames", "sensor", "lens", "pole_observations", "priors"});
+  c.check_keys({"id", "frames", "sensor", "lens", "pole_observations", "priors", "pixel_sigma_px"});
   CameraConfig cam;
   cam.id = parse_camera_id(c);
   if (auto f = c.find("frames")) cam.frames = parse_frames(L, *f);
@@ -336,6 +351,7 @@ CameraConfig parse_camera(const Loader& L, const JsonView& c) {
   if (auto p = c.find("pole_observations"))
     cam.pole_observations = L.input_file(*p, "a pole-pixel CSV path (id,u,v)");
   if (auto pr = c.find("priors")) cam.priors = parse_priors(*pr, cam.sensor);
+  if (auto ps = c.find("pixel_sigma_px")) cam.pixel_sigma = parse_pixel_sigma(*ps);
   return cam;
 }
 
@@ -350,8 +366,9 @@ std::string method_name(const JsonView& v) {
 
 CalibrateConfig parse_calibrate(const JsonView& c) {
   c.require_object(
-      "an object {\"method\", \"free\", \"compare\", \"use_control_poles\", \"control_sigma_m\", \"seed\"}");
-  c.check_keys({"method", "free", "compare", "use_control_poles", "control_sigma_m", "seed"});
+      "an object {\"method\", \"free\", \"compare\", \"use_control_poles\", \"control_sigma_m\", \"seed\", "
+      "\"image_sigma\"}");
+  c.check_keys({"method", "free", "compare", "use_control_poles", "control_sigma_m", "seed", "image_sigma"});
   CalibrateConfig cal;
   if (auto m = c.find("method")) cal.method = method_name(*m);
   if (auto f = c.find("free")) {
@@ -383,15 +400,22 @@ CalibrateConfig parse_calibrate(const JsonView& c) {
   if (auto v = c.find("control_sigma_m"))
     cal.control_sigma_m = Loader::positive(*v, "a positive standard deviation in metres");
   if (auto s = c.find("seed")) cal.seed = s->unsigned_integer("a non-negative integer seed");
+  if (auto v = c.find("image_sigma")) {
+    const std::string form = "\"estimate\" or \"stated\"";
+    const std::string w = v->string(form);
+    if (w != "estimate" && w != "stated") v->fail_expected(form);
+    cal.estimate_image_sigma = w == "estimate";
+  }
   return cal;
 }
 
 RunConfig parse_run(const JsonView& r) {
-  r.require_object("an object {\"fail_on_poorly_determined\"}");
-  r.check_keys({"fail_on_poorly_determined"});
+  r.require_object("an object {\"fail_on_poorly_determined\", \"fail_on_degraded\"}");
+  r.check_keys({"fail_on_poorly_determined", "fail_on_degraded"});
   RunConfig run;
   if (auto f = r.find("fail_on_poorly_determined"))
     run.fail_on_poorly_determined = f->boolean("true or false");
+  if (auto f = r.find("fail_on_degraded")) run.fail_on_degraded = f->boolean("true or false");
   return run;
 }
 

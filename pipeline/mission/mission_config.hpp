@@ -59,6 +59,14 @@ struct CameraPriors {
   double center_sigma_m = 0.05;  ///< default 5 cm
 };
 
+/// cameras[i].pixel_sigma_px: the a-priori σ per image axis of each kind of pixel observation (px).
+/// The lamp centroids' σ is where the network's image variance component starts from and what it
+/// scales (docs/optimisation.md "Image variance components"); a pick's is taken as stated.
+struct PixelSigmaConfig {
+  double centroid_px = 0.1;  ///< the lamp detector's centroid (pipeline/steps/calibration_problem.hpp)
+  double pick_px = 0.3;      ///< a control-pole top picked by hand
+};
+
 struct CameraConfig {
   std::string id;  ///< unique, [A-Za-z0-9_-]+, used as the output folder name
   FramesConfig frames;
@@ -66,6 +74,7 @@ struct CameraConfig {
   double nominal_focal_mm = 0;
   std::string pole_observations;  ///< `id,u,v` CSV, or empty
   CameraPriors priors;
+  PixelSigmaConfig pixel_sigma;
 };
 
 struct AlignConfig {
@@ -95,6 +104,9 @@ struct CalibrateConfig {
   bool use_control_poles = false;                            ///< add `control` poles as calibration points
   double control_sigma_m = 0.005;  ///< surveyed `control` pole-top σ per axis (m): total station / RTK
   std::uint64_t seed = 1;          ///< seed of every random search (RANSAC, SSA)
+  /// calibrate.image_sigma "estimate" (the default): the network estimates each camera's lamp-centroid
+  /// σ with the PPK model (when it estimates that); "stated": the cameras' pixel_sigma_px as given.
+  bool estimate_image_sigma = true;
 };
 
 struct IntersectConfig {
@@ -110,6 +122,9 @@ struct RunConfig {
   /// A parameter the calibrate stage calls poorly determined makes the run partial (exit 4)
   /// instead of only warning.
   bool fail_on_poorly_determined = false;
+  /// A degradation (docs/reliability.md "Run outcome") makes the run partial (exit 4) instead of
+  /// degraded (exit 0).
+  bool fail_on_degraded = false;
 };
 
 struct MissionConfig {

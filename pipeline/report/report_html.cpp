@@ -959,13 +959,18 @@ std::string network_section(const ReportData& d) {
          "cameras put the lamp.</p>\n</section>\n";
 }
 
-// A partial mission says so before anything else (docs/reliability.md "Run outcome"): what the
-// stages could not deliver, as run.json's outcome lists it. Nothing for a complete one.
+// A partial or degraded mission says so before anything else (docs/reliability.md "Run outcome"): what
+// the stages could not deliver or delivered degraded, as run.json's outcome lists it. Nothing for a
+// complete one.
 std::string outcome_banner(const ReportData& d) {
   const RunOutcome outcome = run_outcome(nlohmann::json{{"stages", d.run_stages}});
   if (outcome.status == "complete") return "";
-  std::string s = "<p class=\"bad\">This mission is " + outcome.status + " (exit " +
-                  std::to_string(outcome.exit_code) + "): its outputs are kept but incomplete.</p>\n<ul>\n";
+  std::string s =
+      "<p class=\"bad\">This mission is " + outcome.status + " (exit " + std::to_string(outcome.exit_code) +
+      "): " +
+      (outcome.status == "degraded" ? "its outputs are complete, but look at these before trusting them"
+                                    : "its outputs are kept but incomplete") +
+      ".</p>\n<ul>\n";
   for (const std::string& r : outcome.reasons) s += "<li>" + html_escape(r) + "</li>\n";
   return s + "</ul>\n";
 }

@@ -23,6 +23,7 @@
 #include "pipeline/steps/calibration_methods.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/steps/covariance_under_model.hpp"
+#include "pipeline/steps/export_check.hpp"
 #include "pipeline/steps/network_problem.hpp"
 #include "vision/camera/dlt_export.hpp"
 #include "vision/camera/opencv_camera_export.hpp"
@@ -35,7 +36,8 @@ struct CameraCalibration {
   CalibrationResult main;
   std::vector<CalibrationResult> compared;  ///< the `compare` methods that succeeded, config order
   OpenCvCamera opencv;
-  DltCamera dlt;  ///< DLT-11 + Argus profile (DLTdv, Argus, easyWand)
+  DltCamera dlt;                                     ///< DLT-11 + Argus profile (DLTdv, Argus, easyWand)
+  bool opencv_refused = false, dlt_refused = false;  ///< not written (check_exports)
   std::vector<ResidualRow> residuals;
   CalibrateCameraRecord record;
   std::vector<std::string> warnings;  ///< without the camera id prefix
@@ -88,23 +90,20 @@ void record_fit(const CalibrationResult& r, CalibrateCameraRecord* record) {
   record->n_rejected = r.reprojection.n_rejected;
 }
 
-/// The export checks: how far the OpenCV and DLT-11 + Argus profile exports reproduce the camera,
-/// into the record, and a warning when beyond what their users can ignore.
-void check_exports(CameraCalibration* cc) {
+/// The export checks (pipeline/steps/export_check.hpp) into the record and the camera's warnings;
+/// returns the warnings.
+std::vector<std::string> check_exports(CameraCalibration* cc) {
+  const ExportCheck x = check_exports(cc->opencv, cc->dlt);
   CalibrateCameraRecord& rec = cc->record;
-  rec.opencv_fit_max_px = cc->opencv.fit_max_px;
-  rec.opencv_undistort_max_px = cc->opencv.undistort_max_px;
-  rec.dlt_only_rms_px = cc->dlt.dlt_only_rms_px;
-  rec.dlt_only_max_px = cc->dlt.dlt_only_max_px;
-  rec.dlt_profile_max_px = std::max(cc->dlt.profile_max_px, cc->dlt.undistort_max_px);
-  if (std::max(cc->opencv.fit_max_px, cc->opencv.undistort_max_px) > 0.01)
-    cc->warnings.push_back("OpenCV model reproduces rangecal only to " +
-                           std::to_string(cc->opencv.fit_max_px) + " px (cv::projectPoints) and " +
-                           std::to_string(cc->opencv.undistort_max_px) +
-                           " px (cv::undistortPoints, default iterations)");
-  if (rec.dlt_profile_max_px > 0.05)
-    cc->warnings.push_back("DLT-11 + Argus profile reproduce rangecal only to " +
-                           std::to_string(rec.dlt_profile_max_px) + " px");
+  rec.opencv_fit_max_px = x.opencv_fit_max_px;
+  rec.opencv_undistort_max_px = x.opencv_undistort_max_px;
+  rec.dlt_only_rms_px = x.dlt_only_rms_px;
+  rec.dlt_only_max_px = x.dlt_only_max_px;
+  rec.dlt_profile_max_px = x.dlt_profile_max_px;
+  rec.exports_refused = x.refused;
+  cc->opencv_refused = x.opencv_refused, cc->dlt_refused = x.dlt_refused;
+  cc->warnings.insert(cc->warnings.end(), x.warnings.begin(), x.warnings.end());
+  return x.warnings;
 }
 
 double wall_time_record(const CalibrationResult& r) {
@@ -216,10 +215,13 @@ struct NetworkSolution {
 
 /// Method `network` (docs/optimisation.md "Network bundle"): one joint adjustment of the cameras
 /// through their shared lamp-track epochs.
-NetworkSolution solve_network(const NetworkProblem& n, const LampTrack& track, const GnssConfig& gnss) {
+NetworkSolution solve_network(const NetworkProblem& n, const LampTrack& track, const GnssConfig& gnss,
+                              const CalibrateConfig& calibrate, bool white_only = false) {
   NetworkOptions options;
   options.ppk_error = gnss.error_model;
   options.estimate_ppk_error = gnss.estimate_error_model;
+  options.estimate_image_sigma = calibrate.estimate_image_sigma;
+  options.estimate_white_only = white_only;
   // The report sets the flight volume's intersection σ beside this floor (docs/accuracy_analysis.md
   // "Datum floor"); the benchmarked network_adjust leaves it out by default.
   options.datum_floor_image_factor = kDatumFloorImageFactor;
@@ -229,6 +231,43 @@ NetworkSolution solve_network(const NetworkProblem& n, const LampTrack& track, c
     if (n.epoch_of_point[k] >= 0)
       s.epoch_utc[k] = format_iso8601_utc(track.epochs[static_cast<std::size_t>(n.epoch_of_point[k])].utc);
   return s;
+}
+
+/// A number of a method's details; NaN when absent or not a number (a NaN is written as null).
+double details_number(const nlohmann::json& details, const char* key) {
+  return details.is_object() && details.contains(key) && details[key].is_number() ? details[key].get<double>()
+                                                                                  : std::nan("");
+}
+
+/// The guard's last check (docs/optimisation.md "The guarded model"): with a Gauss–Markov model it
+/// estimated, the network's cameras must agree with the per-camera solutions they started from —
+/// f and the centre within kConsistentSigma of the per-camera σ, scaled by that fit's variance factor
+/// where it exceeds 1. A model that moves them farther bends the cameras to the fixes' error model
+/// rather than the images (on a real flight: every f 0.5–1.5 % short, one 36σ from its bundle).
+/// Returns what disagrees; empty when the model is white, given, or consistent.
+constexpr double kConsistentSigma = 5;
+
+std::vector<std::string> inconsistent_cameras(const NetworkResult& r, const PerCameraPass& pass) {
+  std::vector<std::string> out;
+  if (!r.ppk_estimate || !r.ppk_error.correlated()) return out;
+  for (std::size_t c = 0; c < pass.done.size() && c < r.cameras.size(); ++c) {
+    const CalibrationResult& alone = pass.done[c].second.main;
+    const CalibrationResult& net = r.cameras[c].calibration;
+    const double vf = details_number(alone.details, "variance_factor");
+    const double scale = std::sqrt(std::isfinite(vf) ? std::max(1.0, vf) : 1.0);
+    for (CameraParameter p :
+         {CameraParameter::f, kCenterParameters[0], kCenterParameters[1], kCenterParameters[2]}) {
+      const double sd = alone.sigma(p) * scale;
+      if (!(sd > 0)) continue;
+      const double z = std::abs(parameter_value(net.camera, p, alone.camera) -
+                                parameter_value(alone.camera, p, alone.camera)) /
+                       sd;
+      if (z > kConsistentSigma)
+        out.push_back(pass.done[c].first + " " + parameter_name(p) + " moved " + format_number("%.1f", z) +
+                      "σ from its per-camera bundle");
+    }
+  }
+  return out;
 }
 
 /// Under a model the network estimated with a Gauss–Markov part, the per-camera bundle restates its
@@ -276,7 +315,11 @@ void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origi
     // The network lists each camera's rejected observations in that camera's own order, the
     // problem's (make_network_problem adds them in it), as residual_rows reads them.
     derive_exports_and_residuals(pass->inputs[c], &cc);
-    // The export fits and method times stay those of the per-camera pass (docs/outputs.md).
+    // The exports are the network's camera's, checked again (the method times stay those of the
+    // per-camera pass, docs/outputs.md).
+    cc.record = pass->record.cameras[id];
+    for (const std::string& w : check_exports(&cc)) pass->warnings.push_back(id + ": " + w);
+    pass->record.cameras[id] = cc.record;
     record_fit(net, &pass->record.cameras[id]);
     pass->record.cameras[id].warnings = warning_codes(r.cameras[c].warnings);
     for (const std::string& w : net.warnings) pass->warnings.push_back(id + ": " + w);
@@ -287,11 +330,14 @@ void adopt_network_results(const NetworkSolution& s, const GeodeticOrigin& origi
 
 void write_camera_calibration(const MissionConfig& cfg, const std::string& id, const CameraCalibration& cc) {
   write_calibration_json(camera_output(cfg, id, kCalibrationJson), cc.main);
-  write_opencv_camera_yml(camera_output(cfg, id, kCameraOpencvYml), cc.opencv);
+  // An export that cannot reproduce the camera is not written (check_exports).
+  if (!cc.opencv_refused) write_opencv_camera_yml(camera_output(cfg, id, kCameraOpencvYml), cc.opencv);
   // One camera per file, numbered 1: `paste -d, cam1/dlt_coefficients.csv cam2/…` gives DLTdv's
   // multi-camera file (docs/outputs.md).
-  write_file_atomic(camera_output(cfg, id, kDltCoefficientsCsv), dlt_coefficients_csv({cc.dlt}));
-  write_file_atomic(camera_output(cfg, id, kArgusProfileTxt), argus_profile_txt({cc.dlt}));
+  if (!cc.dlt_refused) {
+    write_file_atomic(camera_output(cfg, id, kDltCoefficientsCsv), dlt_coefficients_csv({cc.dlt}));
+    write_file_atomic(camera_output(cfg, id, kArgusProfileTxt), argus_profile_txt({cc.dlt}));
+  }
   write_residuals_csv(camera_output(cfg, id, kResidualsCsv), cc.residuals);
   // Each compared method's full result, so any method's cameras can be used downstream (e.g. the
   // demo's intersection with Tsai beside the bundle, seed 002 Table 4).
@@ -346,6 +392,56 @@ std::vector<std::string> calibrate_shortfalls(const MissionConfig& cfg, const Pe
   return out;
 }
 
+/// A variance factor χ²/dof above this says the noise model is wrong by more than √3 in σ: every σ
+/// the fit states is too small by about √(χ²/dof) (docs/reliability.md "Run outcome").
+constexpr double kDegradedVarianceFactor = 3;
+/// More than this share of the PPK fixes dropped by the outlier test says the test, not the fixes,
+/// is wrong (the image σ it weighs the rays by too small, or the model).
+constexpr double kDegradedPpkOutlierShare = 0.1;
+
+/// The estimate's guard refusal and what it says of the fixes, as a warning.
+void add_guard_warning(const NetworkResult& r, std::vector<std::string>* warnings) {
+  if (!r.ppk_estimate || r.ppk_estimate->guard_reasons.empty()) return;
+  std::string why;
+  for (const std::string& g : r.ppk_estimate->guard_reasons) why += (why.empty() ? "" : "; ") + g;
+  warnings->push_back("network: the Gauss–Markov PPK error model estimated from the mission was refused (" +
+                      why +
+                      "): the fixes are weighed white, their scale estimated (docs/optimisation.md \"The "
+                      "guarded model\")");
+}
+
+/// What the stage delivered but a user should look at before trusting (docs/reliability.md "Run
+/// outcome").
+std::vector<std::string> calibrate_degradations(const PerCameraPass& pass,
+                                                const std::optional<NetworkSolution>& solution) {
+  std::vector<std::string> out;
+  const auto variance_factor = [&](const std::string& who, double vf) {
+    if (vf > kDegradedVarianceFactor)
+      out.push_back(who + " variance factor " + format_number("%.3g", vf) + ": the residuals are " +
+                    format_number("%.2g", std::sqrt(vf)) +
+                    " times the noise model's and every σ stated is too small by about that");
+  };
+  if (solution) {
+    const NetworkResult& r = solution->result;
+    variance_factor("network", r.statistics.variance_factor);
+    if (r.ppk_estimate)
+      for (const std::string& b : r.ppk_estimate->on_bound)
+        out.push_back("network: the estimated " + b + ": the mission does not determine it");
+    int fixes = 0;
+    for (const NetworkPointResult& p : r.points) fixes += p.prior_used || p.ppk_outlier ? 1 : 0;
+    const auto dropped = static_cast<double>(r.statistics.ppk_outliers.size());
+    if (fixes > 0 && dropped > kDegradedPpkOutlierShare * fixes)
+      out.push_back("network: " + format_number("%.0f", 100 * dropped / fixes) +
+                    " % of the PPK fixes dropped as outliers");
+  } else {
+    for (const auto& [id, cc] : pass.done)
+      variance_factor(id + " " + cc.main.method, details_number(cc.main.details, "variance_factor"));
+  }
+  for (const auto& [id, rec] : pass.record.cameras)
+    for (const std::string& e : rec.exports_refused) out.push_back("camera " + id + ": not written: " + e);
+  return out;
+}
+
 }  // namespace
 
 StageLog run_calibrate_stage(const MissionConfig& cfg) {
@@ -375,7 +471,15 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
     n = build_network(pass, track, cfg.align.max_frame_offset_s);
     if (automatic) pass.record.method_choice = choose_default_method(shared_epoch_count(n));
     if (!automatic || pass.record.method_choice->method == "network") {
-      solution = solve_network(n, track, cfg.gnss);
+      solution = solve_network(n, track, cfg.gnss, cfg.calibrate);
+      const std::vector<std::string> inconsistent = inconsistent_cameras(solution->result, pass);
+      if (!inconsistent.empty()) {
+        // The guard's fallback: the white family, image σ still estimated; the reasons stay with it.
+        solution = solve_network(n, track, cfg.gnss, cfg.calibrate, /*white_only=*/true);
+        std::vector<std::string>& why = solution->result.ppk_estimate->guard_reasons;
+        why.insert(why.end(), inconsistent.begin(), inconsistent.end());
+      }
+      add_guard_warning(solution->result, &pass.warnings);
       adopt_network_results(*solution, cfg.origin, &pass);
     }
   }
@@ -387,6 +491,10 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
   log.counts = calibrate_record_json(pass.record);
   log.warnings = std::move(pass.warnings);
   log.shortfalls = calibrate_shortfalls(cfg, pass);
+  log.degradations = calibrate_degradations(pass, solution);
+  if (cfg.run.fail_on_degraded)
+    for (const std::string& d : log.degradations)
+      log.shortfalls.push_back(d + " (run.fail_on_degraded is true)");
   return log;
 }
 

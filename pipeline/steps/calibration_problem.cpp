@@ -35,7 +35,7 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
   if (!p.priors.principal_point_px &&
       (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0)))
     p.priors.principal_point_px = Eigen::Vector2d(p.sensor.center_u_px(), p.sensor.center_v_px());
-  p.pixel_sigma_px = kDefaultPixelSigmaPx;
+  p.pixel_sigma_px = cam.pixel_sigma.centroid_px;
   p.seed = calibrate.seed;
   for (const Correspondence& c : pairs) {
     BundleObservation o;
@@ -61,7 +61,7 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
     o.world = it->second->enu;
     o.pixel = pick.uv;
     o.world_cov = Eigen::Matrix3d::Identity() * calibrate.control_sigma_m * calibrate.control_sigma_m;
-    o.pixel_sigma_px = kPolePickSigmaPx;
+    o.pixel_sigma_px = cam.pixel_sigma.pick_px;
     o.source = "control pole '" + pick.id + "' (" + poles.picks_file + ":" + std::to_string(pick.line) + ")";
     p.observations.push_back(o);
     p.control_pole_ids.push_back(pick.id);

@@ -16,9 +16,11 @@
 
 namespace rangecal {
 
-inline constexpr double kDefaultPixelSigmaPx = 0.1;  ///< lamp centroid σ (detector: ≤ 0.05 px RMS)
+/// The lamp centroid's σ without cameras[i].pixel_sigma_px (detector: ≤ 0.05 px RMS on simulated frames).
+inline constexpr double kDefaultPixelSigmaPx = PixelSigmaConfig{}.centroid_px;
 inline constexpr double kDefaultWorldSigmaM = 0.01;  ///< lamp position σ when correspondences lack sd
-inline constexpr double kPolePickSigmaPx = 0.3;      ///< a pole top picked by hand
+/// A pole top picked by hand, without cameras[i].pixel_sigma_px.
+inline constexpr double kPolePickSigmaPx = PixelSigmaConfig{}.pick_px;
 
 struct CalibrationProblem {
   std::string camera_id;
@@ -52,7 +54,7 @@ ControlPoleViews read_control_pole_views(const MissionConfig& cfg, const CameraC
 
 /// The problem of `camera` from its lamp pairs (sd per pair, else kDefaultWorldSigmaM; velocity
 /// when present; time_s seconds from the first pair) and its picks of `control` poles
-/// (calibrate.control_sigma_m per axis, kPolePickSigmaPx; check poles never calibrate). Throws
+/// (calibrate.control_sigma_m per axis, cameras[i].pixel_sigma_px.pick; check poles never calibrate). Throws
 /// rangecal::Error (input) naming the picks file and line for an id that is not in the survey.
 CalibrationProblem make_calibration_problem(const CameraConfig& camera, const CalibrateConfig& calibrate,
                                             const std::vector<Correspondence>& pairs,

@@ -312,6 +312,40 @@ TEST(MissionConfig, FailOnPoorlyDeterminedIsABooleanOffByDefault) {
   expect_error(j, "run.fail_on_poorly_determind", "did you mean 'fail_on_poorly_determined'");
 }
 
+TEST(MissionConfig, FailOnDegradedIsABooleanOffByDefault) {
+  auto j = minimal();
+  EXPECT_FALSE(parse_mission_config(j.dump(), kPath, false).run.fail_on_degraded);
+  j["run"] = {{"fail_on_degraded", true}};
+  EXPECT_TRUE(parse_mission_config(j.dump(), kPath, false).run.fail_on_degraded);
+  j["run"] = {{"fail_on_degraded", 1}};
+  expect_error(j, "run.fail_on_degraded", "true or false");
+}
+
+// docs/config.md: each camera's a-priori pixel σ per kind of observation, and whether the network
+// estimates the centroids'.
+TEST(MissionConfig, PixelSigmaPerCameraAndSource) {
+  auto j = minimal();
+  const MissionConfig d = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_DOUBLE_EQ(d.cameras[0].pixel_sigma.centroid_px, 0.1);
+  EXPECT_DOUBLE_EQ(d.cameras[0].pixel_sigma.pick_px, 0.3);
+  EXPECT_TRUE(d.calibrate.estimate_image_sigma);
+  j["cameras"][0]["pixel_sigma_px"] = {{"centroid", 1.5}};
+  j["calibrate"] = {{"image_sigma", "stated"}};
+  const MissionConfig c = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_DOUBLE_EQ(c.cameras[0].pixel_sigma.centroid_px, 1.5);
+  EXPECT_DOUBLE_EQ(c.cameras[0].pixel_sigma.pick_px, 0.3);
+  EXPECT_FALSE(c.calibrate.estimate_image_sigma);
+  j["cameras"][0]["pixel_sigma_px"] = {{"pick", 0}};
+  expect_error(j, "cameras[0].pixel_sigma_px.pick", "positive standard deviation in pixels");
+  j["cameras"][0]["pixel_sigma_px"] = {{"centroid", 250}};  // a pixel count, not a σ
+  expect_error(j, "cameras[0].pixel_sigma_px.centroid", "at most 100");
+  j["cameras"][0]["pixel_sigma_px"] = {{"centriod", 1}};
+  expect_error(j, "cameras[0].pixel_sigma_px.centriod", "did you mean 'centroid'");
+  j["cameras"][0].erase("pixel_sigma_px");
+  j["calibrate"] = {{"image_sigma", "estimated"}};
+  expect_error(j, "calibrate.image_sigma", "\"estimate\" or \"stated\"");
+}
+
 TEST(MissionConfigErrors, UnknownCompareMethod) {
   auto j = minimal();
   j["calibrate"] = {{"compare", {"tsai", "zhang"}}};
