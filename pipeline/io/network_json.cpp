@@ -303,6 +303,15 @@ nlohmann::json network_json(const NetworkResult& r, const std::vector<std::strin
   return j;
 }
 
+std::optional<PpkErrorModelRecord> read_network_ppk_error_model(const std::string& path) {
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  const nlohmann::json j = parse_network_file(path);
+  if (!j.is_object() || !j.contains("statistics") || !j["statistics"].is_object() ||
+      !j["statistics"].contains("ppk_error_model"))
+    return std::nullopt;
+  return parse_ppk_error_model_json(j["statistics"]["ppk_error_model"], path, "statistics.ppk_error_model");
+}
+
 std::optional<FloatEpochsRecord> read_network_float_epochs(const std::string& path) {
   if (!std::filesystem::exists(path)) return std::nullopt;
   const nlohmann::json j = parse_network_file(path);
