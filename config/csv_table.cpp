@@ -84,6 +84,7 @@ CsvTable parse_csv(const std::string& file_text, const std::string& path) {
     auto fields = split_trim(tl, ',');
     if (!have_header) {
       t.header = std::move(fields);
+      t.header_line = line_no;
       have_header = true;
       continue;
     }

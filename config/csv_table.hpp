@@ -21,6 +21,7 @@ struct CsvRecord {
 struct CsvTable {
   std::string path;                 ///< as given, for messages
   std::vector<std::string> header;  ///< column names, trimmed
+  long header_line = 0;             ///< 1-based line of the header (after blank and '#' lines)
   std::vector<CsvRecord> records;
 
   /// Index of column `name`; throws (line 1) when the header lacks it.

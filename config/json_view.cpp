@@ -90,27 +90,57 @@ std::string describe_json(const nlohmann::json& j) {
 
 namespace {
 
-// What nlohmann's DOM parser lets pass or reports without a place: a key given twice in one object
-// (nlohmann keeps the last, so a config would be silently ambiguous) and a number beyond the range
-// of a double (its out_of_range.406 carries no position). Walks the text nlohmann has lexed, so
-// strings and numbers are well formed up to the first problem.
-void check_keys_and_numbers(std::string_view text, const std::string& file, ErrorKind kind) {
-  struct Container {
-    bool object = false;
-    bool expect_key = false;
-    std::map<std::string, long> key_lines;
-    std::string path;       // the container's own key path, as JsonView names it ("" at the top)
-    std::string last_key;   // object: the key whose value comes next
-    std::size_t index = 0;  // array: the element now being read
-  };
-  // The key path of the value being read, as JsonView's errors name it: "a.b[2].c".
-  const auto value_path = [](const std::vector<Container>& stack) -> std::string {
-    if (stack.empty()) return "";
-    const Container& c = stack.back();
-    if (!c.object) return c.path + "[" + std::to_string(c.index) + "]";
-    return c.path.empty() ? c.last_key : c.path + "." + c.last_key;
-  };
-  std::vector<Container> stack;
+// The key path of a value, as JsonView's errors spell it ("a.b[2].c"), built only when an error
+// names it: each open container keeps its own step from its parent, so the walk below stays linear
+// in the text however deep the nesting (building every container's full path as it opened made a
+// 200 KB file of 100,000 nested arrays take 18 GB and two minutes).
+struct OpenContainer {
+  bool object = false;
+  bool expect_key = false;
+  std::map<std::string, long> key_lines;  // object: each key and its line (duplicate keys)
+  std::string step;                       // from its parent: "key" or "[i]" ("" at the top)
+  std::string last_key;                   // object: the key whose value comes next
+  std::size_t index = 0;                  // array: the element now being read
+};
+
+// The step from the innermost open container to the value being read in it.
+std::string value_step(const OpenContainer& c) {
+  return c.object ? c.last_key : "[" + std::to_string(c.index) + "]";
+}
+
+std::string join_path(std::string path, const std::string& step) {
+  if (step.empty()) return path;
+  if (path.empty() || step.front() == '[') return path + step;
+  return path + "." + step;
+}
+
+// The path of the value being read; `max_steps` > 0 keeps only the first and last max_steps / 2
+// steps of a longer one, so that a message about deep nesting stays one line.
+std::string value_path(const std::vector<OpenContainer>& stack, std::size_t max_steps = 0) {
+  std::vector<const std::string*> steps;
+  for (const OpenContainer& c : stack)
+    if (!c.step.empty()) steps.push_back(&c.step);
+  const std::string last = stack.empty() ? std::string() : value_step(stack.back());
+  if (!last.empty()) steps.push_back(&last);
+  std::string path;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    if (max_steps > 0 && steps.size() > max_steps && k == max_steps / 2) {
+      path += "...";
+      k = steps.size() - max_steps / 2;
+    }
+    path = join_path(std::move(path), *steps[k]);
+  }
+  return path;
+}
+
+// One pass over the text: nesting no deeper than kMaxJsonNesting (checked before nlohmann parses,
+// since its DOM copy and dump recurse once per level, and a stack overflow is no message), and, when
+// `keys_and_numbers`, what nlohmann's DOM parser lets pass or reports without a place: a key given
+// twice in one object (nlohmann keeps the last, so a config would be silently ambiguous) and a number
+// beyond the range of a double (its out_of_range.406 carries no position). The second check walks
+// the text nlohmann has lexed, so strings and numbers are well formed up to the first problem.
+void check_json_text(std::string_view text, const std::string& file, ErrorKind kind, bool keys_and_numbers) {
+  std::vector<OpenContainer> stack;
   long line = 1;
   for (std::size_t i = 0; i < text.size();) {
     const char c = text[i];
@@ -118,7 +148,15 @@ void check_keys_and_numbers(std::string_view text, const std::string& file, Erro
       ++line;
       ++i;
     } else if (c == '{' || c == '[') {
-      stack.push_back({c == '{', c == '{', {}, value_path(stack), "", 0});
+      if (stack.size() >= kMaxJsonNesting)
+        throw Error(kind, file, line, value_path(stack, 8),
+                    "arrays and objects nested deeper than " + std::to_string(kMaxJsonNesting) +
+                        " levels, refused before parsing; no rangecal file nests more than a few "
+                        "(docs/reliability.md \"Bounded work\")");
+      OpenContainer o;
+      o.object = o.expect_key = c == '{';
+      if (!stack.empty()) o.step = value_step(stack.back());
+      stack.push_back(std::move(o));
       ++i;
     } else if (c == '}' || c == ']') {
       if (!stack.empty()) stack.pop_back();
@@ -130,24 +168,26 @@ void check_keys_and_numbers(std::string_view text, const std::string& file, Erro
     } else if (c == '"') {
       std::size_t j = i + 1;
       while (j < text.size() && text[j] != '"') j += text[j] == '\\' ? 2 : 1;
-      if (j >= text.size()) return;  // unterminated: nlohmann reported it already
+      if (j >= text.size()) return;  // unterminated: nlohmann reports it
       if (!stack.empty() && stack.back().object && stack.back().expect_key) {
         const std::string_view raw = text.substr(i, j - i + 1);
         std::string key(raw.substr(1, raw.size() - 2));
-        try {
-          key = nlohmann::json::parse(raw).get<std::string>();  // decode escapes: "\u0061" is "a"
-        } catch (const nlohmann::json::exception&) {
+        if (keys_and_numbers) {
+          try {
+            key = nlohmann::json::parse(raw).get<std::string>();  // decode escapes: "\u0061" is "a"
+          } catch (const nlohmann::json::exception&) {
+          }
+          const auto [it, inserted] = stack.back().key_lines.emplace(key, line);
+          if (!inserted)
+            throw Error(kind, file, line, key,
+                        "key given twice in the same object (lines " + std::to_string(it->second) + " and " +
+                            std::to_string(line) + "); keep one");
         }
-        const auto [it, inserted] = stack.back().key_lines.emplace(key, line);
-        if (!inserted)
-          throw Error(kind, file, line, key,
-                      "key given twice in the same object (lines " + std::to_string(it->second) + " and " +
-                          std::to_string(line) + "); keep one");
         stack.back().expect_key = false;
-        stack.back().last_key = key;
+        stack.back().last_key = std::move(key);
       }
       i = j + 1;
-    } else if (c == '-' || (c >= '0' && c <= '9')) {
+    } else if (keys_and_numbers && (c == '-' || (c >= '0' && c <= '9'))) {
       std::size_t j = i + 1;
       while (j < text.size() && (std::isdigit(static_cast<unsigned char>(text[j])) || text[j] == '.' ||
                                  text[j] == 'e' || text[j] == 'E' || text[j] == '+' || text[j] == '-'))
@@ -167,9 +207,10 @@ void check_keys_and_numbers(std::string_view text, const std::string& file, Erro
 
 nlohmann::json parse_json_text(const std::string& file_text, const std::string& file, ErrorKind kind) {
   const std::string_view text = strip_utf8_bom(file_text);
+  check_json_text(text, file, kind, /*keys_and_numbers=*/false);
   try {
     nlohmann::json j = nlohmann::json::parse(text);
-    check_keys_and_numbers(text, file, kind);
+    check_json_text(text, file, kind, /*keys_and_numbers=*/true);
     return j;
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is the 1-based offset of the offending character; turn it into line and column.
@@ -191,7 +232,7 @@ nlohmann::json parse_json_text(const std::string& file_text, const std::string& 
     if (colon != std::string::npos) what = what.substr(colon + 2);
     throw Error(kind, file, line, "", "invalid JSON at column " + std::to_string(col) + ": " + what);
   } catch (const nlohmann::json::exception& e) {
-    check_keys_and_numbers(text, file, kind);  // names the line of an overflowing number
+    check_json_text(text, file, kind, /*keys_and_numbers=*/true);  // names the line of an overflowing number
     throw Error(kind, file, 0, "", std::string("invalid JSON: ") + e.what());
   }
 }

@@ -28,7 +28,15 @@ std::string did_you_mean(const std::string& name, const std::vector<std::string>
 /// `an array of 3 elements`, `an object`, `null`, `true`.
 std::string describe_json(const nlohmann::json& j);
 
-/// Parses JSON text; a syntax error throws `kind` naming the file, the line and the column.
+/// How deep arrays and objects may nest in any JSON file rangecal reads (its own files nest at most
+/// nine levels, run.json). Deeper text is refused before it is parsed, in one pass over the text:
+/// nlohmann's DOM copy, comparison and dump recurse once per level, so a small file of 100,000
+/// nested arrays would overflow the stack (docs/reliability.md "Bounded work").
+inline constexpr std::size_t kMaxJsonNesting = 64;
+
+/// Parses JSON text; a syntax error throws `kind` naming the file, the line and the column; nesting
+/// beyond kMaxJsonNesting, a key given twice in one object and a number beyond a double are
+/// refused the same way.
 nlohmann::json parse_json_text(const std::string& text, const std::string& file, ErrorKind kind);
 
 class JsonView {

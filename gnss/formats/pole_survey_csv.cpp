@@ -101,6 +101,13 @@ std::vector<PolePick> parse_pole_picks(const std::string& text, const std::strin
     }
     picks.push_back(p);
   }
+  // A camera's picks file is given because the camera sees poles: a file with no pick is a file
+  // not filled in (or cut short), and reading on would only surface later as a calibration or an
+  // intersection check without poles, far from its cause.
+  if (picks.empty())
+    throw_input_error(path, t.header_line, "id",
+                      "no pole picks after the header: give one id,u,v row per pole top the camera "
+                      "sees, or leave pole_observations out of this camera's config");
   return picks;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 
 #include "config/error.hpp"
 #include "config/number_format.hpp"
@@ -10,6 +11,7 @@
 #include "optim/bundle/whitening.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/lamp_track_adjusted_csv.hpp"
 #include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/residuals_csv.hpp"
@@ -37,6 +39,34 @@ double expected_rms_px(const Camera& truth, const std::vector<Correspondence>& p
     ++n;
   }
   return n > 0 ? std::sqrt(sum / n) : 0;
+}
+
+// The network's RMS reprojection error against its adjusted lamp positions over the lamp pairs it
+// used: each pair at its frame time plus the correction (adjusted − fix) of its epoch, the nearest
+// one in lamp_track_adjusted.csv, seen at the camera's clock offset as the network sees it
+// (optim/network/network_observation.hpp). NaN without a pair to measure.
+double network_rms_adjusted_px(const CalibrationResult& network, const std::vector<Correspondence>& pairs,
+                               const std::vector<bool>& used,
+                               const std::vector<LampTrackAdjustedRow>& adjusted) {
+  double ss = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const Correspondence& c = pairs[i];
+    if ((i < used.size() && !used[i]) || adjusted.empty()) continue;
+    const auto after = std::lower_bound(adjusted.begin(), adjusted.end(), c.utc,
+                                        [](const LampTrackAdjustedRow& r, UtcTime t) { return r.utc < t; });
+    auto nearest = after == adjusted.end() ? std::prev(after) : after;
+    if (after != adjusted.begin() && after != adjusted.end() &&
+        c.utc.ns - std::prev(after)->utc.ns < after->utc.ns - c.utc.ns)
+      nearest = std::prev(after);
+    const Eigen::Vector3d seen =
+        c.enu + nearest->correction - c.vel_enu.value_or(Eigen::Vector3d::Zero()) * network.clock_offset_s;
+    Eigen::Vector2d uv;
+    if (!project(network.camera, seen, &uv)) continue;
+    ss += (c.uv - uv).squaredNorm();
+    ++n;
+  }
+  return n > 0 ? std::sqrt(ss / n) : std::nan("");
 }
 
 // The method calibration.json holds: the configured one, or the calibrate stage's default choice
@@ -80,8 +110,16 @@ DemoResults collect_demo_results(const SimMission& m, const MissionConfig& cfg) 
     if (std::filesystem::exists(residuals))
       for (const ResidualRow& r : read_residuals_csv(residuals))
         if (r.kind == ResidualRow::Kind::lamp) used.push_back(r.used);
-    if (std::filesystem::exists(corr))
-      d.expected_rms_px = expected_rms_px(d.truth, read_correspondences_csv(corr), used, 0.05);
+    if (std::filesystem::exists(corr)) {
+      const std::vector<Correspondence> pairs = read_correspondences_csv(corr);
+      d.expected_rms_px = expected_rms_px(d.truth, pairs, used, 0.05);
+      // residuals.csv is the main calibration's: the network's when it ran.
+      const auto net = d.by_method.find("network");
+      const std::string adjusted = mission_output(cfg, kLampTrackAdjustedCsv);
+      if (out.method == "network" && net != d.by_method.end() && std::filesystem::exists(adjusted))
+        d.network_rms_adjusted_px =
+            network_rms_adjusted_px(net->second, pairs, used, read_lamp_track_adjusted_csv(adjusted));
+    }
     out.cameras.push_back(std::move(d));
   }
 

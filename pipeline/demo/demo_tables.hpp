@@ -4,6 +4,7 @@
 // (calibration*.json, correspondences.csv, pole picks and survey) plus the simulator's truth, so
 // what is printed is what a user of `rangecal run` gets.
 #include <Eigen/Core>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -21,6 +22,10 @@ struct DemoCamera {
   /// Expected RMS reprojection error (px) of a perfect calibration given the simulated noise:
   /// √(mean over used points of the world σ projected to pixels, both axes, + centroid σ²).
   double expected_rms_px = 0;
+  /// The network's RMS reprojection error (px) against its own adjusted lamp positions (fix plus
+  /// its estimate of the PPK error, gnss/lamp_track_adjusted.csv), over the pairs it used: what its
+  /// fit minimised. NaN without a network calibration.
+  double network_rms_adjusted_px = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Intersection of the check poles with one method's cameras, against the survey and the truth.
@@ -51,7 +56,8 @@ std::vector<ParameterCheck> parameter_checks(const DemoCamera& cam, const std::s
 
 /// Seed 002 Table 1 layout (u0, v0, f, sx, k1, R, T per method), paper columns first.
 std::string format_demo_table1(const DemoCamera& cam);
-/// Tables 2–3: reprojection error per method (rms, mean) beside the paper's means.
+/// Tables 2–3: reprojection error per method (rms, mean, max) against the PPK fixes, the network's
+/// also against its adjusted positions (`rms_adj`), beside the paper's means.
 std::string format_demo_tables23(const std::vector<DemoCamera>& cams);
 /// Table 4: per check pole dE dN dU dR (cm) of the network and the bundle, and the mean row of every method,
 /// beside the paper's means; against the survey and against the truth.

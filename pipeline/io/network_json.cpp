@@ -6,19 +6,17 @@
 #include <fstream>
 
 #include "config/atomic_file.hpp"
+#include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/json_view.hpp"
 
 namespace rangecal {
 namespace {
 
-/// network.json at `path` parsed; rangecal::Error (input) when it is not JSON.
+/// network.json at `path` parsed by the project's one JSON reader (config/json_view.hpp: its line
+/// and column, its nesting bound); rangecal::Error (input) when it is not JSON.
 nlohmann::json parse_network_file(const std::string& path) {
-  std::ifstream in(path);
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw_input_error(path, 0, "", std::string("not valid JSON: ") + e.what());
-  }
+  return parse_json_text(read_file_text(path), path, ErrorKind::input);
 }
 
 /// A matrix as JSON rows.
@@ -318,6 +316,15 @@ nlohmann::json network_json(const NetworkResult& r, const std::vector<std::strin
     j["float_epochs"] = {{"epochs", f.epochs}, {"cameras", fc}};
   }
   return j;
+}
+
+std::optional<PpkErrorModelRecord> read_network_ppk_error_model(const std::string& path) {
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  const nlohmann::json j = parse_network_file(path);
+  if (!j.is_object() || !j.contains("statistics") || !j["statistics"].is_object() ||
+      !j["statistics"].contains("ppk_error_model"))
+    return std::nullopt;
+  return parse_ppk_error_model_json(j["statistics"]["ppk_error_model"], path, "statistics.ppk_error_model");
 }
 
 std::optional<FloatEpochsRecord> read_network_float_epochs(const std::string& path) {

@@ -95,6 +95,11 @@ struct FloatEpochsRecord {
 /// rangecal::Error (input) naming `float_epochs.<key>` for a malformed object.
 std::optional<FloatEpochsRecord> read_network_float_epochs(const std::string& path);
 
+/// network.json's `statistics.ppk_error_model` at `path`: the model the network weighed the fixes by;
+/// nullopt when the file is missing or has none (written before the network carried it). Throws
+/// rangecal::Error (input) naming `statistics.ppk_error_model.<key>` for a malformed object.
+std::optional<PpkErrorModelRecord> read_network_ppk_error_model(const std::string& path);
+
 /// network.json's text.
 nlohmann::json network_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 void write_network_json(const std::string& path, const nlohmann::json& j);

@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "config/atomic_file.hpp"
+#include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "config/json_view.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/run_outcome.hpp"
 #include "pipeline/io/stage_outputs.hpp"
@@ -29,13 +31,16 @@ StageLog failed_stage_log(const std::string& stage, const Error& e) {
 void update_run_log(const MissionConfig& cfg, const StageLog& log) {
   const std::string path = mission_output(cfg, kRunJson);
   nlohmann::json j = nlohmann::json::object();
-  {
-    std::ifstream f(path);
-    if (f) {
-      // A run.json we cannot parse (e.g. edited by hand) is replaced rather than trusted.
-      j = nlohmann::json::parse(f, nullptr, /*allow_exceptions=*/false);
-      if (!j.is_object()) j = nlohmann::json::object();
+  if (std::filesystem::exists(path)) {
+    // A run.json we cannot parse (e.g. edited by hand) is replaced rather than trusted; the project's
+    // reader also refuses nesting that nlohmann's dump below would recurse through until the stack
+    // overflows (config/json_view.hpp kMaxJsonNesting).
+    try {
+      j = parse_json_text(read_file_text(path), path, ErrorKind::input);
+    } catch (const Error&) {
+      j = nlohmann::json::object();
     }
+    if (!j.is_object()) j = nlohmann::json::object();
   }
   j["program"] = {{"name", "rangecal"}, {"version", RANGECAL_VERSION}};
   j["config"] = {{"path", cfg.config_path}, {"sha256", cfg.config_sha256}};

@@ -96,6 +96,8 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
   const std::string adjusted = mission_output(output_dir, kLampTrackAdjustedCsv);
   if (fs::exists(adjusted)) data.network_track = read_lamp_track_adjusted_csv(adjusted);
 
+  const std::optional<PpkErrorModelRecord> network_model =
+      read_network_ppk_error_model(mission_output(output_dir, kNetworkJson));
   for (const std::string& id : camera_ids) {
     CameraReportData cam;
     cam.id = id;
@@ -104,6 +106,12 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
       cam.calibration = read_calibration_json(cal);
       cam.width_px = cam.calibration->camera.intr.width_px;
       cam.height_px = cam.calibration->camera.intr.height_px;
+      const nlohmann::json& details = cam.calibration->details;
+      if (cam.calibration->method == "network" && network_model)
+        cam.ppk_model = network_model->model;
+      else if (details.is_object() && details.contains("ppk_error_model"))
+        cam.ppk_model =
+            parse_ppk_error_model_json(details["ppk_error_model"], cal, "details.ppk_error_model").model;
     }
     const std::string corr = camera_output(output_dir, id, kCorrespondencesCsv);
     if (fs::exists(corr)) cam.pairs = read_correspondences_csv(corr);

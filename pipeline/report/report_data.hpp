@@ -43,6 +43,11 @@ struct CameraReportData {
   /// run.json calibrate counts "cameras.<cam>.warnings": calibration.json's warnings as codes, in
   /// its order (empty when run.json has none).
   std::vector<WarningCodeRecord> warning_codes;
+  /// The PPK error model the calibration weighed the fixes by, which the lamp residuals' noise model
+  /// takes (lamp_residuals.hpp): network.json's `statistics.ppk_error_model` for a network
+  /// calibration, calibration.json's `details.ppk_error_model` for a bundle under a configured
+  /// model; absent: white, the `.pos` sd as written.
+  std::optional<PpkErrorModel> ppk_model;
   /// Image size (px) for the plots: calibration.json's, else 0 until the caller sets the config's.
   int width_px = 0;
   int height_px = 0;

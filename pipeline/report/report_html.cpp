@@ -290,6 +290,7 @@ std::string methods_table(const CameraReportData& c) {
 struct CameraFigures {
   std::vector<LampResidual> res;
   ResidualConsistency consistency;
+  ClockOffsetSignature clock;
   double depth_m = std::nan("");  ///< median lamp depth: the flight distance of the uncertainty map
   std::optional<ProjectionUncertaintyMap> uncertainty;
   double centre_sigma_px = std::nan("");  ///< projection σ at the image centre (px)
@@ -299,9 +300,11 @@ CameraFigures camera_figures(const CameraReportData& c, double pixel_sigma_px) {
   CameraFigures f;
   if (!c.pairs) return f;
   const CalibrationResult* cal = c.calibration ? &*c.calibration : nullptr;
-  f.res = lamp_residuals(*c.pairs, cal, c.residuals ? &*c.residuals : nullptr, pixel_sigma_px);
+  f.res = lamp_residuals(*c.pairs, cal, c.residuals ? &*c.residuals : nullptr, pixel_sigma_px,
+                         c.ppk_model ? &*c.ppk_model : nullptr);
   if (!cal) return f;
   f.consistency = residual_consistency(f.res, static_cast<int>(cal->parameters.size()));
+  f.clock = clock_offset_signature(f.res, c.ppk_model ? &*c.ppk_model : nullptr);
   f.depth_m = median_depth_m(cal->camera, *c.pairs);
   if (std::isfinite(f.depth_m) && !cal->parameters.empty() &&
       cal->covariance.rows() == static_cast<Eigen::Index>(cal->parameters.size())) {
@@ -554,9 +557,19 @@ std::string reading_cell(const CameraVerdict& v) {
     case ResidualReading::too_large:
       break;
   }
+  // Only causes the residuals show: a clock offset when they follow the lamp's image velocity
+  // (verdict.hpp kClockOffsetSignificance), never a mere trend with time, which a PPK error
+  // correlated in time makes too.
+  std::string causes = "with image row: lever arm or heights; ";
+  causes += v.correlated_ppk
+                ? "a wander with time beyond the PPK error model's &#963;<sub>g</sub>, &#964;: the "
+                  "model (PPK error model section)"
+                : "a slow wander with time: PPK errors correlated in time (gnss.error_model)";
+  if (v.clock_offset_shown)
+    causes += "; they follow the lamp's motion as a camera clock offset of " +
+              fmt("%.2f", v.clock_offset_s * 1e3) + " ms would: add clock_offset to calibrate.free";
   return "<span class=\"bad\">residuals " + fmt("%.1f", v.residual_ratio) +
-         "&#215; the noise model's: look at the residual plots (a trend with time: clock offset; with image "
-         "row: lever arm or heights)</span>";
+         "&#215; the noise model's: look at the residual plots (" + causes + ")</span>";
 }
 
 std::string verdict_table(const ReportData& d, const std::vector<CameraFigures>& figs,
@@ -645,7 +658,8 @@ std::string verdict_section(const ReportData& d, const std::vector<CameraFigures
   for (std::size_t i = 0; i < d.cameras.size(); ++i)
     if (d.cameras[i].calibration)
       verdicts[i] =
-          judge_camera({figs[i].consistency, figs[i].centre_sigma_px, warns_of_weak_parameters(d.cameras[i])},
+          judge_camera({figs[i].consistency, figs[i].centre_sigma_px, warns_of_weak_parameters(d.cameras[i]),
+                        figs[i].clock, d.cameras[i].ppk_model && d.cameras[i].ppk_model->correlated()},
                        st, d.bar_mean_dR_m);
   std::string s = "<section id=\"verdict\">\n<h2>Verdict</h2>\n" + verdict_table(d, figs, verdicts) +
                   method_sentence(d) +

@@ -13,6 +13,10 @@ CameraVerdict judge_camera(const CameraEvidence& e, const SliceStats& volume, do
     v.reading = ResidualReading::as_expected;
   else
     v.reading = ResidualReading::too_large;
+  v.correlated_ppk = e.correlated_ppk;
+  v.clock_offset_s = e.clock.offset_s;
+  v.clock_offset_shown = v.reading == ResidualReading::too_large && e.clock.n > 0 &&
+                         std::abs(e.clock.offset_s) > kClockOffsetSignificance * e.clock.sigma_s;
   // A poorly determined or strongly correlated parameter matters only through where it moves the
   // flown points: the flight volume's intersection σ against the bar, else the centre σ.
   if (!e.weak_parameters)

@@ -17,6 +17,10 @@ namespace rangecal {
 /// Lamp residual RMS over the noise model's expected RMS up to which the residuals are "as the
 /// noise model expects" (docs/accuracy_analysis.md).
 inline constexpr double kResidualRatioOk = 1.5;
+/// A clock offset fitted to the lamp residuals (ClockOffsetSignature) beyond this many of its σ is
+/// named as a cause of residuals too large; within, the residuals do not show one, and the reading
+/// does not send the user after it.
+inline constexpr double kClockOffsetSignificance = 3.0;
 /// Without a flight-volume prediction, a projection σ at the image centre (px) below which weak
 /// parameters are harmless for the intersection.
 inline constexpr double kHarmlessCentreSigmaPx = 0.5;
@@ -27,13 +31,18 @@ struct CameraEvidence {
   double centre_sigma_px = std::numeric_limits<double>::quiet_NaN();  ///< projection σ at the image centre
   /// Whether one of its calibration warnings says a parameter is poorly determined or correlated.
   bool weak_parameters = false;
+  /// The clock offset the residuals show, under the same noise model (n = 0: no velocities).
+  ClockOffsetSignature clock;
+  /// The noise model carries a Gauss–Markov PPK error (a slow wander of the residuals with time is
+  /// then the model's, up to its σ_g and τ).
+  bool correlated_ppk = false;
 };
 
 /// What the lamp residuals say.
 enum class ResidualReading {
   no_residuals,  ///< nothing to judge (no lamp residuals)
   as_expected,   ///< ratio ≤ kResidualRatioOk
-  too_large,     ///< beyond: a model error (clock offset, lever arm, heights)
+  too_large,     ///< beyond: a model error (lever arm, heights, PPK error model; a clock offset when shown)
 };
 
 /// What a camera's weak parameters mean for the intersection.
@@ -48,6 +57,11 @@ struct CameraVerdict {
   double residual_ratio = std::numeric_limits<double>::quiet_NaN();  ///< RMS over expected RMS
   ResidualReading reading = ResidualReading::no_residuals;
   WeakParameterEffect weak = WeakParameterEffect::none;
+  /// too_large, and the residuals follow the lamp's image velocity as a clock offset of
+  /// `clock_offset_s` would, beyond kClockOffsetSignificance σ.
+  bool clock_offset_shown = false;
+  double clock_offset_s = std::numeric_limits<double>::quiet_NaN();
+  bool correlated_ppk = false;  ///< CameraEvidence::correlated_ppk
 };
 
 /// The check poles against the bar (the config's intersect.bar_mean_dR_m).

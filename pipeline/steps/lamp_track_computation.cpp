@@ -129,14 +129,28 @@ LampTrackResult compute_lamp_track(const LampTrackInputs& in) {
   if (lever_motion_n > 0) rep.lever_motion_rms_mm_per_ms = std::sqrt(lever_motion_ss / lever_motion_n);
   rep.track_epochs = res.track.epochs.size();
   warn_when_most_epochs_dropped(rep.filter, in.filter, &rep.warnings);
-  if (res.track.epochs.empty()) {
+  if (res.track.epochs.size() < kMinLampTrackEpochs) {
     const EpochFilterCounts& c = rep.filter;
-    throw_input_error(in.pos_files.empty() ? "" : in.pos_files.front().path, 0, "",
-                      "no epoch is left for the lamp track: " + std::to_string(c.read) + " read, " +
-                          std::to_string(c.dropped_quality) + " dropped for Q, " +
-                          std::to_string(c.dropped_sd) + " for sd, " +
-                          std::to_string(rep.dropped_no_attitude) +
-                          " outside the attitude coverage (check gnss.accept_quality and gnss.max_sd_m)");
+    const std::string counts = std::to_string(c.read) + " read, " + std::to_string(c.dropped_quality) +
+                               " dropped for Q, " + std::to_string(c.dropped_sd) + " for sd, " +
+                               std::to_string(rep.dropped_no_attitude) + " outside the attitude coverage";
+    if (res.track.epochs.empty())
+      throw_input_error(in.pos_files.empty() ? "" : in.pos_files.front().path, 0, "",
+                        "no epoch is left for the lamp track: " + counts +
+                            " (check gnss.accept_quality and gnss.max_sd_m)");
+    // The one epoch left: its file and line.
+    const auto it = std::find_if(kept.begin(), kept.end(), [&](const AntennaEpoch& a) {
+      return a.utc == res.track.epochs.front().utc;
+    });
+    const bool found = it != kept.end() && !in.pos_files.empty();
+    const std::string path = found ? in.pos_files[static_cast<std::size_t>(it->file_index)].path
+                                   : (in.pos_files.empty() ? "" : in.pos_files.front().path);
+    throw_input_error(path, found ? it->line : 0, "epochs",
+                      "only 1 epoch is left for the lamp track (" + counts +
+                          "): the track places the lamp "
+                          "between consecutive epochs and needs at least " +
+                          std::to_string(kMinLampTrackEpochs) +
+                          ", and a calibration the lamp at many places");
   }
   rep.track_start = res.track.epochs.front().utc;
   rep.track_end = res.track.epochs.back().utc;

@@ -39,6 +39,12 @@ struct LampTrackInputs {
   double max_attitude_gap_s = 1.0;
 };
 
+/// The fewest epochs a lamp track can be made of: it places the lamp between consecutive epochs
+/// (cubic Hermite, gnss/track/hermite_interpolation.hpp), so one epoch is no track — at most a frame
+/// stamped at that very instant would pair with it, and a calibration from one lamp position fails
+/// far downstream, naming the calibration instead of the `.pos` (docs/gnss.md "Filtering and gaps").
+inline constexpr std::size_t kMinLampTrackEpochs = 2;
+
 struct LampTrackReport {
   EpochFilterCounts filter;             ///< read / kept / dropped by Q and sd
   std::size_t dropped_no_attitude = 0;  ///< body_frd form: epochs outside the attitude coverage

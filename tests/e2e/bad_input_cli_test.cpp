@@ -212,6 +212,24 @@ TEST(BadInputCli, PolePickOutsideTheImage) {
   }
 }
 
+// A picks file with its header and no pick: refused where it is read (exit 3, bad input data),
+// naming the file, the header's line and the field, not left to surface as a partial mission
+// without check poles (docs/formats.md "Survey files").
+TEST(BadInputCli, PolePicksFileWithoutPicksNamesItself) {
+  for (const auto& [text, line] :
+       std::vector<std::pair<std::string, int>>{{"id,u,v\n", 1}, {"# cam1 picks\nid,u,v\n\n", 2}}) {
+    SCOPED_TRACE(text);
+    const fs::path m = mission_copy("picks_empty");
+    test::write_text(m / "c1/poles_px.csv", text);
+    const Outcome o = run("run " + q(m / "mission.json"));
+    expect_refused(o, 3, "c1/poles_px.csv:" + std::to_string(line), "id");
+    EXPECT_NE(o.cli.err.find("no pole picks after the header"), std::string::npos) << o.cli.err;
+    EXPECT_EQ(o.cli.err.find("partial"), std::string::npos) << o.cli.err;
+    EXPECT_FALSE(fs::exists(m / "out/intersection.csv"));
+    EXPECT_FALSE(fs::exists(m / "out/summary.json"));
+  }
+}
+
 TEST(BadInputCli, CorrespondenceCoordinatesOutOfRange) {
   const fs::path m = mission_copy("corr_range");
   ASSERT_EQ(run("run " + q(m / "mission.json")).cli.exit_code, 0);
@@ -431,10 +449,11 @@ void expect_no_undefined_numbers(const std::string& what, const std::string& tex
   EXPECT_FALSE(std::regex_search(text, hit, word)) << what << " holds '" << hit.str() << "'";
 }
 
-// A .pos holding one epoch: c1 (no control pole picked) cannot be calibrated, c2 is calibrated from
-// its six control poles, and no pole can be triangulated with one camera. The run goes to its end,
-// keeps what it made, and exits 4 saying both, never 0 with "mean dR nan mm".
-TEST(BadInputCli, OneEpochIsAPartialMissionExitFourWithItsOutputsMarked) {
+// A camera left with one lamp pair: c1 (no control pole picked) cannot be calibrated, c2 is
+// calibrated from its six control poles and its pairs, and no pole can be triangulated with one
+// camera. Each stage goes to its end, keeps what it made, and exits 4 saying both, never 0 with
+// "mean dR nan mm" (the state a .pos of one epoch used to leave, before the gnss stage refused it).
+TEST(BadInputCli, OnePairIsAPartialMissionExitFourWithItsOutputsMarked) {
   json scenario = small_scenario();
   scenario["poles"] = json::array();
   const std::vector<std::array<double, 3>> control = {{0.5, 0.4, 3.2},  {-1.5, 1.0, 1.0}, {1.4, -0.8, 4.0},
@@ -444,31 +463,34 @@ TEST(BadInputCli, OneEpochIsAPartialMissionExitFourWithItsOutputsMarked) {
         {{"id", "P" + std::to_string(i + 1)}, {"role", "control"}, {"enu_m", control[i]}});
   scenario["poles"].push_back({{"id", "Q1"}, {"role", "check"}, {"enu_m", {-0.6, -0.5, 2.1}}});
   scenario["poles"].push_back({{"id", "Q2"}, {"role", "check"}, {"enu_m", {0.3, 1.2, 3.0}}});
-  const fs::path d = test::scratch_dir("bad_input_one_epoch");
+  const fs::path d = test::scratch_dir("bad_input_one_pair");
   test::write_text(d / "scenario.json", scenario.dump(2));
   ASSERT_EQ(run("simulate " + q(d / "scenario.json") + " --out " + q(d / "mission")).cli.exit_code, 0);
   const fs::path m = d / "mission";
   json cfg = read_json(m / "mission.json");
   cfg["calibrate"]["use_control_poles"] = true;
   test::write_text(m / "mission.json", cfg.dump(2));
-  auto lines = split_lines(test::read_text(m / "gnss/rover.pos"));
-  const std::size_t first = first_data_line(lines);
-  const std::string epoch = lines[first + (lines.size() - first) / 2];
-  lines.resize(first);
-  lines.push_back(epoch);
-  test::write_text(m / "gnss/rover.pos", join_lines(lines));
   std::string c1_picks = "id,u,v\n";
   for (const std::string& l : split_lines(test::read_text(m / "c1/poles_px.csv")))
     if (l.rfind("Q", 0) == 0) c1_picks += l + "\n";
   test::write_text(m / "c1/poles_px.csv", c1_picks);
+  ASSERT_EQ(run("run " + q(m / "mission.json")).cli.exit_code, 0);
+  // c1 keeps the middle one of its lamp pairs.
+  auto pairs = split_lines(test::read_text(m / "out/c1/correspondences.csv"));
+  ASSERT_GT(pairs.size(), 3u);
+  test::write_text(m / "out/c1/correspondences.csv", pairs[0] + "\n" + pairs[pairs.size() / 2] + "\n");
 
-  const test::CliResult o = test::run_cli("run " + q(m / "mission.json"));  // not quiet: the console too
-  EXPECT_EQ(o.exit_code, 4) << o.err;
-  EXPECT_NE(o.err.find((m / "out/run.json").string() + ": field 'outcome': the mission is partial"),
-            std::string::npos)
-      << o.err;
-  EXPECT_NE(o.out.find("no check pole triangulated: no mean dR"), std::string::npos) << o.out;
-  expect_no_undefined_numbers("the console", o.out + o.err);
+  for (const std::string stage : {"calibrate", "intersect", "report"}) {
+    const test::CliResult o = test::run_cli(stage + " " + q(m / "mission.json"));  // not quiet
+    EXPECT_EQ(o.exit_code, 4) << stage << ": " << o.err;
+    EXPECT_NE(o.err.find((m / "out/run.json").string() + ": field 'outcome': the mission is partial"),
+              std::string::npos)
+        << o.err;
+    if (stage == "intersect") {
+      EXPECT_NE(o.out.find("no check pole triangulated: no mean dR"), std::string::npos) << o.out;
+    }
+    expect_no_undefined_numbers("the console", o.out + o.err);
+  }
   EXPECT_TRUE(fs::exists(m / "out/c2/calibration.json"));
   EXPECT_FALSE(fs::exists(m / "out/c1/calibration.json"));
   EXPECT_TRUE(fs::exists(m / "out/intersection.csv"));
@@ -495,6 +517,28 @@ TEST(BadInputCli, OneEpochIsAPartialMissionExitFourWithItsOutputsMarked) {
   EXPECT_NE(html.find("This mission is partial (exit 4)"), std::string::npos);
   for (const char* f : {"out/run.json", "out/summary.json", "out/report.html"})
     expect_no_undefined_numbers(f, test::read_text(m / f));
+}
+
+// A .pos holding one epoch is refused where that is first known, the gnss stage: exit 3 naming the
+// .pos, the epoch's line and what is missing (docs/gnss.md "Filtering and gaps"), not a camera's
+// calibration several stages later.
+TEST(BadInputCli, OneEpochIsRefusedAtTheGnssStageNamingThePos) {
+  const fs::path m = mission_copy("one_epoch");
+  auto lines = split_lines(test::read_text(m / "gnss/rover.pos"));
+  const std::size_t first = first_data_line(lines);
+  const std::string epoch = lines[first + (lines.size() - first) / 2];
+  lines.resize(first);
+  lines.push_back(epoch);
+  test::write_text(m / "gnss/rover.pos", join_lines(lines));
+  const Outcome o = run("run " + q(m / "mission.json"));
+  expect_refused(o, 3, "rover.pos:" + std::to_string(first + 1), "epochs");
+  EXPECT_NE(o.cli.err.find("only 1 epoch is left for the lamp track (1 read"), std::string::npos)
+      << o.cli.err;
+  EXPECT_NE(o.cli.err.find("needs at least 2"), std::string::npos) << o.cli.err;
+  EXPECT_TRUE(no_mission_outputs(m));
+  const json runlog = read_json(m / "out/run.json");
+  EXPECT_EQ(runlog["status"], "failed");
+  EXPECT_EQ(runlog["failed_stage"], "gnss");
 }
 
 // Poorly determined parameters are warnings (the small mission has some: exit 0 above) unless

@@ -4,6 +4,7 @@
 // line, and messages that never carry raw bytes.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <tuple>
 #include <vector>
 
@@ -127,6 +128,42 @@ TEST(JsonText, NumberBeyondADoubleNamesItsLineAndKeyPath) {
     EXPECT_EQ(e.field(), c.field) << c.text;
     EXPECT_NE(std::string(e.what()).find("beyond the range of a double"), std::string::npos) << e.what();
   }
+}
+
+// A ~200 KB file whose unknown key holds 100,000 nested arrays: refused before nlohmann parses it
+// (its DOM copy and dump recurse per level), in one linear pass. The walk that names key paths
+// used to build every open container's full path as it opened, quadratic in the depth: 109 s and
+// 17.8 GB for this file.
+TEST(JsonText, DeepNestingIsRefusedInLinearTimeNamingLineAndKeyPath) {
+  const std::size_t depth = 100000;
+  const std::string text = "{\n  \"mission\": \"deep\",\n  \"extra\": " + std::string(depth, '[') +
+                           std::string(depth, ']') + "\n}\n";
+  const auto t0 = std::chrono::steady_clock::now();
+  const Error e = json_error(text);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 0.5);
+  EXPECT_EQ(e.kind(), ErrorKind::usage);
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_EQ(e.field().rfind("extra[0][0]", 0), 0u) << e.field();
+  EXPECT_LT(e.field().size(), 60u) << "the key path of a deep value is shortened";
+  EXPECT_NE(std::string(e.what()).find("nested deeper than " + std::to_string(kMaxJsonNesting) + " levels"),
+            std::string::npos)
+      << e.what();
+  // Inside a string, brackets are text; the limit itself is accepted, one more level is not.
+  EXPECT_NO_THROW(
+      parse_json_text("{\"a\": \"" + std::string(depth, '[') + "\"}", "s.json", ErrorKind::usage));
+  const auto nested = [](std::size_t levels) { return std::string(levels, '[') + std::string(levels, ']'); };
+  EXPECT_NO_THROW(parse_json_text(nested(kMaxJsonNesting), "ok.json", ErrorKind::input));
+  const Error over = json_error("{\"a\": [{\"b\": " + nested(kMaxJsonNesting - 2) + "}]}");
+  EXPECT_EQ(over.field().rfind("a[0].b[0]", 0), 0u) << over.field();
+  // The same walk names the key path of an overflowing number in a long array in linear time.
+  std::string wide = "{\"w\": [";
+  for (int i = 0; i < 200000; ++i) wide += "[1],";
+  wide += "1e999]}";
+  const auto t1 = std::chrono::steady_clock::now();
+  const Error far = json_error(wide);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count(), 1.0);
+  EXPECT_EQ(far.field(), "w[200000]");
 }
 
 TEST(JsonText, ByteOrderMarkIsAcceptedAndBadUtf8IsAnError) {

@@ -421,15 +421,18 @@ TEST(GnssStage, RunReadsAnAutopilotLogAndReportsItsTimeFit) {
   in.attitude = constant_attitude(0, 0, 90);
   EXPECT_EQ(log.counts.at("epochs_kept"), compute_lamp_track(in).track.epochs.size());
 
-  // A CSV attitude reports its format and span only.
+  // A CSV attitude reports its format and span only. Its samples are 1 s apart (the interpolation's
+  // largest gap), so that the body-frame lever arm keeps the epochs they cover: a track needs two
+  // (kMinLampTrackEpochs).
   test::write_text(
       dir / "att.csv",
-      "utc,roll_deg,pitch_deg,yaw_deg\n2018-10-09T12:30:00Z,0,0,90\n2018-10-09T12:40:00Z,0,0,90\n");
+      "utc,roll_deg,pitch_deg,yaw_deg\n2018-10-09T12:30:00Z,0,0,90\n2018-10-09T12:30:01Z,0,0,90\n"
+      "2018-10-09T12:30:02Z,0,0,90\n");
   cfg.attitude_file = (dir / "att.csv").string();
   cfg.attitude_gnss_lag_ms.reset();
   const nlohmann::json c = run_gnss_stage(cfg).counts.at("attitude");
   EXPECT_EQ(c.at("format"), "csv");
-  EXPECT_EQ(c.at("samples"), 2);
+  EXPECT_EQ(c.at("samples"), 3);
   EXPECT_FALSE(c.contains("gps_used"));
   // ... and takes no receiver lag: its times are UTC already.
   cfg.attitude_gnss_lag_ms = 120;

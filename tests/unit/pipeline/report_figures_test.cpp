@@ -7,6 +7,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "config/error.hpp"
@@ -169,6 +170,107 @@ TEST(ReportFigures, NoiseModelSigmaIsPixelNoisePlusProjectedPpkSd) {
   EXPECT_EQ(c.n, 2);
   EXPECT_NEAR(c.rms_px, 0.5, 1e-9);
   EXPECT_NEAR(c.expected_rms_px, std::sqrt(C.trace() * 3.0 / 4.0), 1e-6);
+}
+
+TEST(ReportFigures, NoiseModelTakesThePpkErrorModelTheCalibrationUsed) {
+  // Under the model, a fix's error is white S·Σ_pos·S plus the Gauss–Markov part of variance σ_g²
+  // (optim/network/ppk_error_model.hpp): the residual's σ carries both.
+  const Camera cam = test::range_camera();
+  CalibrationResult r;
+  r.camera = cam;
+  Correspondence p;
+  p.enu = Eigen::Vector3d(0.5, 64, 7.5);
+  ASSERT_TRUE(project(cam, p.enu, &p.uv));
+  p.sd_enu = Eigen::Vector3d(0.01, 0.01, 0.02);
+  PpkErrorModel m;
+  m.white_scale_h = 0.4, m.white_scale_v = 0.3;
+  m.gm_sd_h_m = 0.008, m.gm_sd_v_m = 0.014;
+  m.tau_h_s = 30, m.tau_v_s = 30;
+  const LampResidual a = lamp_residuals({p}, &r, nullptr, 0.1, &m).front();
+  const Eigen::Vector3d var(0.004 * 0.004 + 0.008 * 0.008, 0.004 * 0.004 + 0.008 * 0.008,
+                            0.006 * 0.006 + 0.014 * 0.014);
+  const Eigen::Matrix2d C =
+      0.01 * Eigen::Matrix2d::Identity() + a.world_jacobian * var.asDiagonal() * a.world_jacobian.transpose();
+  EXPECT_NEAR(a.sigma_px.x(), std::sqrt(C(0, 0)), 1e-9);
+  EXPECT_NEAR(a.sigma_px.y(), std::sqrt(C(1, 1)), 1e-9);
+  // The white model (S = I, no σ_g) is the .pos sd as written, bit for bit as without a model.
+  const PpkErrorModel white;
+  const LampResidual w = lamp_residuals({p}, &r, nullptr, 0.1, &white).front();
+  const LampResidual none = lamp_residuals({p}, &r, nullptr, 0.1).front();
+  EXPECT_EQ(w.sigma_px, none.sigma_px);
+  EXPECT_GT(none.sigma_px.y(), 1.2 * a.sigma_px.y()) << "the model's total is below the .pos sd here";
+}
+
+// Lamp pairs at 5 Hz for 60 s, the lamp at `z(t)` above (0.5, 64) moving at `vz(t)`; each pixel as
+// the camera saw it with a clock offset `clock_s` and a world error `error_m` of the fix.
+std::vector<LampResidual> moving_lamp_residuals(const std::function<double(double)>& z,
+                                                const std::function<double(double)>& vz, double clock_s,
+                                                const Eigen::Vector3d& error_m, const PpkErrorModel* model) {
+  const Camera cam = test::range_camera();
+  CalibrationResult r;
+  r.camera = cam;
+  std::vector<Correspondence> pairs;
+  for (int i = 0; i < 300; ++i) {
+    const double t = 0.2 * i;
+    Correspondence p;
+    p.utc = UtcTime{1700000000000000000LL + static_cast<std::int64_t>(i) * 200000000LL};
+    const Eigen::Vector3d truth(0.5, 64, z(t));
+    p.vel_enu = Eigen::Vector3d(0, 0, vz(t));
+    p.enu = truth + error_m;
+    p.sd_enu = Eigen::Vector3d(0.003, 0.003, 0.005);
+    EXPECT_TRUE(project(cam, truth - *p.vel_enu * clock_s, &p.uv));
+    pairs.push_back(p);
+  }
+  return lamp_residuals(pairs, &r, nullptr, 0.1, model);
+}
+
+TEST(ReportFigures, ClockOffsetSignatureIsTheLampsMotionNotASlowPpkError) {
+  PpkErrorModel gm;
+  gm.gm_sd_h_m = 0.008, gm.gm_sd_v_m = 0.014;
+  gm.tau_h_s = 30, gm.tau_v_s = 30;
+  // Ascents only (as the demo flies), at 0.2 m/s: a fix 4 mm low throughout looks like the lamp seen
+  // 20 ms early.
+  const auto up = [](double t) { return 3 + t * 0.2; };
+  const auto up_v = [](double) { return 0.2; };
+  const ClockOffsetSignature white =
+      clock_offset_signature(moving_lamp_residuals(up, up_v, 0, {0, 0, -0.004}, nullptr), nullptr);
+  EXPECT_EQ(white.n, 300);
+  EXPECT_NEAR(white.offset_s, -0.020, 1e-3);
+  EXPECT_GT(std::abs(white.offset_s), 5 * white.sigma_s) << "white noise alone: a clock offset";
+  // Under the correlated model such an error is the Gauss–Markov part's, well within its σ.
+  const std::vector<LampResidual> res = moving_lamp_residuals(up, up_v, 0, {0, 0, -0.004}, &gm);
+  const ClockOffsetSignature correlated = clock_offset_signature(res, &gm);
+  EXPECT_NEAR(correlated.offset_s, white.offset_s, 1e-9);
+  EXPECT_LT(std::abs(correlated.offset_s), 3 * correlated.sigma_s);
+  // The σ is the model's: the sum over pairs by the recursion equals the direct double sum.
+  double direct = 0, gg = 0;
+  for (const LampResidual& i : res) {
+    gg += i.image_velocity_px_s.squaredNorm();
+    for (const LampResidual& j : res) {
+      const double dt = 1e-9 * static_cast<double>(i.utc.ns - j.utc.ns);
+      const Eigen::Vector3d phi = gauss_markov_transition(gm, dt);
+      const Eigen::Vector3d var =
+          i.utc.ns == j.utc.ns ? Eigen::Vector3d::Zero() : gm.gm_sd().cwiseAbs2().cwiseProduct(phi).eval();
+      direct += (i.world_jacobian.transpose() * i.image_velocity_px_s)
+                    .dot(var.cwiseProduct(j.world_jacobian.transpose() * j.image_velocity_px_s));
+    }
+    direct += i.image_velocity_px_s.dot(i.cov_px * i.image_velocity_px_s);
+  }
+  EXPECT_NEAR(correlated.sigma_s, std::sqrt(direct) / gg, 1e-9 * correlated.sigma_s);
+  // Up and down every 10 s: a 40 ms clock offset reverses with the lamp, which no error slow over
+  // 30 s does, so it shows under the correlated model too; a flight with no offset shows none.
+  const auto zigzag = [](double t) {
+    const double u = std::fmod(t, 20.0);
+    return 3 + (u < 10 ? u : 20 - u);
+  };
+  const auto zigzag_v = [](double t) { return std::fmod(t, 20.0) < 10 ? 1.0 : -1.0; };
+  const ClockOffsetSignature late = clock_offset_signature(
+      moving_lamp_residuals(zigzag, zigzag_v, 0.040, Eigen::Vector3d::Zero(), &gm), &gm);
+  EXPECT_NEAR(late.offset_s, 0.040, 2e-3);
+  EXPECT_GT(std::abs(late.offset_s), 3 * late.sigma_s);
+  const ClockOffsetSignature on_time =
+      clock_offset_signature(moving_lamp_residuals(zigzag, zigzag_v, 0, Eigen::Vector3d::Zero(), &gm), &gm);
+  EXPECT_LT(std::abs(on_time.offset_s), 1e-6);
 }
 
 TEST(CompareCalibrations, ACalibrationWithItselfIsZeroEverywhere) {

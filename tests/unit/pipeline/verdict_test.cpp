@@ -40,6 +40,27 @@ TEST(Verdict, ResidualsUpToOneAndAHalfTimesTheModelAreAsExpected) {
   EXPECT_EQ(nothing.weak, WeakParameterEffect::none);
 }
 
+TEST(Verdict, AClockOffsetIsNamedOnlyWhenTheResidualsShowOne) {
+  const SliceStats none;
+  CameraEvidence e = evidence(0.2, 0.1, 0.2, false);
+  e.clock = {100, 0.0040, 0.0010};  // 4 σ
+  const CameraVerdict shown = judge_camera(e, none, 0.01);
+  EXPECT_EQ(shown.reading, ResidualReading::too_large);
+  EXPECT_TRUE(shown.clock_offset_shown);
+  EXPECT_DOUBLE_EQ(shown.clock_offset_s, 0.004);
+  e.clock.sigma_s = 0.0014;  // 2.9 σ: the residuals do not show a clock offset
+  EXPECT_FALSE(judge_camera(e, none, 0.01).clock_offset_shown);
+  e.clock = {};  // no velocities in correspondences.csv: nothing to show
+  EXPECT_FALSE(judge_camera(e, none, 0.01).clock_offset_shown);
+  CameraEvidence fine = evidence(0.14, 0.1, 0.2, false);  // residuals as expected: no cause to look for
+  fine.clock = {100, 0.0040, 0.0010};
+  fine.correlated_ppk = true;
+  const CameraVerdict v = judge_camera(fine, none, 0.01);
+  EXPECT_EQ(v.reading, ResidualReading::as_expected);
+  EXPECT_FALSE(v.clock_offset_shown);
+  EXPECT_TRUE(v.correlated_ppk);
+}
+
 TEST(Verdict, WeakParametersAreJudgedByTheFlightVolumeAgainstTheBar) {
   // With a flight-volume prediction its median decides, whatever the centre σ.
   EXPECT_EQ(judge_camera(evidence(0.1, 0.1, 3.0, true), volume(0.010), 0.010).weak,
