@@ -1,7 +1,7 @@
 #pragma once
 // The restricted likelihood of the PPK error model on the network, with its derivatives
-// (docs/optimisation.md "Correlated PPK errors — estimation"; /work/shared/notes/correlated_ppk.md
-// §2c). With the states g integrated out under their AR(1) prior Q and the cameras, points (x) under
+// (docs/optimisation.md "Correlated PPK errors — estimation"; Patterson & Thompson 1971, REML).
+// With the states g integrated out under their AR(1) prior Q and the cameras, points (x) under
 // a flat prior, the restricted deviance is
 //   D(θ) = −2ℓ_R(θ) = log|R| + log|Q| + log|M| + χ²_min + const,
 // R the fixes' white covariance (S·Σ_pos·S per fix), M the normal matrix of (x, g) — the product of
