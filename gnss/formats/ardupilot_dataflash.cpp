@@ -6,6 +6,7 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "gnss/formats/autopilot_attitude_series.hpp"
 #include "gnss/formats/binary_log_bytes.hpp"
 
 namespace rangecal {
@@ -283,11 +284,7 @@ AttitudeSeries dataflash_attitude(std::string_view bytes, const std::string& pat
   rep.attitude_message = "ATT";
   rep.attitude_time_field = "TimeUS";
   rep.gps_message = "GPS";
-  struct Raw {
-    std::int64_t boot_us;
-    Attitude att;
-  };
-  std::vector<Raw> raw;
+  std::vector<BootAttitudeSample> raw;
   std::vector<BootUtcPair> pairs;
   std::optional<Columns> att, gps;
   const DataflashSummary sum = walk_dataflash(bytes, path, [&](const DataflashFormat& f, std::string_view m) {
@@ -347,33 +344,8 @@ AttitudeSeries dataflash_attitude(std::string_view bytes, const std::string& pat
   rep.gnss_lag_given = gnss_lag_ms.has_value();
   rep.fit = fit_boot_time(std::move(pairs), path, "GPS.GMS", boot_time_options_for_lag(rep.gnss_lag_ms));
 
-  AttitudeSeries s;
-  s.path = path;
-  s.samples.reserve(raw.size());
-  std::int64_t last = 0;
-  for (const Raw& r : raw) {
-    if (!s.samples.empty() && r.boot_us <= last) {
-      ++rep.attitude_not_increasing;
-      continue;
-    }
-    last = r.boot_us;
-    AttitudeSample a;
-    a.utc = rep.fit.to_utc(r.boot_us);
-    a.att = r.att;
-    s.samples.push_back(a);
-  }
-  rep.attitude_samples = s.samples.size();
-  if (s.samples.size() < 2)
-    throw_input_error(path, 0, "ATT",
-                      std::to_string(s.samples.size()) + " usable attitude samples of " +
-                          std::to_string(rep.attitude_messages) + " ATT messages (" +
-                          std::to_string(rep.attitude_invalid) + " out of range or without a time, " +
-                          std::to_string(rep.attitude_not_increasing) +
-                          " not after the previous); at least 2 are needed to interpolate");
-  rep.utc_start = s.samples.front().utc;
-  rep.utc_end = s.samples.back().utc;
-  if (report) *report = rep;
-  return s;
+  return autopilot_attitude_series(raw, path, {"ATT", "ATT messages", "out of range or without a time"},
+                                   std::move(rep), report);
 }
 
 AttitudeSeries read_dataflash_attitude(const std::string& path, AutopilotAttitudeReport* report,

@@ -4,6 +4,7 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
 
@@ -17,10 +18,7 @@ AttitudeSeries parse_attitude_csv(const std::string& text, const std::string& pa
   for (const CsvRecord& r : t.records) {
     AttitudeSample a;
     a.line = r.line;
-    std::string why;
-    const auto utc = parse_iso8601_utc(t.text(r, cu), &why);
-    if (!utc) throw_input_error(path, r.line, "utc", "'" + t.text(r, cu) + "': " + why);
-    a.utc = *utc;
+    a.utc = csv_utc(t, r, cu);
     a.att.roll_deg = t.number(r, cr);
     a.att.pitch_deg = t.number(r, cp);
     a.att.yaw_deg = t.number(r, cy);

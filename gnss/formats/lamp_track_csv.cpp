@@ -10,6 +10,7 @@
 #include "config/error.hpp"
 #include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
+#include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
 
@@ -85,10 +86,7 @@ LampTrack parse_lamp_track_csv(const std::string& text, const std::string& path)
   track.epochs.reserve(t.records.size());
   for (const CsvRecord& r : t.records) {
     LampEpoch e;
-    std::string why;
-    const auto utc = parse_iso8601_utc(t.text(r, cu), &why);
-    if (!utc) throw_input_error(path, r.line, "utc", "'" + t.text(r, cu) + "': " + why);
-    e.utc = *utc;
+    e.utc = csv_utc(t, r, cu);
     if (!track.epochs.empty() && e.utc <= track.epochs.back().utc)
       throw_input_error(path, r.line, "utc",
                         "time is not after the previous line's; epochs must be strictly increasing");

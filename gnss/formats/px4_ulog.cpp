@@ -7,6 +7,7 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
+#include "gnss/formats/autopilot_attitude_series.hpp"
 #include "gnss/formats/binary_log_bytes.hpp"
 
 namespace rangecal {
@@ -727,9 +728,7 @@ AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report
   const UlogFieldRef a_time = a_sample ? *a_sample : a_ts;
   rep.attitude_time_field = a_sample ? "timestamp_sample" : "timestamp";
 
-  AttitudeSeries s;
-  s.path = path;
-  std::int64_t last = 0;
+  std::vector<BootAttitudeSample> raw;
   for (const UlogDataMessage& m : log.data) {
     if (std::find(att.begin(), att.end(), m.subscription) == att.end()) continue;
     ++rep.attitude_messages;
@@ -744,29 +743,11 @@ AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report
       ++rep.attitude_invalid;
       continue;
     }
-    const auto ti = static_cast<std::int64_t>(t);
-    if (!s.samples.empty() && ti <= last) {
-      ++rep.attitude_not_increasing;
-      continue;
-    }
-    last = ti;
-    AttitudeSample a;
-    a.utc = rep.fit.to_utc(ti);
-    a.att = attitude_from_quaternion(q[0], q[1], q[2], q[3]);
-    s.samples.push_back(a);
+    raw.push_back({static_cast<std::int64_t>(t), attitude_from_quaternion(q[0], q[1], q[2], q[3])});
   }
-  rep.attitude_samples = s.samples.size();
-  if (s.samples.size() < 2)
-    throw_input_error(
-        path, 0, "D vehicle_attitude",
-        std::to_string(s.samples.size()) + " usable attitude samples of " +
-            std::to_string(rep.attitude_messages) + " messages (" + std::to_string(rep.attitude_invalid) +
-            " not a unit quaternion or without a time, " + std::to_string(rep.attitude_not_increasing) +
-            " not after the previous); at least 2 are needed to interpolate");
-  rep.utc_start = s.samples.front().utc;
-  rep.utc_end = s.samples.back().utc;
-  if (report) *report = rep;
-  return s;
+  return autopilot_attitude_series(
+      raw, path, {"D vehicle_attitude", "messages", "not a unit quaternion or without a time"},
+      std::move(rep), report);
 }
 
 AttitudeSeries read_ulog_attitude(const std::string& path, AutopilotAttitudeReport* report,

@@ -4,7 +4,7 @@
 // PPK white scale, the Gauss–Markov sd and τ, horizontal and vertical, and of each camera's image
 // scale, on the network linearised at the robust solution (the likelihood, its gradient and average
 // information: restricted_likelihood.hpp). The REML form charges the degrees of freedom the cameras
-// and points use, which fitting the corrections' autocorrelation does not (Harville 1977). The
+// and points use, which fitting the corrections' autocorrelation does not (Patterson & Thompson 1971; Harville 1977). The
 // poles' survey σ and the pole picks' σ are taken as stated.
 #include <cstddef>
 #include <vector>
@@ -13,7 +13,7 @@
 
 namespace rangecal {
 
-/// A record shorter than this many τ cannot separate σ_g from τ (correlated_ppk.md §2c: τ̂ is biased
+/// A record shorter than this many τ cannot separate σ_g from τ (docs/optimisation.md: τ̂ is biased
 /// low, 0.4–0.7 of τ at T/τ = 3–10; a Gauss–Markov process over T ≪ τ is an offset the datum absorbs
 /// plus a random walk of rate 2σ_g²/τ). Below it, on that axis σ_g is held at the .pos sd — the size
 /// RTKLIB gives the whole error (docs/gnss.md "PPK error model") — and τ re-estimated with it, so the

@@ -4,9 +4,9 @@
 //   e_k = w_k + g_k,    w_k white, Cov(w_k) = S·Σ_pos,k·S,   S = diag(s_h, s_h, s_v),
 //   g_k first-order Gauss–Markov: E[g_k g_j] = σ_g²·exp(−|t_k − t_j|/τ), axes uncorrelated,
 // Σ_pos,k the fix's own covariance from the .pos sd columns (which RTKLIB, and rangecal's simulator,
-// report as the whole error: /work/shared/notes/correlated_ppk.md §1). E and N share the horizontal
+// report as the whole error: docs/references.md "Correlated PPK errors"). E and N share the horizontal
 // values, U has its own. The GM part is carried as one state per epoch and axis, chained by the exact
-// discretisation for any spacing (correlated_ppk.md §2a, Brown & Hwang):
+// discretisation for any spacing (Brown & Hwang 2012, the first-order Gauss–Markov process):
 //   g_0 ~ N(0, σ_g²),   g_k = φ_k·g_{k−1} + ν_k,   φ_k = exp(−Δt_k/τ),   ν_k ~ N(0, σ_g²·(1 − φ_k²)),
 // so a gap between flights of many τ decouples them (φ → 0) and the stationary variance is σ_g² at
 // every epoch. With no GM part (σ_g = 0) and s = 1 the model is the white one the network has always
@@ -58,7 +58,7 @@ inline Eigen::Vector3d gauss_markov_weight(const PpkErrorModel& m, const Eigen::
 
 /// How many independent looks at the Gauss–Markov error the fixes at times `t_s` (ascending) give,
 /// per ENU axis: 1ᵀ·R⁻¹·1 with R their correlation matrix, exp(−|t_i − t_j|/τ) — the information
-/// the fixes hold about a common offset, in units of one fix (correlated_ppk.md §2c: ≈ T/(2τ) over
+/// the fixes hold about a common offset, in units of one fix (docs/accuracy_analysis.md: ≈ T/(2τ) over
 /// a flight of T ≫ τ; a gap of many τ starts a new look). From the chain's residual form,
 /// 1ᵀ·R⁻¹·1 = 1 + Σ_k (1 − φ_k)/(1 + φ_k). Zero for no fixes.
 template <class Times>

@@ -4,6 +4,7 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
+#include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
 
@@ -36,10 +37,7 @@ std::vector<AlignedFrame> parse_aligned_csv(const std::string& text, const std::
   for (const CsvRecord& rec : t.records) {
     AlignedFrame a;
     a.frame = t.integer(rec, c_frame);
-    std::string why;
-    const auto utc = parse_iso8601_utc(t.text(rec, c_utc), &why);
-    if (!utc) throw_input_error(path, rec.line, "utc", "not an ISO 8601 UTC time: " + why);
-    a.utc = *utc;
+    a.utc = csv_utc(t, rec, c_utc);
     for (int k = 0; k < 3; ++k) {
       a.enu[k] = t.number(rec, c_pos[k]);
       a.sd_enu[k] = t.number(rec, c_sd[k]);

@@ -5,6 +5,7 @@
 #include "config/error.hpp"
 #include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
+#include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
 
@@ -57,13 +58,11 @@ std::vector<Correspondence> parse_correspondences_csv(const std::string& text, c
   out.reserve(t.records.size());
   for (const auto& r : t.records) {
     Correspondence p;
-    std::string why;
-    const auto utc = parse_iso8601_utc(t.text(r, c_utc), &why);
-    if (!utc) throw_input_error(path, r.line, "utc", "'" + t.text(r, c_utc) + "': " + why);
-    if (!out.empty() && !(out.back().utc < *utc))
+    const UtcTime utc = csv_utc(t, r, c_utc);
+    if (!out.empty() && !(out.back().utc < utc))
       throw_input_error(path, r.line, "utc",
                         "time does not increase (previous line has the same or a later time)");
-    p.utc = *utc;
+    p.utc = utc;
     p.line = r.line;
     const double px = ranges::kMaxPixelCoordinatePx;
     const auto enu = t.site_enu(r, c_e, c_n, c_u);

@@ -6,6 +6,7 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
+#include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
 
@@ -38,10 +39,7 @@ std::vector<LampTrackAdjustedRow> parse_lamp_track_adjusted_csv(const std::strin
   for (const CsvRecord& rec : t.records) {
     LampTrackAdjustedRow r;
     r.line = rec.line;
-    std::string why;
-    const std::optional<UtcTime> utc = parse_iso8601_utc(t.text(rec, c_utc), &why);
-    if (!utc) throw_input_error(path, rec.line, "utc", "'" + t.text(rec, c_utc) + "': " + why);
-    r.utc = *utc;
+    r.utc = csv_utc(t, rec, c_utc);
     // One row per epoch in time order (the writer's map): a repeated or earlier time is a damaged file.
     if (!rows.empty() && !(rows.back().utc < r.utc))
       throw_input_error(path, rec.line, "utc",

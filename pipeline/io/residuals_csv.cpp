@@ -6,6 +6,7 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
+#include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
 
@@ -53,9 +54,7 @@ std::vector<ResidualRow> parse_residuals_csv(const std::string& text, const std:
     if (r.kind == ResidualRow::Kind::control && r.id.empty())
       throw_input_error(path, rec.line, "id", "a control row needs the pole id");
     if (!t.text(rec, c_utc).empty()) {
-      std::string why;
-      r.utc = parse_iso8601_utc(t.text(rec, c_utc), &why);
-      if (!r.utc) throw_input_error(path, rec.line, "utc", "'" + t.text(rec, c_utc) + "': " + why);
+      r.utc = csv_utc(t, rec, c_utc);
     } else if (r.kind == ResidualRow::Kind::lamp) {
       throw_input_error(path, rec.line, "utc", "a lamp row needs the frame's UTC");
     }

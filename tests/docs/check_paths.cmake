@@ -2,9 +2,10 @@
 # `docs`; docs/architecture.md "tests/"). Run as
 #   cmake -DROOT=<repository> -P tests/docs/check_paths.cmake              (the repository)
 #   cmake -DROOT=<repository> -DFILES=<a;b> -P tests/docs/check_paths.cmake (only these files)
-# What is read: README.md and docs/*.md whole (with their relative Markdown links); in config/,
-# gnss/, vision/, optim/, pipeline/ and tests/ the `//` comments of C++ files and the `#` comments
-# of CMake and shell files, and the same of the top-level CMakeLists.txt, setup.sh and .ci/run.
+# What is read: README.md, docs/*.md and tests/data/external/README.md whole (with their relative
+# Markdown links); in config/, gnss/, vision/, optim/, pipeline/ and tests/ the `//` comments of C++
+# files and the `#` comments of CMake and shell files, and the same of the top-level
+# CMakeLists.txt, setup.sh and .ci/run.
 # What is a repository path: a word starting with a top-level folder (config/ gnss/ vision/ optim/
 # pipeline/ tests/ docs/ .ci/). It exists if it is a file or folder of the repository, or a file
 # stem whose .hpp or .cpp is (`optim/search/lm_qn`); `{hpp,cpp}` names each alternative, `*` and a
@@ -13,15 +14,21 @@
 # must be the name of a file somewhere in the repository (a name with capitals, GeographicLib's
 # LocalCartesian.cpp, is another project's).
 # What is not: a data file (.csv .json .pos .yml …) outside config/examples/ and tests/ names a
-# file of a mission folder (`gnss/lamp_track.csv`), not of the repository; and paths starting with
-# ../shared name the data sets beside the repository, which a clone may not have: they are skipped,
-# by name, so the test passes with or without ../shared.
+# file of a mission folder (`gnss/lamp_track.csv`), not of the repository.
+# No path outside the repository may be named, because a clone does not have it: a citation must
+# name a published source or a repository doc (docs/references.md). Outside is an absolute path (a
+# slash, a name, a slash: a notes file on one machine) other than the system's own folders every
+# Debian machine has (usr etc dev proc bin lib sys: `/usr/bin/time`), a path from the home folder
+# (tilde, slash) and a path that climbs out of the repository (two dots, slash); a Markdown link
+# that climbs out counts too. The one exception: a doc (README.md, docs/*.md) may name a folder
+# beside the repository by a climbing path — the data sets a developer's benchmarks read — when the
+# same paragraph says the words "outside the repository"; a code comment never may.
 cmake_minimum_required(VERSION 3.16)
 if(NOT ROOT)
   message(FATAL_ERROR "check_paths: give -DROOT=<repository>")
 endif()
 
-set(_top "(\\.\\./shared/|\\.ci/|docs/|config/|gnss/|vision/|optim/|pipeline/|tests/)")
+set(_top "(\\.ci/|docs/|config/|gnss/|vision/|optim/|pipeline/|tests/)")
 set(_path_chars "A-Za-z0-9_./{},<>*+-")
 set(_code_ext "\\.(cpp|hpp|md|txt|sh|cmake|supp|dict)$")
 
@@ -29,7 +36,7 @@ if(FILES)
   set(_files ${FILES})
 else()
   file(GLOB _docs RELATIVE ${ROOT} ${ROOT}/docs/*.md)
-  set(_files README.md ${_docs} CMakeLists.txt setup.sh .ci/run)
+  set(_files README.md ${_docs} tests/data/external/README.md CMakeLists.txt setup.sh .ci/run)
   foreach(_dir config gnss vision optim pipeline tests)
     file(GLOB_RECURSE _found RELATIVE ${ROOT} ${ROOT}/${_dir}/*.cpp ${ROOT}/${_dir}/*.hpp
          ${ROOT}/${_dir}/CMakeLists.txt ${ROOT}/${_dir}/*.cmake ${ROOT}/${_dir}/*.sh)
@@ -99,10 +106,6 @@ foreach(_f ${_files})
   foreach(_h ${_hits})
     string(SUBSTRING "${_h}" 1 -1 _p)
     string(REGEX REPLACE "[.,:]+$" "" _p "${_p}")
-    if(_p MATCHES "^\\.\\./shared/")
-      math(EXPR _skipped "${_skipped} + 1")
-      continue()
-    endif()
     if(_p MATCHES "\\.[A-Za-z0-9]+$" AND NOT _p MATCHES "${_code_ext}" AND NOT _p MATCHES "^(config/examples|tests)/")
       continue()
     endif()
@@ -118,11 +121,65 @@ foreach(_f ${_files})
       math(EXPR _missing "${_missing} + 1")
     endif()
   endforeach()
+  # Paths outside the repository (the file comment says which, and the one exception). A hit keeps
+  # the character before it, so that it can be found again in the doc; a link's target ("](") is
+  # checked with the links below.
+  string(REGEX MATCHALL "(\\]\\(|[^~${_path_chars}])(\\.\\./|~/|/[A-Za-z][A-Za-z0-9_.-]*/)[${_path_chars}]*"
+         _outside " ${_text}")
+  string(REPLACE "](" "<link>" _outside "${_outside}")  # before the list is split: "]" would nest
+  set(_from 0)
+  foreach(_h ${_outside})
+    if(_h MATCHES "^<link>")
+      continue()
+    endif()
+    string(SUBSTRING "${_h}" 1 -1 _p)
+    string(REGEX REPLACE "[.,:]+$" "" _p "${_p}")
+    if(_p MATCHES "^/(usr|etc|dev|proc|bin|lib|sys)/")
+      continue()
+    endif()
+    set(_said FALSE)
+    if(_f MATCHES "\\.md$")
+      # The hit's paragraph (between blank lines) in the doc, searched from the previous hit on.
+      string(SUBSTRING " ${_content}" ${_from} -1 _rest)
+      string(FIND "${_rest}" "${_h}" _at)
+      math(EXPR _at "${_from} + ${_at}")
+      string(LENGTH "${_h}" _n)
+      math(EXPR _from "${_at} + ${_n}")
+      string(SUBSTRING " ${_content}" 0 ${_at} _before)
+      string(SUBSTRING " ${_content}" ${_at} -1 _after)
+      string(FIND "${_before}" "\n\n" _start REVERSE)
+      if(_start LESS 0)
+        set(_start 0)
+      endif()
+      string(SUBSTRING "${_before}" ${_start} -1 _before)
+      string(FIND "${_after}" "\n\n" _end)
+      string(SUBSTRING "${_after}" 0 ${_end} _after)
+      string(REGEX REPLACE "[ \t\r\n>]+" " " _paragraph "${_before}${_after}")
+      if(_p MATCHES "^\\.\\./" AND _paragraph MATCHES "outside the repository")
+        set(_said TRUE)
+      endif()
+    endif()
+    if(_said)
+      math(EXPR _skipped "${_skipped} + 1")
+    else()
+      line_of("${_content}" "${_p}" _line)
+      message("${_f}:${_line}: ${_p} is outside the repository (a clone does not have it)")
+      math(EXPR _missing "${_missing} + 1")
+    endif()
+  endforeach()
   if(_f MATCHES "\\.md$")
     get_filename_component(_doc_dir ${_f} DIRECTORY)
     string(REGEX MATCHALL "\\]\\([^)#: ]+" _links "${_content}")
     string(REPLACE "](" "" _links "${_links}")  # before the list is split: "]" would nest
     foreach(_l ${_links})
+      get_filename_component(_target "${ROOT}/${_doc_dir}/${_l}" ABSOLUTE)
+      file(RELATIVE_PATH _target "${ROOT}" "${_target}")
+      if(_target MATCHES "^\\.\\./" OR _l MATCHES "^/")
+        line_of("${_content}" "${_l}" _line)
+        message("${_f}:${_line}: ${_l} is outside the repository (a clone does not have it)")
+        math(EXPR _missing "${_missing} + 1")
+        continue()
+      endif()
       if(_doc_dir)
         list(APPEND _names "${_doc_dir}/${_l}")
       else()
@@ -156,7 +213,7 @@ foreach(_f ${_files})
 endforeach()
 
 list(LENGTH _files _n_files)
-message("check_paths: ${_checked} paths in ${_n_files} files; ${_skipped} under ../shared skipped")
+message("check_paths: ${_checked} paths in ${_n_files} files; ${_skipped} outside the repository, said so")
 if(_missing GREATER 0)
   message(FATAL_ERROR "check_paths: ${_missing} missing")
 endif()

@@ -1,7 +1,7 @@
 #pragma once
 // An independent yardstick for the network bundle under time-correlated PPK errors
 // (docs/accuracy_analysis.md "Correlated PPK errors: the independent bound";
-// /work/shared/notes/correlated_ppk.md): the linearised Cramér–Rao bound of a camera network, written
+// docs/references.md "Correlated PPK errors"): the linearised Cramér–Rao bound of a camera network, written
 // here with dense linear algebra and numeric derivatives of vision's project() — no code of
 // optim/network (its Schur complement) nor of optim/bundle/projection_jacobian.
 //
@@ -99,7 +99,7 @@ PpkJointCovariance ppk_joint_covariance(const std::vector<double>& t, const Gaus
 
 /// One draw of the PPK errors at epoch times `t` (ENU m per epoch): white noise plus the exact
 /// discretisation of the GM process, g_k = φ_k·g_{k−1} + σ_g·√(1 − φ_k²)·n_k, φ_k = exp(−Δt_k/τ),
-/// g_0 = σ_g·n_0 (stationary for any spacing; correlated_ppk.md §2a).
+/// g_0 = σ_g·n_0 (stationary for any spacing; Brown & Hwang 2012).
 std::vector<Eigen::Vector3d> draw_correlated_ppk_errors(const std::vector<double>& t,
                                                         const GaussMarkovPpk& model,
                                                         DeterministicRandom* rng);

@@ -10,6 +10,7 @@
 #include "config/error.hpp"
 #include "vision/calibration/homography.hpp"
 #include "vision/calibration/linear_distortion.hpp"
+#include "vision/calibration/nearest_rotation.hpp"
 
 namespace rangecal {
 namespace {
@@ -23,13 +24,6 @@ Eigen::Matrix<double, 1, 5> v_row(const Eigen::Matrix3d& H, int i, int j) {
   v << hi(0) * hj(0), hi(1) * hj(1), hi(2) * hj(0) + hi(0) * hj(2), hi(2) * hj(1) + hi(1) * hj(2),
       hi(2) * hj(2);
   return v;
-}
-
-Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& M) {
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d U = svd.matrixU();
-  if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(2) *= -1;
-  return U * svd.matrixV().transpose();
 }
 
 struct PlanarResidual {

@@ -11,6 +11,7 @@
 
 #include "config/error.hpp"
 #include "vision/calibration/calibration_input_checks.hpp"
+#include "vision/calibration/nearest_rotation.hpp"
 
 namespace rangecal {
 namespace {
@@ -38,13 +39,6 @@ std::vector<SensorPoint> to_sensor(const std::vector<PointCorrespondence>& pts, 
   for (std::size_t i = 0; i < pts.size(); ++i)
     out[i] = {(pts[i].pixel.x() - u0) * s.dx_mm, (pts[i].pixel.y() - v0) * s.dy_mm};
   return out;
-}
-
-Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& M) {
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d U = svd.matrixU();
-  if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(2) *= -1;
-  return U * svd.matrixV().transpose();
 }
 
 // Least squares with column equilibration and a rank test; throws on a singular system.

@@ -4,6 +4,7 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/number_format.hpp"
+#include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
 
@@ -51,10 +52,7 @@ std::vector<LampDetection> parse_detections_csv(const std::string& text, const s
   for (const CsvRecord& r : t.records) {
     LampDetection d;
     d.frame = t.integer(r, c_frame);
-    std::string why;
-    const auto utc = parse_iso8601_utc(t.text(r, c_utc), &why);
-    if (!utc) throw_input_error(path, r.line, "utc", "cannot parse '" + t.text(r, c_utc) + "' (" + why + ")");
-    d.utc = *utc;
+    d.utc = csv_utc(t, r, c_utc);
     if (!t.text(r, c_u).empty() || !t.text(r, c_v).empty()) {
       d.u = t.number(r, c_u);
       d.v = t.number(r, c_v);

@@ -4,6 +4,7 @@
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
+#include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
 
@@ -26,12 +27,7 @@ FrameTimestamps parse_frame_timestamps(const std::string& text, const std::strin
     if (file.empty()) throw_input_error(csv_path, r.line, "file", "empty file name");
     const std::filesystem::path fp(file);
     e.file = (fp.is_absolute() ? fp : folder / fp).lexically_normal().string();
-    std::string why;
-    const auto utc = parse_iso8601_utc(t.text(r, c_utc), &why);
-    if (!utc)
-      throw_input_error(csv_path, r.line, "utc",
-                        "cannot parse '" + t.text(r, c_utc) + "' as ISO 8601 UTC (" + why + ")");
-    e.utc = *utc;
+    e.utc = csv_utc(t, r, c_utc);
     if (!out.entries.empty()) {
       const FrameTimestamp& prev = out.entries.back();
       if (e.utc <= prev.utc)
