@@ -296,12 +296,21 @@ struct CameraFigures {
   double centre_sigma_px = std::nan("");  ///< projection σ at the image centre (px)
 };
 
+/// The lamp centroids' σ the calibration used: calibration.json's `details.pixel_sigma_px` (the
+/// network's estimate of the camera's image variance component, or the stated σ), else `fallback`.
+double calibration_pixel_sigma_px(const CalibrationResult* cal, double fallback) {
+  if (!cal || !cal->details.is_object() || !cal->details.contains("pixel_sigma_px")) return fallback;
+  const nlohmann::json& v = cal->details["pixel_sigma_px"];
+  return v.is_number() && v.get<double>() > 0 ? v.get<double>() : fallback;
+}
+
 CameraFigures camera_figures(const CameraReportData& c, double pixel_sigma_px) {
   CameraFigures f;
   if (!c.pairs) return f;
   const CalibrationResult* cal = c.calibration ? &*c.calibration : nullptr;
-  f.res = lamp_residuals(*c.pairs, cal, c.residuals ? &*c.residuals : nullptr, pixel_sigma_px,
-                         c.ppk_model ? &*c.ppk_model : nullptr);
+  f.res =
+      lamp_residuals(*c.pairs, cal, c.residuals ? &*c.residuals : nullptr,
+                     calibration_pixel_sigma_px(cal, pixel_sigma_px), c.ppk_model ? &*c.ppk_model : nullptr);
   if (!cal) return f;
   f.consistency = residual_consistency(f.res, static_cast<int>(cal->parameters.size()));
   f.clock = clock_offset_signature(f.res, c.ppk_model ? &*c.ppk_model : nullptr);
