@@ -329,8 +329,16 @@ void add_network_warnings(const NetworkLayout& layout, const NetworkStatistics& 
   if (estimate)
     for (std::size_t c = 0; c < estimate->image_scale.size(); ++c) {
       const double s = estimate->image_scale[c], sd = estimate->image_scale_sd[c];
-      if (sd <= kUndeterminedImageSigma * s) continue;  // determined (a NaN σ is not)
       const double stated = (*layout.cameras)[c].options.pixel_sigma_px / s;
+      if (c < estimate->image_scale_held.size() && estimate->image_scale_held[c]) {
+        warnings->push_back(
+            (*layout.cameras)[c].initial.id +
+            ": its centroid σ is not determined by this mission (the PPK fixes' own error, projected, "
+            "hides it): held at the stated " +
+            format_number("%.3g", stated) + " px");
+        continue;
+      }
+      if (sd <= kUndeterminedImageSigma * s) continue;  // determined (a NaN σ is not)
       warnings->push_back((*layout.cameras)[c].initial.id +
                           ": its centroid σ is poorly determined by this mission (" +
                           format_number("%.3g", stated * s) + " ± " + format_number("%.2g", stated * sd) +

@@ -217,6 +217,33 @@ std::vector<std::string> unidentified(const LogParameters& x, const std::vector<
   return on_bound(x, ppk);
 }
 
+/// `fit` again with every image scale that went to its lower bound held at 1 (the stated σ), removed
+/// from `images` and marked in `held`: its camera's centroids are hidden by the fixes' own error (a
+/// centroid far sharper than a fix projects), the likelihood would take their σ to zero, and the
+/// stated σ is the better value to weigh them by (docs/optimisation.md "Image variance components").
+/// `ppk` are the fit's free PPK parameters.
+Fit hold_hidden_images(const Likelihood& likelihood, Fit fit_so_far, const std::vector<int>& ppk,
+                       std::vector<int>* images, std::vector<char>* held) {
+  for (std::size_t round = 0; round < held->size(); ++round) {
+    LogParameters x = fit_so_far.x;
+    bool any = false;
+    for (auto it = images->begin(); it != images->end();) {
+      if (x[*it] > low(*it) + kOnBound) {
+        ++it;
+        continue;
+      }
+      x[*it] = 0;
+      (*held)[static_cast<std::size_t>(*it - kPpkParameters)] = 1;
+      it = images->erase(it), any = true;
+    }
+    if (!any) break;
+    std::vector<int> free = ppk;
+    free.insert(free.end(), images->begin(), images->end());
+    fit_so_far = fit(likelihood, point_at(likelihood, x), free);
+  }
+  return fit_so_far;
+}
+
 /// The image scales of x and their 1σ (delta method) into the estimate.
 void image_scales_into(const LogParameters& x, const LogParameters& sd, PpkErrorEstimate* out) {
   const auto cameras = static_cast<std::size_t>(x.size() - kPpkParameters);
@@ -335,20 +362,29 @@ PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const Net
   const Likelihood white_family{f, false, &out.evaluations}, gm_family{f, true, &out.evaluations};
   LogParameters white_x = LogParameters::Zero(kPpkParameters + static_cast<Eigen::Index>(f.cameras()));
   white_x[2] = white_x[3] = low(2), white_x[4] = white_x[5] = 0;
-  const std::vector<int> images = options.image_sigma ? start_image_scales(f, &white_x) : std::vector<int>{};
+  std::vector<int> images = options.image_sigma ? start_image_scales(f, &white_x) : std::vector<int>{};
   const auto with_images = [&](std::vector<int> free) {
     free.insert(free.end(), images.begin(), images.end());
     return free;
   };
-  const Fit white = fit(white_family, point_at(white_family, white_x), with_images({0, 1}));
-  const Fit gm = options.white_only
-                     ? white
-                     : fit(gm_family, starting_point(gm_family, white, t), with_images({0, 1, 2, 3, 4, 5}));
+  out.image_scale_held.assign(f.cameras(), 0);
+  const Fit white = hold_hidden_images(
+      white_family, fit(white_family, point_at(white_family, white_x), with_images({0, 1})), {0, 1}, &images,
+      &out.image_scale_held);
+  // The white fit's own held cameras and free image scales, should the white model be kept.
+  const std::vector<int> white_images = images;
+  const std::vector<char> white_held = out.image_scale_held;
+  const Fit gm = options.white_only ? white
+                                    : hold_hidden_images(gm_family,
+                                                         fit(gm_family, starting_point(gm_family, white, t),
+                                                             with_images({0, 1, 2, 3, 4, 5})),
+                                                         {0, 1, 2, 3, 4, 5}, &images, &out.image_scale_held);
   out.likelihood_ratio = white.at.deviance - gm.at.deviance;
   const auto keep_white = [&]() {
     out.white = true;
     out.model = model_of(white.x);
     out.model.gm_sd_h_m = out.model.gm_sd_v_m = out.model.tau_h_s = out.model.tau_v_s = 0;
+    images = white_images, out.image_scale_held = white_held;
     const std::vector<int> free = with_images({0, 1});
     const LogParameters sd = log_sd(white, free);
     out.sd = sd_of(white.x, sd);
@@ -373,7 +409,12 @@ PpkErrorEstimate estimate_ppk_error_model(const NetworkLayout& layout, const Net
     if (out.gm_sd_held_h) x[2] = std::log(pos_sd[0]), x[4] += 2 * (x[2] - gm.x[2]);
     if (out.gm_sd_held_v) x[3] = std::log(pos_sd[1]), x[5] += 2 * (x[3] - gm.x[3]);
     // Started on the ridge: τ scaled with σ_g² (the same rate).
-    best = fit(gm_family, point_at(gm_family, x), free);
+    std::vector<int> ppk;
+    for (int i : free)
+      if (i < kPpkParameters) ppk.push_back(i);
+    best = hold_hidden_images(gm_family, fit(gm_family, point_at(gm_family, x), free), ppk, &images,
+                              &out.image_scale_held);
+    free = with_images(ppk);
   }
   // The guard: a Gauss–Markov fit the mission does not identify, or whose slow part no fixed PPK
   // solution has, is refused, and the white fit stands.

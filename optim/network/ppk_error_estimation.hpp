@@ -4,8 +4,8 @@
 // PPK white scale, the Gauss–Markov sd and τ, horizontal and vertical, and of each camera's image
 // scale, on the network linearised at the robust solution (the likelihood, its gradient and average
 // information: restricted_likelihood.hpp). The REML form charges the degrees of freedom the cameras
-// and points use, which fitting the corrections' autocorrelation does not (Patterson & Thompson 1971; Harville 1977). The
-// poles' survey σ and the pole picks' σ are taken as stated.
+// and points use, which fitting the corrections' autocorrelation does not (Patterson & Thompson 1971;
+// Harville 1977). The poles' survey σ and the pole picks' σ are taken as stated.
 #include <cstddef>
 #include <vector>
 

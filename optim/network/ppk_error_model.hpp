@@ -89,6 +89,9 @@ struct PpkErrorEstimate {
   /// (restricted_likelihood.hpp), estimated with the model; 1 where the camera has no centroid in the
   /// estimate. And its 1σ (0 where not estimated).
   std::vector<double> image_scale, image_scale_sd;
+  /// Per camera: its image scale went to the box's lower bound — its centroids hidden by the fixes'
+  /// own error — and was held at 1, the stated σ (ppk_error_estimation.cpp hold_hidden_images).
+  std::vector<char> image_scale_held;
   /// Why the Gauss–Markov fit was refused and the white fit kept (ppk_error_estimation.hpp, the
   /// guard); empty when it was accepted or the likelihood-ratio test kept the white model.
   std::vector<std::string> guard_reasons;
