@@ -135,6 +135,13 @@ void expect_sigma_recovered(const Outcome& o, const std::vector<double>& true_px
   EXPECT_LT(z_rms, 1.25);
 }
 
+/// PPK errors white at the .pos sd the fixes state (0.85 / 1.49 cm: ~0.7 px at these cameras).
+GaussMarkovPpk white_ppk() {
+  GaussMarkovPpk ppk;
+  ppk.white_h_m = 0.0085, ppk.white_v_m = 0.015;
+  return ppk;
+}
+
 void expect_sigma_holds(const HonestyFigures& f) {
   EXPECT_GT(f.actual_m / f.predicted_m, 0.8);
   EXPECT_LT(f.actual_m / f.predicted_m, 1.25);
@@ -160,8 +167,7 @@ TEST(ImageVarianceComponents, TwoCamerasOfDifferentSigmaWithWhitePpk) {
   // 1.0 and 2.0 px where 0.1 px is stated, as real flights scatter (0.7–4 px); PPK errors white at
   // their .pos sd (0.85 / 1.49 cm: ~0.7 px at these cameras), fixes at 5 Hz (~600 epochs).
   const std::vector<double> true_px = {1.0, 2.0};
-  GaussMarkovPpk ppk;
-  ppk.white_h_m = 0.0085, ppk.white_v_m = 0.015;
+  const GaussMarkovPpk ppk = white_ppk();
   std::printf("centroids 1.0 / 2.0 px, stated 0.1 px; PPK white; 5 Hz fixes; %d missions\n", kMissions);
   const Outcome o = run(true_px, ppk, true, 901, 5);
   expect_sigma_recovered(o, true_px, 0.2);
@@ -178,8 +184,7 @@ TEST(ImageVarianceComponents, ACameraTheFixesHideIsReportedUndetermined) {
   // so (beyond ±25 %), or the estimate runs to its lower bound and the stated σ is held; the
   // network warns either way, and the calibration's σ still hold.
   const std::vector<double> true_px = {0.5, 2.5};
-  GaussMarkovPpk ppk;
-  ppk.white_h_m = 0.0085, ppk.white_v_m = 0.015;
+  const GaussMarkovPpk ppk = white_ppk();
   std::printf("centroids 0.5 / 2.5 px, stated 0.1 px; PPK white; %d missions\n", kMissions);
   const Outcome o = run(true_px, ppk, true, 911);
   int undetermined = 0;

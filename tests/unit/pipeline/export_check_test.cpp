@@ -12,14 +12,9 @@
 namespace rangecal {
 namespace {
 
-// Seed 002's camera (1280×800, 20 µm, 135 mm, k1 ≈ 7 % at the corner).
+// Seed 002's camera (1280×800, 20 µm, 135 mm, k1 ≈ 7 % at the corner: tests/support/synthetic_camera.hpp).
 Camera narrow_camera() {
-  Camera c;
-  c.id = "narrow";
-  c.intr = {1280, 800, 0.020, 0.020, 135.2, 1.0004, 652.3, 391.7, {}};
-  c.intr.dist.k1 = -3.443e-4;
-  c.pose = test::look_at_pose({64.0, -20.0, 1.5}, {0.0, 0.0, 30.0});
-  return c;
+  return test::range_camera(-3.443e-4);
 }
 
 /// The largest |OpenCV − rangecal| (px) of the export's projection over points seen across the image.
