@@ -25,10 +25,33 @@ const RecordField<AlignReport> kReportFields[] = {
     {"worst_position_error_frame", &AlignReport::worst_position_error_frame},
 };
 
+const RecordField<ClockRecord> kClockFields[] = {
+    {"offset_s", &ClockRecord::offset_s},
+    {"offset_sd_s", &ClockRecord::offset_sd_s},
+    {"rate_ppm", &ClockRecord::rate_ppm},
+    {"rate_sd_ppm", &ClockRecord::rate_sd_ppm},
+    {"mid_offset_sd_s", &ClockRecord::mid_offset_sd_s},
+    {"span_s", &ClockRecord::span_s},
+    {"rms_px", &ClockRecord::rms_px},
+    {"points", &ClockRecord::points},
+    {"blocks", &ClockRecord::blocks},
+    {"variable_frame_rate", &ClockRecord::variable_frame_rate},
+    {"worst_block_deviation_s", &ClockRecord::worst_block_deviation_s},
+    {"search_best_score_px", &ClockRecord::search_best_score_px},
+    {"search_other_score_px", &ClockRecord::search_other_score_px},
+    {"search_other_offset_s", &ClockRecord::search_other_offset_s},
+};
+
 nlohmann::json camera_json(const AlignCameraRecord& c) {
   nlohmann::json j;
   write_fields(kReportFields, c.report, &j);
   j["time_source"] = c.time_source;
+  if (c.clock) {
+    nlohmann::json k;
+    k["nominal_start_utc"] = c.clock->nominal_start_utc;
+    write_fields(kClockFields, *c.clock, &k);
+    j["clock"] = k;
+  }
   return j;
 }
 
@@ -37,6 +60,13 @@ AlignCameraRecord parse_camera(const JsonView& v) {
   AlignCameraRecord c;
   read_fields(kReportFields, v, &c.report);
   c.time_source = string_field(v, "time_source");
+  if (auto k = v.find("clock")) {
+    k->require_object("an object {offset_s, offset_sd_s, rate_ppm, ...}");
+    ClockRecord clock;
+    clock.nominal_start_utc = string_field(*k, "nominal_start_utc");
+    read_fields(kClockFields, *k, &clock);
+    c.clock = clock;
+  }
   return c;
 }
 

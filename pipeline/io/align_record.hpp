@@ -4,12 +4,16 @@
 //   <camera id>  {epochs, frames, epochs_outside_frames, frames_picked, frames_aligned,
 //                 rejected_offset, rejected_gap, rejected_outside_track, mean_dt_s, mean_abs_dt_s,
 //                 max_abs_dt_s, max_speed_mps, worst_position_error_m, worst_position_error_frame,
-//                 time_source}
+//                 time_source[, clock {nominal_start_utc, offset_s, offset_sd_s, rate_ppm, rate_sd_ppm,
+//                 mid_offset_sd_s, span_s, rms_px, points, blocks, variable_frame_rate,
+//                 worst_block_deviation_s, search_best_score_px, search_other_score_px,
+//                 search_other_offset_s}]}
 // The alignment step reports in AlignReport (pipeline/steps/align_frames.hpp fills it).
 #include <cstddef>
 #include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 namespace rangecal {
@@ -33,10 +37,31 @@ struct AlignReport {
   std::int64_t worst_position_error_frame = -1;  ///< the frame where it occurs (−1: none)
 };
 
+/// The clock of a camera without time code, as estimated (pipeline/steps/camera_clock.hpp; docs/alignment.md
+/// "Cameras without time code"): t = n + offset + rate·(n − n₀).
+struct ClockRecord {
+  std::string nominal_start_utc;  ///< n₀, ISO 8601
+  double offset_s = 0;
+  double offset_sd_s = 0;
+  double rate_ppm = 0;  ///< rate × 10⁶
+  double rate_sd_ppm = 0;
+  double mid_offset_sd_s = 0;  ///< 1σ of the correction at the record's middle
+  double span_s = 0;
+  double rms_px = 0;
+  std::size_t points = 0;
+  std::size_t blocks = 0;
+  bool variable_frame_rate = false;
+  double worst_block_deviation_s = 0;
+  double search_best_score_px = 0;
+  double search_other_score_px = 0;
+  double search_other_offset_s = 0;
+};
+
 /// One camera's line: its alignment and where its frame times came from.
 struct AlignCameraRecord {
   AlignReport report;
-  std::string time_source;  ///< vision/frames/frame_source.hpp FrameSource::time_source
+  std::string time_source;  ///< vision/frames/frame_source.hpp FrameSource::time_source, or a track's
+  std::optional<ClockRecord> clock;  ///< a camera whose clock was estimated
 };
 
 struct AlignRecord {

@@ -263,6 +263,74 @@ FramesConfig parse_frames(const Loader& L, const JsonView& f) {
   return frames;
 }
 
+// cameras[i].track (docs/config.md "Imported tracks"); the sensor gives the image the labels lie in.
+TrackConfig parse_track(const Loader& L, const JsonView& t, const SensorConfig& sensor) {
+  const std::string form =
+      "an object {\"file\", \"format\", \"point\", \"camera\", \"y_origin\", \"timestamps\" | \"t0_utc\" + "
+      "\"fps\" [+ \"t0_frame\"], \"clock\", \"clock_search_s\"}";
+  t.require_object(form);
+  t.check_keys({"file", "format", "point", "camera", "y_origin", "timestamps", "t0_utc", "t0_frame", "fps",
+                "clock", "clock_search_s"});
+  TrackConfig track;
+  track.file = L.input_file(t.at("file", "a 2-D track file path"), "a 2-D track file path");
+  std::string formats;
+  for (const TrackFormat& f : track_formats()) formats += (formats.empty() ? "" : ", ") + f.name;
+  if (auto f = t.find("format")) {
+    track.format = f->string("one of " + formats);
+    if (!find_track_format(track.format))
+      f->fail("unknown track format '" + track.format + "'; expected one of " + formats);
+  }
+  for (const auto& [key, field] : {std::pair<const char*, int*>{"point", &track.read.point},
+                                   std::pair<const char*, int*>{"camera", &track.read.camera}})
+    if (auto v = t.find(key)) {
+      const std::int64_t n = v->integer("a positive integer (xypts' pt<point>_cam<camera>_ columns)");
+      if (n < 1 || n > 100000) v->fail_expected("a positive integer (xypts' pt<point>_cam<camera>_ columns)");
+      *field = static_cast<int>(n);
+    }
+  if (auto y = t.find("y_origin")) {
+    const std::string form_y = "\"top\" (DLTdv8) or \"bottom\" (DLTdv5-7, Argus)";
+    const std::string w = y->string(form_y);
+    if (w != "top" && w != "bottom") y->fail_expected(form_y);
+    track.read.y_origin = w == "top" ? TrackReadOptions::YOrigin::top : TrackReadOptions::YOrigin::bottom;
+  }
+  track.read.width_px = sensor.width_px;
+  track.read.height_px = sensor.height_px;
+  const bool has_ts = t.has("timestamps"), has_t0 = t.has("t0_utc") || t.has("fps") || t.has("t0_frame");
+  if (has_ts == has_t0)
+    t.fail(std::string(has_ts ? "both 'timestamps' and 't0_utc'/'fps' are given"
+                              : "the frames' times are not given") +
+           ": expected \"timestamps\": a frame,utc CSV, or \"t0_utc\" and \"fps\" (frame t0_frame, default "
+           "0, at "
+           "t0_utc)");
+  if (has_ts) track.timestamps = L.input_file(*t.find("timestamps"), "a frame,utc CSV path");
+  if (has_t0) {
+    const std::string form_t = "an ISO 8601 UTC time such as \"2026-05-04T10:00:00Z\"";
+    const JsonView t0 = t.at("t0_utc", form_t);
+    std::string why;
+    track.t0_utc = parse_iso8601_utc(t0.string(form_t), &why);
+    if (!track.t0_utc) t0.fail(why + "; expected " + form_t);
+    track.fps = Loader::positive(t.at("fps", "the nominal frame rate (frames/s)"),
+                                 "the nominal frame rate (frames/s)");
+    if (track.fps > 1e7) t.find("fps")->fail_expected("a frame rate of at most 1e7 frames/s");
+    if (auto f0 = t.find("t0_frame")) track.t0_frame = f0->integer("an integer frame number");
+  }
+  if (auto c = t.find("clock")) {
+    const std::string form_c =
+        "\"time_code\" (the times are UTC) or \"estimate\" (nominal: find offset and rate)";
+    const std::string w = c->string(form_c);
+    if (w != "time_code" && w != "estimate") c->fail_expected(form_c);
+    track.estimate_clock = w == "estimate";
+  }
+  if (auto r = t.find("clock_search_s")) {
+    const std::string form_r = "[lo, hi]: the clock offsets to search (s, lo < hi, within ±1e6)";
+    const auto x = r->numbers(2, form_r);
+    if (!(x[0] < x[1]) || std::abs(x[0]) > 1e6 || std::abs(x[1]) > 1e6) r->fail_expected(form_r);
+    if (!track.estimate_clock) r->fail("applies only with \"clock\": \"estimate\"");
+    track.clock_search_s = std::make_pair(x[0], x[1]);
+  }
+  return track;
+}
+
 SensorConfig parse_sensor(const JsonView& c) {
   const std::string sform = "an object {\"width_px\", \"height_px\", \"pixel_size_um\": [x, y]}";
   const JsonView s = c.at("sensor", sform);
@@ -327,12 +395,13 @@ CameraPriors parse_priors(const JsonView& pr, const SensorConfig& sensor) {
 
 // The a-priori pixel σ per kind of observation: each > 0 and at most 100 px.
 PixelSigmaConfig parse_pixel_sigma(const JsonView& v) {
-  v.require_object("an object {\"centroid\": px, \"pick\": px}");
-  v.check_keys({"centroid", "pick"});
+  v.require_object("an object {\"centroid\": px, \"pick\": px, \"track\": px}");
+  v.check_keys({"centroid", "pick", "track"});
   PixelSigmaConfig out;
   const std::string form = "a positive standard deviation in pixels, at most 100";
   for (const auto& [key, field] : {std::pair<const char*, double*>{"centroid", &out.centroid_px},
-                                   std::pair<const char*, double*>{"pick", &out.pick_px}})
+                                   std::pair<const char*, double*>{"pick", &out.pick_px},
+                                   std::pair<const char*, double*>{"track", &out.track_px}})
     if (auto x = v.find(key)) {
       *field = Loader::positive(*x, form);
       if (*field > 100) x->fail_expected(form);
@@ -342,11 +411,16 @@ PixelSigmaConfig parse_pixel_sigma(const JsonView& v) {
 
 CameraConfig parse_camera(const Loader& L, const JsonView& c) {
   c.require_object("a camera object {\"id\", \"frames\", \"sensor\", \"lens\", ...}");
-  c.check_keys({"id", "frames", "sensor", "lens", "pole_observations", "priors", "pixel_sigma_px"});
+  c.check_keys({"id", "frames", "track", "sensor", "lens", "pole_observations", "priors", "pixel_sigma_px"});
   CameraConfig cam;
   cam.id = parse_camera_id(c);
   if (auto f = c.find("frames")) cam.frames = parse_frames(L, *f);
   cam.sensor = parse_sensor(c);
+  if (auto t = c.find("track")) {
+    if (c.has("frames"))
+      t->fail("a camera gives either frames (the lamp is detected in them) or an imported track, not both");
+    cam.track = parse_track(L, *t, cam.sensor);
+  }
   cam.nominal_focal_mm = parse_nominal_focal_mm(c);
   if (auto p = c.find("pole_observations"))
     cam.pole_observations = L.input_file(*p, "a pole-pixel CSV path (id,u,v)");

@@ -9,8 +9,10 @@
 #include <vector>
 
 #include "gnss/geodesy/geodetic_origin.hpp"
+#include "gnss/time/utc_time.hpp"
 #include "optim/network/ppk_error_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
+#include "vision/tracks/track_formats.hpp"
 
 namespace rangecal {
 
@@ -52,6 +54,22 @@ struct FramesConfig {
   bool allow_missing = false;  ///< a missing/unreadable frame is skipped (and reported) instead of failing
 };
 
+/// cameras[i].track: a 2-D track imported instead of frames (docs/config.md "Imported tracks"), the
+/// times of its frames, and whether the camera's clock is estimated from the data.
+struct TrackConfig {
+  std::string file;               ///< the track file, absolute
+  std::string format;             ///< vision/tracks/track_formats.hpp name; empty: recognised from the header
+  TrackReadOptions read;          ///< point, camera, y_origin (the image size is the sensor's)
+  std::string timestamps;         ///< `frame,utc` CSV (a `file` column is ignored); or empty
+  std::optional<UtcTime> t0_utc;  ///< without timestamps: frame t0_frame's time …
+  std::int64_t t0_frame = 0;
+  double fps = 0;  ///< … and the nominal frame rate (frames/s)
+  /// "estimate": the times above are nominal (a camera without time code): the clock's offset and
+  /// rate are found from the data (pipeline/steps/camera_clock.hpp). "time_code": they are UTC.
+  bool estimate_clock = false;
+  std::optional<std::pair<double, double>> clock_search_s;  ///< offsets searched (s); default: the overlap
+};
+
 struct CameraPriors {
   std::optional<Eigen::Vector2d> principal_point_px;
   double principal_point_sigma_px = 30;  ///< default 30 px
@@ -65,11 +83,15 @@ struct CameraPriors {
 struct PixelSigmaConfig {
   double centroid_px = 0.1;  ///< the lamp detector's centroid (pipeline/steps/calibration_problem.hpp)
   double pick_px = 0.3;      ///< a control-pole top picked by hand
+  /// A label of an imported 2-D track (cameras[i].track) without its own sigma_px; estimated as the
+  /// camera's image variance component, as the centroids' σ.
+  double track_px = 1.0;
 };
 
 struct CameraConfig {
   std::string id;  ///< unique, [A-Za-z0-9_-]+, used as the output folder name
   FramesConfig frames;
+  std::optional<TrackConfig> track;  ///< instead of frames
   SensorConfig sensor;
   double nominal_focal_mm = 0;
   std::string pole_observations;  ///< `id,u,v` CSV, or empty

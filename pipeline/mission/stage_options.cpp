@@ -1,6 +1,8 @@
 #include "pipeline/mission/stage_options.hpp"
 
 #include "config/error.hpp"
+#include "vision/tracks/track_formats.hpp"
+#include "vision/tracks/track_frame_times.hpp"
 
 namespace rangecal {
 
@@ -20,6 +22,20 @@ FrameSource open_camera_frames(const MissionConfig& cfg, const CameraConfig& cam
     return FrameSource::from_mraw(camera.frames.mraw, o, camera.frames.clock_utc_offset_h);
   throw_config_error(cfg.config_path, "cameras[" + camera.id + "].frames",
                      "none of `timestamps`, `cine` or `mraw` is set");
+}
+
+CameraTrackInput read_camera_track(const CameraConfig& camera) {
+  const TrackConfig& tc = *camera.track;
+  CameraTrackInput in;
+  in.track = read_image_track(tc.file, tc.format, tc.read);
+  if (!tc.timestamps.empty()) {
+    in.times = track_times_from_csv(in.track, tc.timestamps);
+    in.time_source = "track timestamps CSV";
+  } else {
+    in.times = track_times_from_rate(in.track, *tc.t0_utc, tc.t0_frame, tc.fps);
+    in.time_source = "track t0 + frame/fps";
+  }
+  return in;
 }
 
 LampDetectorOptions lamp_detector_options(const DetectConfig& detect) {

@@ -5,6 +5,7 @@
 #include "pipeline/mission/mission_config.hpp"
 #include "vision/detection/lamp_detector.hpp"
 #include "vision/frames/frame_source.hpp"
+#include "vision/tracks/image_track.hpp"
 
 namespace rangecal {
 
@@ -15,6 +16,17 @@ FrameSourceOptions frame_source_options(const CameraConfig& camera);
 /// (the .mraw timed by its header and frames.clock_utc_offset_h). Throws
 /// rangecal::Error (usage) naming `cameras[].frames` when neither is set.
 FrameSource open_camera_frames(const MissionConfig& cfg, const CameraConfig& camera);
+
+/// A camera's imported 2-D track (cameras[i].track) with its frames' times as the config gives them
+/// (UTC, or nominal when the clock is estimated).
+struct CameraTrackInput {
+  ImageTrack track;
+  std::vector<UtcTime> times;  ///< one per track.points
+  std::string time_source;     ///< for run.json: "track timestamps CSV" or "track t0 + frame/fps"
+};
+/// Reads cameras[i].track (vision/tracks/). Throws rangecal::Error (input) naming the file, line and
+/// field.
+CameraTrackInput read_camera_track(const CameraConfig& camera);
 
 /// `detect.min_snr`; the other detector options at their defaults.
 LampDetectorOptions lamp_detector_options(const DetectConfig& detect);

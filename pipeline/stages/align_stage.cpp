@@ -8,8 +8,103 @@
 #include "pipeline/mission/stage_options.hpp"
 #include "pipeline/stages/stage_inputs.hpp"
 #include "pipeline/steps/align_frames.hpp"
+#include "pipeline/steps/camera_clock.hpp"
+
+#include <fmt/format.h>
 
 namespace rangecal {
+
+namespace {
+
+// One camera's frames to align: their stamps, where they came from, and the estimated clock of a
+// camera without time code.
+struct CameraStamps {
+  std::vector<FrameStamp> stamps;
+  std::string origin;  ///< the file that named them, for messages
+  std::string time_source;
+  std::optional<ClockRecord> clock;
+  std::vector<std::string> warnings;
+};
+
+ClockRecord clock_record(const CameraClock& c) {
+  ClockRecord r;
+  r.nominal_start_utc = format_iso8601_utc(c.nominal_start);
+  r.offset_s = c.offset_s;
+  r.offset_sd_s = c.offset_sd_s;
+  r.rate_ppm = 1e6 * c.rate;
+  r.rate_sd_ppm = 1e6 * c.rate_sd;
+  r.mid_offset_sd_s = c.mid_offset_sd_s;
+  r.span_s = c.span_s;
+  r.rms_px = c.rms_px;
+  r.points = c.points;
+  r.blocks = c.blocks.size();
+  r.variable_frame_rate = c.variable_frame_rate;
+  r.worst_block_deviation_s = c.worst_block_deviation_s;
+  r.search_best_score_px = c.search_best_score_px;
+  r.search_other_score_px = c.search_other_score_px;
+  r.search_other_offset_s = c.search_other_offset_s;
+  return r;
+}
+
+// A camera with an imported track: its labelled frames at the config's times, or at the clock
+// estimated from the data (pipeline/steps/camera_clock.hpp).
+CameraStamps track_stamps(const MissionConfig& cfg, const CameraConfig& cam, const LampTrack& lamp,
+                          const std::string& track_path) {
+  const CameraTrackInput in = read_camera_track(cam);
+  CameraStamps out;
+  out.origin = cam.track->file;
+  out.time_source = in.time_source;
+  std::vector<UtcTime> times = in.times;
+  if (!in.track.outside_image_lines.empty())
+    out.warnings.push_back(
+        fmt::format("{}: {} labels of {} lie outside the {}x{} image and are not used (first at line {})",
+                    cam.id, in.track.outside_image_lines.size(), cam.track->file, cam.sensor.width_px,
+                    cam.sensor.height_px, in.track.outside_image_lines.front()));
+  if (cam.track->estimate_clock) {
+    const HermiteTrack hermite(lamp, cfg.gnss.max_gap_s, track_path);
+    std::vector<ClockObservation> labels(in.track.points.size());
+    for (std::size_t i = 0; i < labels.size(); ++i)
+      labels[i] = {in.track.points[i].frame, in.times[i], in.track.points[i].uv};
+    ClockSearchOptions options;
+    options.search_s = cam.track->clock_search_s;
+    options.pixel_sigma_px = cam.pixel_sigma.track_px;
+    SensorGeometry sensor;
+    sensor.width_px = cam.sensor.width_px;
+    sensor.height_px = cam.sensor.height_px;
+    sensor.dx_mm = cam.sensor.pixel_size_um[0] * 1e-3;
+    sensor.dy_mm = cam.sensor.pixel_size_um[1] * 1e-3;
+    const CameraClock clock = estimate_camera_clock(hermite, labels, sensor, options, cam.track->file);
+    for (UtcTime& t : times) t = clock.time_of(t);
+    out.clock = clock_record(clock);
+    out.time_source += " + estimated clock";
+    if (clock.variable_frame_rate)
+      out.warnings.push_back(fmt::format(
+          "{}: variable frame rate: a {:.0f}-s block of frames keeps its own clock {:.1f} ms off the "
+          "camera's "
+          "offset and rate; frame times carry errors of that size (docs/alignment.md \"Cameras without time "
+          "code\")",
+          cam.id, ClockSearchOptions{}.block_s, 1e3 * clock.worst_block_deviation_s));
+  }
+  for (std::size_t i = 0; i < times.size(); ++i) out.stamps.push_back({in.track.points[i].frame, times[i]});
+  return out;
+}
+
+CameraStamps frame_stamps(const MissionConfig& cfg, const CameraConfig& cam) {
+  const FrameSource source = open_camera_frames(cfg, cam);
+  CameraStamps out;
+  out.stamps.reserve(source.size());
+  for (const auto& e : source.entries()) out.stamps.push_back({e.frame, e.utc});
+  out.origin = source.origin();
+  out.time_source = source.time_source();
+  if (source.time_source() == FrameSource::kTimeSourceMrawHeader)
+    out.warnings.push_back(
+        cam.id + ": frame times come from the Photron header (camera clock to the second, " +
+        "shifted by clock_utc_offset_h, plus frame number / record rate): a coarse source; " +
+        "a timestamps CSV from the range timing is better");
+  return out;
+}
+
+}  // namespace
 
 StageLog run_align_stage(const MissionConfig& cfg) {
   StageLog log;
@@ -23,24 +118,18 @@ StageLog run_align_stage(const MissionConfig& cfg) {
   std::vector<CameraFrameSpan> spans;
   AlignRecord record;
   for (const CameraConfig& cam : cfg.cameras) {
-    const FrameSource source = open_camera_frames(cfg, cam);
-    std::vector<FrameStamp> stamps;
-    stamps.reserve(source.size());
-    for (const auto& e : source.entries()) stamps.push_back({e.frame, e.utc});
+    CameraStamps in = cam.track ? track_stamps(cfg, cam, track, track_path) : frame_stamps(cfg, cam);
+    const std::vector<FrameStamp>& stamps = in.stamps;
     if (!stamps.empty()) spans.push_back({cam.id, UtcSpan{stamps.front().utc, stamps.back().utc}});
     AlignOptions opt;
     opt.max_frame_offset_s = cfg.align.max_frame_offset_s;
     opt.max_gap_s = cfg.gnss.max_gap_s;
     opt.track_source = track_path;
-    opt.frames_source = source.origin();
+    opt.frames_source = in.origin;
     results.push_back(align_frames(track, stamps, opt));
     const AlignResult& r = results.back();
-    record.cameras[cam.id] = {r.report, source.time_source()};
-    if (source.time_source() == FrameSource::kTimeSourceMrawHeader)
-      log.warnings.push_back(
-          cam.id + ": frame times come from the Photron header (camera clock to the second, " +
-          "shifted by clock_utc_offset_h, plus frame number / record rate): a coarse source; " +
-          "a timestamps CSV from the range timing is better");
+    record.cameras[cam.id] = {r.report, in.time_source, in.clock};
+    for (std::string& w : in.warnings) log.warnings.push_back(std::move(w));
     total += r.aligned.size();
     if (r.aligned.empty())
       log.warnings.push_back(

@@ -38,6 +38,33 @@ std::string rejection_summary(const std::map<std::string, int>& by_status) {
   return s;
 }
 
+// A camera with an imported track: its labels at the aligned frames, as the detector's rows (status
+// ok; peak, area and snr not known).
+std::vector<LampDetection> track_detections(const CameraConfig& cam, const std::vector<AlignedFrame>& aligned,
+                                            const std::string& aligned_path) {
+  const CameraTrackInput in = read_camera_track(cam);
+  std::unordered_map<std::int64_t, std::size_t> index_of_frame;
+  for (std::size_t i = 0; i < in.track.points.size(); ++i)
+    index_of_frame.emplace(in.track.points[i].frame, i);
+  std::vector<LampDetection> out;
+  out.reserve(aligned.size());
+  for (const AlignedFrame& a : aligned) {
+    const auto it = index_of_frame.find(a.frame);
+    if (it == index_of_frame.end())
+      throw_input_error(aligned_path, 0, "frame",
+                        "frame " + std::to_string(a.frame) + " is not labelled in " + cam.track->file +
+                            " (aligned.csv is from another track; rerun the align stage)");
+    LampDetection d;
+    d.frame = a.frame;
+    d.utc = a.utc;
+    d.u = in.track.points[it->second].uv.x();
+    d.v = in.track.points[it->second].uv.y();
+    d.status = lamp_status::kOk;
+    out.push_back(d);
+  }
+  return out;
+}
+
 }  // namespace
 
 StageLog run_detect_stage(const MissionConfig& cfg) {
@@ -58,29 +85,34 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
     const std::string aligned_path = camera_output(cfg, cam.id, kAlignedCsv);
     require_stage_output(aligned_path, "align");
     const std::vector<AlignedFrame> aligned = read_aligned_csv(aligned_path);
-    const FrameSource source = open_camera_frames(cfg, cam);
-    std::unordered_map<std::int64_t, std::size_t> index_of_frame;
-    for (std::size_t i = 0; i < source.size(); ++i) index_of_frame.emplace(source.entry(i).frame, i);
-    std::vector<std::size_t> indices;
-    indices.reserve(aligned.size());
-    for (const AlignedFrame& a : aligned) {
-      const auto it = index_of_frame.find(a.frame);
-      if (it == index_of_frame.end())
-        throw_input_error(aligned_path, 0, "frame",
-                          "frame " + std::to_string(a.frame) + " is not in " + source.origin() +
-                              " (aligned.csv is from another frame list; rerun the align stage)");
-      indices.push_back(it->second);
-    }
+    DetectCameraRecord& counts = record.cameras[cam.id];
     CameraDetections cd;
-    {
-      ProgressBar bar("detect " + cam.id, indices.size());
-      cd.detections = detect_lamp(source, indices, options, cfg.detect.threads, [&bar] { bar.tick(); });
+    if (cam.track) {
+      cd.detections = track_detections(cam, aligned, aligned_path);
+      counts.time_source = "imported track";
+    } else {
+      const FrameSource source = open_camera_frames(cfg, cam);
+      std::unordered_map<std::int64_t, std::size_t> index_of_frame;
+      for (std::size_t i = 0; i < source.size(); ++i) index_of_frame.emplace(source.entry(i).frame, i);
+      std::vector<std::size_t> indices;
+      indices.reserve(aligned.size());
+      for (const AlignedFrame& a : aligned) {
+        const auto it = index_of_frame.find(a.frame);
+        if (it == index_of_frame.end())
+          throw_input_error(aligned_path, 0, "frame",
+                            "frame " + std::to_string(a.frame) + " is not in " + source.origin() +
+                                " (aligned.csv is from another frame list; rerun the align stage)");
+        indices.push_back(it->second);
+      }
+      {
+        ProgressBar bar("detect " + cam.id, indices.size());
+        cd.detections = detect_lamp(source, indices, options, cfg.detect.threads, [&bar] { bar.tick(); });
+      }
+      counts.time_source = source.time_source();
     }
     cd.pairs = lamp_pairs(aligned, cd.detections);
     std::map<std::string, int> by_status;
     for (const LampDetection& d : cd.detections) ++by_status[d.status];
-    DetectCameraRecord& counts = record.cameras[cam.id];
-    counts.time_source = source.time_source();
     counts.frames_examined = cd.detections.size();
     counts.by_status = by_status;
     counts.correspondences = cd.pairs.size();

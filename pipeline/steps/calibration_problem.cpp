@@ -35,7 +35,9 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
   if (!p.priors.principal_point_px &&
       (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0)))
     p.priors.principal_point_px = Eigen::Vector2d(p.sensor.center_u_px(), p.sensor.center_v_px());
-  p.pixel_sigma_px = cam.pixel_sigma.centroid_px;
+  // An imported track's labels stand where the centroids do: the camera's default σ, scaled by its
+  // image variance component (docs/optimisation.md "Image variance components").
+  p.pixel_sigma_px = cam.track ? cam.pixel_sigma.track_px : cam.pixel_sigma.centroid_px;
   p.seed = calibrate.seed;
   for (const Correspondence& c : pairs) {
     BundleObservation o;

@@ -415,7 +415,8 @@ def export(ds, out, origin, alignment):
     lat, lon, h = enu_to_geodetic(track.p, *origin)
     with open(os.path.join(d, "rtk.pos"), "w") as fh:
         fh.write("% program   : eth_drone_tracking.py (rangecal real-flight benchmark), from rtk.txt read at 5 Hz\n")
-        fh.write(f"% ref pos   :{origin[0]:14.9f}{origin[1]:15.9f}{origin[2]:11.4f}  (ENU origin of rtk.txt, chosen)\n")
+        # No `ref pos` line: RTKLIB writes one only for relative (base-rover) output, as ECEF.
+        fh.write(f"% ENU origin of rtk.txt (chosen): {origin[0]:.9f} {origin[1]:.9f} {origin[2]:.4f}\n")
         fh.write("% data      : ETH drone-tracking dataset (arXiv 2003.04784), CC BY-NC-SA 4.0; UTC start arbitrary\n")
         fh.write("%\n%  UTC                   latitude(deg) longitude(deg)  height(m)   Q  ns   sdn(m)   sde(m)   sdu(m)"
                  "  sdne(m)  sdeu(m)  sdun(m) age(s)  ratio\n")

@@ -499,3 +499,59 @@ TEST(MissionConfigErrors, PpkErrorModelOutOfRangeOrHalfGiven) {
 
 }  // namespace
 }  // namespace rangecal
+
+namespace rangecal {
+namespace {
+
+// cameras[i].track (docs/config.md "Imported tracks").
+nlohmann::json with_track(const nlohmann::json& track) {
+  nlohmann::json j = minimal();
+  j["cameras"][0]["track"] = track;
+  return j;
+}
+
+TEST(MissionConfig, ImportedTrackParses) {
+  const nlohmann::json j = with_track({{"file", "cam1/xypts.csv"},
+                                       {"camera", 2},
+                                       {"y_origin", "bottom"},
+                                       {"t0_utc", "2026-05-04T10:00:00Z"},
+                                       {"fps", 29.97},
+                                       {"t0_frame", 1},
+                                       {"clock", "estimate"},
+                                       {"clock_search_s", {-100, 100}}});
+  const MissionConfig c = parse_mission_config(j.dump(), kPath, false);
+  ASSERT_TRUE(c.cameras[0].track);
+  const TrackConfig& t = *c.cameras[0].track;
+  EXPECT_EQ(t.file, "/missions/m1/cam1/xypts.csv");
+  EXPECT_EQ(t.read.camera, 2);
+  EXPECT_EQ(t.read.point, 1);
+  EXPECT_EQ(t.read.y_origin, TrackReadOptions::YOrigin::bottom);
+  EXPECT_EQ(t.read.width_px, 1280);
+  EXPECT_DOUBLE_EQ(t.fps, 29.97);
+  EXPECT_EQ(t.t0_frame, 1);
+  EXPECT_TRUE(t.estimate_clock);
+  EXPECT_DOUBLE_EQ(t.clock_search_s->second, 100);
+  EXPECT_DOUBLE_EQ(c.cameras[0].pixel_sigma.track_px, 1.0);
+}
+
+TEST(MissionConfig, ImportedTrackErrors) {
+  nlohmann::json both = with_track({{"file", "t.csv"}, {"timestamps", "ts.csv"}});
+  both["cameras"][0]["frames"] = {{"timestamps", "cam1/ts.csv"}};
+  expect_error(both, "cameras[0].track", "not both");
+  expect_error(with_track({{"file", "t.csv"}}), "cameras[0].track", "times are not given");
+  expect_error(with_track({{"file", "t.csv"}, {"timestamps", "a.csv"}, {"fps", 30}}), "cameras[0].track",
+               "both");
+  expect_error(with_track({{"file", "t.csv"}, {"timestamps", "a.csv"}, {"y_origin", "up"}}),
+               "cameras[0].track.y_origin", "DLTdv8");
+  expect_error(with_track({{"file", "t.csv"}, {"timestamps", "a.csv"}, {"format", "dlt"}}),
+               "cameras[0].track.format", "unknown track format");
+  expect_error(with_track({{"file", "t.csv"}, {"t0_utc", "yesterday"}, {"fps", 30}}),
+               "cameras[0].track.t0_utc", "ISO 8601");
+  expect_error(with_track({{"file", "t.csv"}, {"timestamps", "a.csv"}, {"clock_search_s", {0, 10}}}),
+               "cameras[0].track.clock_search_s", "estimate");
+  expect_error(with_track({{"file", "t.csv"}, {"timestamps", "a.csv"}, {"clock", "gps"}}),
+               "cameras[0].track.clock", "time_code");
+}
+
+}  // namespace
+}  // namespace rangecal

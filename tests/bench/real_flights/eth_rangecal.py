@@ -1,0 +1,180 @@
+#!/usr/bin/env python3
+"""rangecal's default run on the ETH drone-tracking flights, held out as eth_drone_tracking.py's baselines.
+
+Run eth_drone_tracking.py first (its --out holds the exports, results.json and alignment.json). For
+each dataset and split, this writes a mission whose cameras are the exports' tracks cut to the
+calibration blocks (the same blocks, decided with the same alignment, as the baselines), with
+`"clock": "estimate"` (rangecal finds each camera's offset and rate itself), runs rangecal's gnss,
+align, detect and calibrate stages with the default method and model, reads each camera's
+camera_opencv.yml and the clock rangecal found (run.json), and triangulates the held-out RTK epochs
+exactly as the baselines do (labels interpolated to the fix instant, eth_drone_tracking.triangulate).
+The predicted σ of each held-out point is the intersect stage's (calibration covariance + the
+labels' σ): the held-out epochs are written as check poles and their labels as pole picks, with the
+pick σ the mean of the image σ the network estimated for the cameras.
+
+Usage: python3 tests/bench/real_flights/eth_rangecal.py --eth-out /tmp/eth --rangecal build/rangecal --out /tmp/eth_rc
+Data stays outside the repository (CC BY-NC-SA 4.0): see README.md here.
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import eth_drone_tracking as eth  # noqa: E402  (re-execs under /usr/bin/python3 if numpy is missing)
+import numpy as np  # noqa: E402
+
+
+def read_track_csv(path):
+    rows = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return rows[:, 0].astype(int), rows[:, 1:3]
+
+
+def opencv_camera(path):
+    """K, dist, rvec, tvec from rangecal's camera_opencv.yml (OpenCV FileStorage)."""
+    import cv2
+    fs = cv2.FileStorage(path, cv2.FILE_STORAGE_READ)
+    K, d = fs.getNode("camera_matrix").mat(), fs.getNode("distortion_coefficients").mat().ravel()
+    rv, tv = fs.getNode("rvec").mat().ravel(), fs.getNode("tvec").mat().ravel()
+    fs.release()
+    return {"model": "B", "rx": rv[0], "ry": rv[1], "rz": rv[2], "tx": tv[0], "ty": tv[1], "tz": tv[2]}, {"K": K, "dist": d}
+
+
+def run(cmd):
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode not in (0,):
+        print(r.stdout[-3000:], r.stderr[-3000:])
+        raise SystemExit(f"{' '.join(cmd)} exited {r.returncode}")
+    return r.stdout
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--eth-out", required=True, help="eth_drone_tracking.py's --out")
+    ap.add_argument("--data", default=None, help="the eth-drone-tracking folder (default: from results.json's run)")
+    ap.add_argument("--rangecal", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--datasets", default="dataset1,dataset2")
+    ap.add_argument("--config-extra", default="{}", help="JSON merged into each mission (for experiments)")
+    args = ap.parse_args()
+    data = args.data or os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..", "shared",
+                                     "external", "eth-drone-tracking")
+    results = json.load(open(os.path.join(args.eth_out, "results.json")))
+    alignment = json.load(open(os.path.join(args.eth_out, "alignment.json")))
+    extra = json.loads(args.config_extra)
+    os.makedirs(args.out, exist_ok=True)
+    summary = {}
+    for name in args.datasets.split(","):
+        ds = eth.load_dataset(data, name)
+        ds["track"] = track = eth.Track(ds["rtk"])
+        R = results["datasets"][name]
+        T0, T1 = R["common_span_s"]
+        al = alignment["datasets"][name]
+        ep = np.arange(track.n)
+        in_span = (track.t >= T0) & (track.t <= T1) & track.good
+        ep_block = np.floor((track.t - T0) / eth.BLOCK_S).astype(int)
+        pooled_err, pooled_z, pooled_rows = [], [], []
+        summary[name] = {"splits": {}}
+        for split in (0, 1):
+            d = os.path.join(args.out, name, f"split{split}")
+            os.makedirs(d, exist_ok=True)
+            cams_cfg = []
+            for cam in ds["cams"]:
+                a = al[cam["name"]]
+                frames, uv = read_track_csv(os.path.join(args.eth_out, name, cam["name"], "track.csv"))
+                t = a["t0_s"] + a["s"] * (frames - 1) / a["fps_nominal"]
+                m = (np.floor((t - T0) / eth.BLOCK_S).astype(int) % 2) == split
+                cdir = os.path.join(d, cam["name"])
+                os.makedirs(cdir, exist_ok=True)
+                with open(os.path.join(cdir, "track.csv"), "w") as fh:
+                    fh.write("frame,u,v\n")
+                    for n, (u, v) in zip(frames[m], uv[m]):
+                        fh.write(f"{n},{u:.4f},{v:.4f}\n")
+                pub = [c for c in cam["calibs"] if c["file"] == a["calibration"]][0]
+                W, H = pub["res"]
+                cams_cfg.append({
+                    "id": cam["name"],
+                    "track": {"file": os.path.join(cdir, "track.csv"),
+                              "timestamps": os.path.join(args.eth_out, name, cam["name"], "timestamps.csv"),
+                              "clock": "estimate"},
+                    "sensor": {"width_px": W, "height_px": H, "pixel_size_um": [1.0, 1.0]},
+                    "lens": {"nominal_focal_mm": pub["K"][0, 0] / 1000.0}})
+            cfg = {"mission": f"ETH {name} split {split}", "site": {"origin": {"lat": 47.37, "lon": 8.55, "h": 500.0}},
+                   "gnss": {"pos_files": [os.path.join(args.eth_out, name, "rtk.pos")]},
+                   "lever_arm": {"vertical_m": 0.0}, "cameras": cams_cfg,
+                   "align": {"max_frame_offset_s": 0.02}, "output_dir": os.path.join(d, "out")}
+            for k, v in extra.items():
+                cfg[k] = v if not isinstance(v, dict) else {**cfg.get(k, {}), **v}
+            cfg_path = os.path.join(d, "mission.json")
+            json.dump(cfg, open(cfg_path, "w"), indent=1)
+            for stage in ("gnss", "align", "detect", "calibrate"):
+                run([args.rangecal, stage, cfg_path])
+            runj = json.load(open(os.path.join(d, "out", "run.json")))
+            netj = os.path.join(d, "out", "network.json")
+            img_sigma = {}
+            if os.path.exists(netj):
+                img_sigma = {c: v["estimated_px"] for c, v in json.load(open(netj))["statistics"].get("image_sigma", {}).items()}
+            models, clocks = [], {}
+            for cam in ds["cams"]:
+                p, pub = opencv_camera(os.path.join(d, "out", cam["name"], "camera_opencv.yml"))
+                ck = runj["stages"]["align"]["counts"][cam["name"]]["clock"]
+                fps = al[cam["name"]]["fps_nominal"]
+                # t(n) = n0 + off + (1 + r)((n-1)/fps - n0), n0 = first labelled frame's nominal time (s after 12:00)
+                n0 = (int(read_track_csv(os.path.join(d, cam["name"], "track.csv"))[0][0]) - 1) / fps
+                r = ck["rate_ppm"] * 1e-6
+                p["t0"], p["ds"] = ck["offset_s"] - r * n0, ck["rate_ppm"]
+                pub["fps"] = fps
+                clocks[cam["name"]] = {"t0_s": p["t0"], "rate_ppm": ck["rate_ppm"], "offset_sd_ms": ck["offset_sd_s"] * 1e3,
+                                       "script_t0_s": al[cam["name"]]["t0_s"],
+                                       "script_rate_ppm": (al[cam["name"]]["s"] - 1) * 1e6,
+                                       "vfr": ck["variable_frame_rate"]}
+                models.append((p, pub))
+            hold_ep = ep[in_span & (ep_block % 2 != split)]
+            rows = eth.triangulate_epochs(ds, models, hold_ep)
+            err = np.array([r[1] - r[2] for r in rows])
+            # predicted σ: the intersect stage on the held-out epochs as check poles
+            sig = float(np.mean(list(img_sigma.values()))) if img_sigma else 1.0
+            poles = os.path.join(d, "holdout_poles.csv")
+            with open(poles, "w") as fh:
+                fh.write("id,role,E,N,U\n")
+                for r in rows:
+                    fh.write(f"e{r[0]},check,{r[2][0]:.4f},{r[2][1]:.4f},{r[2][2]:.4f}\n")
+            labels = [eth.label_at(cam, p, pub["fps"], track.t[[r[0] for r in rows]]) for cam, (p, pub) in zip(ds["cams"], models)]
+            for k, cam in enumerate(ds["cams"]):
+                with open(os.path.join(d, cam["name"] + "_holdout_px.csv"), "w") as fh:
+                    fh.write("id,u,v\n")
+                    for j, r in enumerate(rows):
+                        if labels[k][1][j]:
+                            fh.write(f"e{r[0]},{labels[k][0][j][0]:.4f},{labels[k][0][j][1]:.4f}\n")
+                cfg["cameras"][k]["pole_observations"] = os.path.join(d, cam["name"] + "_holdout_px.csv")
+            cfg["poles"] = poles
+            cfg["intersect"] = {"pick_sigma_px": sig}
+            json.dump(cfg, open(cfg_path, "w"), indent=1)
+            run([args.rangecal, "intersect", cfg_path])
+            ix = np.genfromtxt(os.path.join(d, "out", "intersection.csv"), delimiter=",", names=True, dtype=None, encoding=None)
+            z = ix["dR"] / ix["sigma_m"]  # sigma_m = √trace: the predicted rms of dR
+            s = eth.stats_cm(err)
+            s["z_rms"] = float(np.sqrt(np.mean(z ** 2)))
+            s["intersect_rms_cm"] = float(np.sqrt(np.mean(ix["dR"] ** 2)) * 100)
+            s["pick_sigma_px"] = sig
+            s["image_sigma_px"] = img_sigma
+            s["clocks"] = clocks
+            s["method"] = runj["stages"]["calibrate"]["counts"].get("method_choice")
+            summary[name]["splits"][split] = s
+            pooled_err.append(err)
+            pooled_z.append(z)
+            print(f"{name} split {split}: {s['epochs']} epochs, median {s['median_cm']:.1f} rms {s['rms_cm']:.1f} "
+                  f"p95 {s['p95_cm']:.1f} cm; z rms {s['z_rms']:.2f} (pick σ {sig:.2f} px); image σ "
+                  + " ".join(f"{c} {v:.2f}" for c, v in img_sigma.items()), flush=True)
+        p = eth.stats_cm(np.vstack(pooled_err))
+        p["z_rms"] = float(np.sqrt(np.mean(np.concatenate(pooled_z) ** 2)))
+        summary[name]["pooled"] = p
+        print(f"{name} pooled: {p['epochs']} epochs, median {p['median_cm']:.1f} rms {p['rms_cm']:.1f} "
+              f"p95 {p['p95_cm']:.1f} cm; z rms {p['z_rms']:.2f}", flush=True)
+    json.dump(summary, open(os.path.join(args.out, "rangecal_results.json"), "w"), indent=1, default=str)
+
+
+if __name__ == "__main__":
+    main()

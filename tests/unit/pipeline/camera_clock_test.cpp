@@ -1,0 +1,144 @@
+// A camera without time code (pipeline/steps/camera_clock.hpp): a simulated camera whose nominal frame
+// times are 40 s and 1e-4 off the truth, its labels drawn from the true path with noise; the offset
+// and rate are recovered so that every frame's time is within 2 ms of its truth, and the σ covers the
+// error. The truth is the simulation's; the path is written here, not by the simulator.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "config/deterministic_random.hpp"
+#include "pipeline/steps/camera_clock.hpp"
+#include "support/expect_error.hpp"
+#include "support/synthetic_camera.hpp"
+#include "vision/camera/camera_model.hpp"
+
+namespace rangecal {
+namespace {
+
+constexpr double kStart = 1.8e9;  // s: the lamp track's first epoch (UTC seconds)
+
+// A lamp flying a Lissajous figure 64 m in front of the camera, 3–4 m/s, climbing and sinking.
+Eigen::Vector3d lamp_at(double t) {
+  const double s = t - kStart;
+  return {4.5 * std::sin(0.45 * s), 64 + 2.0 * std::sin(0.13 * s), 7.5 + 2.6 * std::sin(0.31 * s + 0.4)};
+}
+
+UtcTime utc(double seconds) {
+  return UtcTime{std::llround(seconds * 1e9)};
+}
+
+LampTrack lamp_track(double duration_s) {
+  LampTrack track;
+  for (double t = kStart; t <= kStart + duration_s + 1e-9; t += 0.2) {
+    LampEpoch e;
+    e.utc = utc(t);
+    e.enu = lamp_at(t);
+    e.sd_enu = Eigen::Vector3d::Constant(0.01);
+    e.quality = 1;
+    track.epochs.push_back(e);
+  }
+  return track;
+}
+
+struct Labels {
+  std::vector<ClockObservation> labels;
+  std::vector<double> truth_s;  ///< each label's true time
+};
+
+// `n` frames at `fps`; frame k's true time is first_true_s + k/fps·(1 + rate); its nominal time is
+// that less `offset_s` with the rate left out, so the clock to find is (offset_s, rate).
+Labels labels_of(const Camera& cam, double first_true_s, double offset_s, double rate, double fps, int n,
+                 double noise_px, std::uint64_t seed) {
+  DeterministicRandom rng(seed);
+  Labels out;
+  for (int k = 0; k < n; ++k) {
+    const double nominal = first_true_s - offset_s + k / fps;
+    const double truth = first_true_s + (1 + rate) * k / fps;
+    Eigen::Vector2d uv;
+    if (!project(cam, lamp_at(truth), &uv)) continue;
+    uv += noise_px * Eigen::Vector2d(rng.normal(), rng.normal());
+    if (uv.x() < 0 || uv.y() < 0 || uv.x() > cam.intr.width_px - 1 || uv.y() > cam.intr.height_px - 1)
+      continue;
+    out.labels.push_back({k, utc(nominal), uv});
+    out.truth_s.push_back(truth);
+  }
+  return out;
+}
+
+SensorGeometry sensor_of(const Camera& cam) {
+  SensorGeometry s;
+  s.width_px = cam.intr.width_px;
+  s.height_px = cam.intr.height_px;
+  s.dx_mm = cam.intr.dx_mm;
+  s.dy_mm = cam.intr.dy_mm;
+  return s;
+}
+
+Camera wide_camera() {
+  return test::range_camera_at("cam", Eigen::Vector3d(0, 0, 1.5), Eigen::Vector3d(0, 64, 7.5), -3.4e-4,
+                               Eigen::Vector2d(652.0, 391.0));
+}
+
+TEST(CameraClock, RecoversFortySecondsAndOneInTenThousand) {
+  const Camera cam = wide_camera();
+  const HermiteTrack track(lamp_track(300), 0.5);
+  for (std::uint64_t seed : {1, 2, 3}) {
+    const double offset = 40.0 + 0.0137 * static_cast<double>(seed), rate = 1e-4;
+    const Labels l = labels_of(cam, kStart + 60, offset, rate, 50, 6000, 0.5, seed);
+    ASSERT_GT(l.labels.size(), 3000u);
+    const CameraClock c = estimate_camera_clock(track, l.labels, sensor_of(cam), {}, "sim");
+    double worst = 0;
+    for (std::size_t i = 0; i < l.labels.size(); ++i)
+      worst = std::max(
+          worst, std::abs(1e-9 * static_cast<double>(c.time_of(l.labels[i].nominal).ns) - l.truth_s[i]));
+    std::printf(
+        "seed %d: worst frame-time error %.3f ms, offset %+.3f ms (σ %.3f), rate %+.2f ppm off (σ %.2f)\n",
+        static_cast<int>(seed), 1e3 * worst, 1e3 * (c.offset_s - offset), 1e3 * c.offset_sd_s,
+        1e6 * (c.rate - rate), 1e6 * c.rate_sd);
+    EXPECT_LT(worst, 0.002) << "seed " << seed;
+    EXPECT_NEAR(c.offset_s, offset, 0.002);
+    EXPECT_NEAR(c.rate, rate, 2e-5);
+    // The stated σ covers the error (4σ: three missions, no more to ask of it here).
+    EXPECT_LT(std::abs(c.offset_s - offset), 4 * c.offset_sd_s + 1e-4) << "σ " << c.offset_sd_s;
+    EXPECT_FALSE(c.variable_frame_rate);
+    EXPECT_GT(c.search_other_score_px, 1.5 * c.search_best_score_px);
+  }
+}
+
+// A phone's variable frame rate: one 20-s stretch whose frames run 30 ms late is flagged.
+TEST(CameraClock, FlagsAVariableFrameRate) {
+  const Camera cam = wide_camera();
+  const HermiteTrack track(lamp_track(300), 0.5);
+  Labels l = labels_of(cam, kStart + 60, 25.0, 0, 30, 3600, 0.5, 7);
+  for (std::size_t i = 0; i < l.labels.size(); ++i) {
+    const double since = l.truth_s[i] - (kStart + 60);
+    if (since > 40 && since < 60)
+      l.labels[i].uv = [&] {
+        Eigen::Vector2d uv;
+        project(cam, lamp_at(l.truth_s[i] + 0.03), &uv);
+        return uv;
+      }();
+  }
+  const CameraClock c = estimate_camera_clock(track, l.labels, sensor_of(cam), {}, "sim");
+  EXPECT_TRUE(c.variable_frame_rate);
+  EXPECT_GT(c.worst_block_deviation_s, 0.015);
+}
+
+TEST(CameraClock, RefusesTooFewLabelsAndNoOverlap) {
+  const Camera cam = wide_camera();
+  const HermiteTrack track(lamp_track(60), 0.5);
+  const Labels few = labels_of(cam, kStart + 10, 5, 0, 1, 10, 0.5, 1);
+  Error e =
+      test::expect_error([&] { estimate_camera_clock(track, few.labels, sensor_of(cam), {}, "few.csv"); });
+  EXPECT_EQ(e.exit_code(), 3);
+  EXPECT_EQ(e.file(), "few.csv");
+  // 200 s of labels against 60 s of track: no offset puts half of them inside it.
+  const Labels longer = labels_of(cam, kStart, 0, 0, 10, 2000, 0.5, 1);
+  e = test::expect_error(
+      [&] { estimate_camera_clock(track, longer.labels, sensor_of(cam), {}, "long.csv"); });
+  EXPECT_NE(std::string(e.what()).find("half of the labels"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rangecal
