@@ -64,6 +64,9 @@ struct CalibrateRecord {
   /// network_statistics_json's object (read with parse_network_statistics_json); null: no network.
   nlohmann::json network;
   std::optional<MethodChoiceRecord> method_choice;  ///< absent: the config named the method
+  /// The held-out check of an estimated PPK model (pipeline/steps/held_out_prediction.hpp), as
+  /// held_out_scores_json wrote it; null when it did not run.
+  nlohmann::json held_out;
 };
 
 /// The record as run.json holds it.

@@ -24,6 +24,7 @@
 #include "pipeline/steps/calibration_problem.hpp"
 #include "pipeline/steps/covariance_under_model.hpp"
 #include "pipeline/steps/export_check.hpp"
+#include "pipeline/steps/held_out_prediction.hpp"
 #include "pipeline/steps/network_problem.hpp"
 #include "vision/camera/dlt_export.hpp"
 #include "vision/camera/opencv_camera_export.hpp"
@@ -215,13 +216,18 @@ struct NetworkSolution {
 
 /// Method `network` (docs/optimisation.md "Network bundle"): one joint adjustment of the cameras
 /// through their shared lamp-track epochs.
-NetworkSolution solve_network(const NetworkProblem& n, const LampTrack& track, const GnssConfig& gnss,
-                              const CalibrateConfig& calibrate, bool white_only = false) {
+NetworkOptions network_options(const GnssConfig& gnss, const CalibrateConfig& calibrate, bool white_only) {
   NetworkOptions options;
   options.ppk_error = gnss.error_model;
   options.estimate_ppk_error = gnss.estimate_error_model;
   options.estimate_image_sigma = calibrate.estimate_image_sigma;
   options.estimate_white_only = white_only;
+  return options;
+}
+
+NetworkSolution solve_network(const NetworkProblem& n, const LampTrack& track, const GnssConfig& gnss,
+                              const CalibrateConfig& calibrate, bool white_only = false) {
+  NetworkOptions options = network_options(gnss, calibrate, white_only);
   // The report sets the flight volume's intersection σ beside this floor (docs/accuracy_analysis.md
   // "Datum floor"); the benchmarked network_adjust leaves it out by default.
   options.datum_floor_image_factor = kDatumFloorImageFactor;
@@ -268,6 +274,31 @@ std::vector<std::string> inconsistent_cameras(const NetworkResult& r, const PerC
     }
   }
   return out;
+}
+
+/// The held-out check of a Gauss–Markov model the network estimated (docs/optimisation.md "Held-out
+/// blocks"): the estimated family and the white family each calibrate on alternate blocks and predict
+/// the others. The white family replaces the estimate when the estimate's σ fails on the held-out
+/// epochs (z rms above kHeldOutZ) and the white family predicts them better (a lower score). Returns
+/// the reason to switch, or empty; `record` receives the scores.
+constexpr double kHeldOutZ = 1.25;
+
+std::string held_out_check(const NetworkProblem& n, const NetworkResult& r, const GnssConfig& gnss,
+                           const CalibrateConfig& calibrate, nlohmann::json* record) {
+  if (!r.ppk_estimate || !r.ppk_error.correlated()) return {};
+  const std::vector<HeldOutScore> scores =
+      score_held_out_blocks(n.cameras, n.points, n.observations,
+                            {{"estimated", network_options(gnss, calibrate, false)},
+                             {"white", network_options(gnss, calibrate, true)}});
+  *record = held_out_scores_json(scores);
+  const HeldOutScore &estimated = scores[0], &white = scores[1];
+  if (!estimated.scored || !white.scored || estimated.z_rms <= kHeldOutZ || white.score >= estimated.score)
+    return {};
+  return "held-out blocks: the estimated model's σ does not hold (z rms " +
+         format_number("%.2f", estimated.z_rms) + ", rms " + format_number("%.1f", 100 * estimated.rms_m) +
+         " cm over " + std::to_string(estimated.epochs) +
+         " epochs) and the white model predicts them better (z rms " + format_number("%.2f", white.z_rms) +
+         ", rms " + format_number("%.1f", 100 * white.rms_m) + " cm)";
 }
 
 /// Under a model the network estimated with a Gauss–Markov part, the per-camera bundle restates its
@@ -472,7 +503,12 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
     if (automatic) pass.record.method_choice = choose_default_method(shared_epoch_count(n));
     if (!automatic || pass.record.method_choice->method == "network") {
       solution = solve_network(n, track, cfg.gnss, cfg.calibrate);
-      const std::vector<std::string> inconsistent = inconsistent_cameras(solution->result, pass);
+      std::vector<std::string> inconsistent = inconsistent_cameras(solution->result, pass);
+      if (inconsistent.empty()) {
+        const std::string held_out =
+            held_out_check(n, solution->result, cfg.gnss, cfg.calibrate, &pass.record.held_out);
+        if (!held_out.empty()) inconsistent.push_back(held_out);
+      }
       if (!inconsistent.empty()) {
         // The guard's fallback: the white family, image σ still estimated; the reasons stay with it.
         solution = solve_network(n, track, cfg.gnss, cfg.calibrate, /*white_only=*/true);

@@ -58,6 +58,8 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--datasets", default="dataset1,dataset2")
     ap.add_argument("--config-extra", default="{}", help="JSON merged into each mission (for experiments)")
+    ap.add_argument("--published-pp-sigma", type=float, default=0,
+                    help="> 0: each camera's principal point prior from its published calibration, with this σ (px)")
     args = ap.parse_args()
     data = args.data or os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..", "shared",
                                      "external", "eth-drone-tracking")
@@ -101,6 +103,9 @@ def main():
                               "clock": "estimate"},
                     "sensor": {"width_px": W, "height_px": H, "pixel_size_um": [1.0, 1.0]},
                     "lens": {"nominal_focal_mm": pub["K"][0, 0] / 1000.0}})
+                if args.published_pp_sigma > 0:
+                    cams_cfg[-1]["priors"] = {"principal_point_px": [pub["K"][0, 2], pub["K"][1, 2]],
+                                              "principal_point_sigma_px": args.published_pp_sigma}
             cfg = {"mission": f"ETH {name} split {split}", "site": {"origin": {"lat": 47.37, "lon": 8.55, "h": 500.0}},
                    "gnss": {"pos_files": [os.path.join(args.eth_out, name, "rtk.pos")]},
                    "lever_arm": {"vertical_m": 0.0}, "cameras": cams_cfg,

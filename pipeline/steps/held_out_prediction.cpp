@@ -1,0 +1,193 @@
+#include "pipeline/steps/held_out_prediction.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "config/error.hpp"
+#include "vision/triangulation/triangulation.hpp"
+
+namespace rangecal {
+
+namespace {
+
+// The marginal covariance of a fix's error under `m` (m²): the white part S·Σ_pos·S and the
+// Gauss–Markov part's stationary variance σ_g² per axis.
+Eigen::Matrix3d fix_covariance(const NetworkPoint& p, const PpkErrorModel& m) {
+  const Eigen::Matrix3d S = m.white_scale().asDiagonal();
+  Eigen::Matrix3d C = S * p.prior_cov * S;
+  if (m.correlated()) C += m.gm_sd().cwiseProduct(m.gm_sd()).asDiagonal().toDenseMatrix();
+  return C;
+}
+
+// Camera c as it saw an observation: the point it saw is X + offset − v·δ_c, so a camera whose
+// translation absorbs that shift sees it at X.
+Camera camera_seeing_epoch(const Camera& cam, const NetworkObservation& o, double clock_offset_s) {
+  Camera shifted = cam;
+  shifted.pose.T += cam.pose.R * (o.offset_m - o.velocity * clock_offset_s);
+  return shifted;
+}
+
+struct Split {
+  std::vector<NetworkPoint> points;
+  std::vector<NetworkObservation> observations;
+};
+
+// The calibration half of one split: the observations of points in blocks of parity `parity`, and
+// every point without a time (poles, lone pairs); points renumbered.
+Split calibration_half(const std::vector<NetworkPoint>& points,
+                       const std::vector<NetworkObservation>& observations, const std::vector<long>& block,
+                       int parity) {
+  Split s;
+  std::vector<long> index(points.size(), -1);
+  for (const NetworkObservation& o : observations) {
+    const long b = block[o.point];
+    if (b >= 0 && b % 2 != parity) continue;
+    if (index[o.point] < 0) {
+      index[o.point] = static_cast<long>(s.points.size());
+      s.points.push_back(points[o.point]);
+    }
+    NetworkObservation copy = o;
+    copy.point = static_cast<std::size_t>(index[o.point]);
+    s.observations.push_back(copy);
+  }
+  return s;
+}
+
+struct Residual {
+  double d2 = 0, mahalanobis = 0, log_det = 0, trace = 0;
+};
+
+// The held-out epochs of the other parity, triangulated from the cameras `r` calibrated.
+std::vector<Residual> predict(const NetworkResult& r, const std::vector<NetworkPoint>& points,
+                              const std::vector<NetworkObservation>& observations,
+                              const std::vector<long>& block, int parity) {
+  std::map<std::size_t, std::vector<const NetworkObservation*>> seen;
+  for (const NetworkObservation& o : observations)
+    if (block[o.point] >= 0 && block[o.point] % 2 != parity) seen[o.point].push_back(&o);
+  // Cross-covariances of the cameras' calibrations, from the joint covariance.
+  const std::size_t n_cam = r.cameras.size();
+  std::vector<Residual> out;
+  for (const auto& [k, obs] : seen) {
+    std::vector<TriangulationView> views;
+    std::vector<std::size_t> cams;
+    for (const NetworkObservation* o : obs) {
+      if (std::find(cams.begin(), cams.end(), o->camera) != cams.end()) continue;
+      const BundleResult& b = r.cameras[o->camera];
+      TriangulationView v;
+      v.camera = camera_seeing_epoch(b.calibration.camera, *o, b.calibration.clock_offset_s);
+      v.calibration = {b.calibration.parameters, b.calibration.covariance};
+      v.uv_px = o->pixel;
+      v.pick_sigma_px = o->pixel_sigma_px > 0 ? o->pixel_sigma_px : b.details.pixel_sigma_px;
+      views.push_back(v);
+      cams.push_back(o->camera);
+    }
+    if (views.size() < 2) continue;
+    CrossCovariances cross(views.size(), std::vector<Eigen::MatrixXd>(views.size()));
+    if (r.joint_covariance.size() > 0 && r.joint_offset.size() >= n_cam)
+      for (std::size_t i = 0; i < views.size(); ++i)
+        for (std::size_t j = 0; j < views.size(); ++j)
+          if (i != j)
+            cross[i][j] = r.joint_covariance.block(r.joint_offset[cams[i]], r.joint_offset[cams[j]],
+                                                   r.cameras[cams[i]].calibration.parameters.size(),
+                                                   r.cameras[cams[j]].calibration.parameters.size());
+    TriangulationResult t;
+    try {
+      t = triangulate_point(views, "held-out epoch", &cross);
+    } catch (const Error&) {
+      continue;  // rays nearly parallel or a point behind a camera: no prediction to score
+    }
+    const Eigen::Vector3d d = t.point - points[k].prior_enu;
+    const Eigen::Matrix3d C = t.cov_m2 + fix_covariance(points[k], r.ppk_error);
+    const Eigen::LLT<Eigen::Matrix3d> llt(C);
+    if (llt.info() != Eigen::Success) continue;
+    Residual e;
+    e.d2 = d.squaredNorm();
+    e.mahalanobis = d.dot(llt.solve(d));
+    e.log_det = 2 * llt.matrixL().toDenseMatrix().diagonal().array().log().sum();
+    e.trace = C.trace();
+    out.push_back(e);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>& cameras,
+                                                const std::vector<NetworkPoint>& points,
+                                                const std::vector<NetworkObservation>& observations,
+                                                const std::vector<HeldOutCandidate>& candidates,
+                                                const HeldOutOptions& options) {
+  double t0 = std::numeric_limits<double>::infinity();
+  for (const NetworkPoint& p : points)
+    if (std::isfinite(p.time_s)) t0 = std::min(t0, p.time_s);
+  std::vector<long> block(points.size(), -1);
+  for (std::size_t k = 0; k < points.size(); ++k)
+    if (std::isfinite(points[k].time_s))
+      block[k] = static_cast<long>(std::floor((points[k].time_s - t0) / options.block_s));
+  std::vector<HeldOutScore> scores;
+  for (const HeldOutCandidate& c : candidates) {
+    HeldOutScore s;
+    s.candidate = c.name;
+    std::vector<Residual> all;
+    for (int parity = 0; parity < 2 && s.why.empty(); ++parity) {
+      const Split half = calibration_half(points, observations, block, parity);
+      try {
+        const NetworkResult r = network_adjust(cameras, half.points, half.observations, c.options);
+        const std::vector<Residual> e = predict(r, points, observations, block, parity);
+        if (e.size() < options.min_epochs)
+          s.why = "split " + std::to_string(parity) + ": " + std::to_string(e.size()) +
+                  " held-out epochs seen by two cameras (fewer than " + std::to_string(options.min_epochs) +
+                  ")";
+        all.insert(all.end(), e.begin(), e.end());
+      } catch (const Error& err) {
+        s.why = "split " + std::to_string(parity) + ": " + err.reason();
+      }
+    }
+    if (s.why.empty()) {
+      s.scored = true;
+      s.epochs = all.size();
+      std::vector<double> norms;
+      double d2 = 0, m = 0, score = 0, trace = 0;
+      for (const Residual& e : all) {
+        d2 += e.d2;
+        m += e.mahalanobis;
+        score += e.mahalanobis + e.log_det;
+        trace += e.trace;
+        norms.push_back(std::sqrt(e.d2));
+      }
+      const double n = static_cast<double>(all.size());
+      std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
+      s.rms_m = std::sqrt(d2 / n);
+      s.median_m = norms[norms.size() / 2];
+      s.sigma_rms_m = std::sqrt(trace / n);
+      s.z_rms = std::sqrt(m / (3 * n));
+      s.score = score / n;
+    }
+    scores.push_back(s);
+  }
+  return scores;
+}
+
+nlohmann::json held_out_scores_json(const std::vector<HeldOutScore>& scores) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const HeldOutScore& s : scores) {
+    nlohmann::json c = {{"candidate", s.candidate}, {"scored", s.scored}};
+    if (!s.scored) {
+      c["why"] = s.why;
+    } else {
+      c["epochs"] = s.epochs;
+      c["rms_m"] = s.rms_m;
+      c["median_m"] = s.median_m;
+      c["sigma_rms_m"] = s.sigma_rms_m;
+      c["z_rms"] = s.z_rms;
+      c["score"] = s.score;
+    }
+    j.push_back(c);
+  }
+  return j;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,63 @@
+#pragma once
+// The network's model chosen by evidence (docs/optimisation.md "Held-out blocks"): each candidate
+// error model calibrates the cameras on alternate blocks of lamp epochs and predicts the others.
+//
+// The lamp epochs are cut into `block_s` blocks of time from the first; split 0 calibrates on the
+// even blocks and predicts the odd ones, split 1 the reverse (control poles and pairs without an
+// epoch calibrate in both). For each held-out epoch seen by two or more cameras, the point is
+// triangulated from the pixels (vision/triangulation: the cameras' network covariance, cross terms
+// included, and each camera's pixel σ as the candidate estimated it; each camera's view shifted by
+// its observation's displacement from the epoch to its frame) and compared with the epoch's fix:
+//   d = X − fix,   C = Σ_X + Σ_fix,   Σ_fix = S·Σ_pos·S + diag(σ_g²)  (the candidate's marginal)
+//   z² = dᵀC⁻¹d / 3,    score = mean over epochs of (dᵀC⁻¹d + ln det C)
+// The score is the negative log predictive density up to a constant: it rewards a small error and a
+// σ that covers it, and punishes a σ that claims more than the error shows — what neither the rms
+// nor the likelihood of the calibration blocks alone can tell. The fix's error is not independent
+// of the calibration blocks' under a Gauss–Markov model; the score treats it as if it were (its
+// covariance only), which favours no candidate.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "optim/network/network_adjustment.hpp"
+
+namespace rangecal {
+
+struct HeldOutOptions {
+  double block_s = 15;          ///< block length (s)
+  std::size_t min_epochs = 20;  ///< held-out epochs (≥ 2 cameras) needed in each split
+};
+
+/// One candidate: a name for the record and the network's options it calibrates with.
+struct HeldOutCandidate {
+  std::string name;
+  NetworkOptions options;
+};
+
+/// A candidate's prediction of the held-out epochs, pooled over both splits.
+struct HeldOutScore {
+  std::string candidate;
+  bool scored = false;  ///< false: a split failed or had too few epochs (`why`)
+  std::string why;
+  std::size_t epochs = 0;  ///< held-out epochs triangulated, both splits
+  double rms_m = 0;        ///< √(mean |d|²)
+  double median_m = 0;     ///< median |d|
+  double sigma_rms_m = 0;  ///< √(mean trace C): the σ the candidate states for them
+  double z_rms = 0;        ///< √(mean z²): 1 when the σ holds
+  double score = 0;        ///< mean (dᵀC⁻¹d + ln det C), ln of m²; lower is better
+};
+
+/// Scores each candidate on the network's cameras, points and observations (method in the header
+/// comment). Never throws for a candidate that cannot be solved on a split: it is returned unscored
+/// with the reason.
+std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>& cameras,
+                                                const std::vector<NetworkPoint>& points,
+                                                const std::vector<NetworkObservation>& observations,
+                                                const std::vector<HeldOutCandidate>& candidates,
+                                                const HeldOutOptions& options = {});
+
+/// run.json `stages.calibrate.counts.held_out`: one object per candidate, {candidate, scored, why |
+/// epochs, rms_m, median_m, sigma_rms_m, z_rms, score}.
+nlohmann::json held_out_scores_json(const std::vector<HeldOutScore>& scores);
+
+}  // namespace rangecal
