@@ -8,6 +8,7 @@
 #include "config/error.hpp"
 #include "optim/bundle/projection_jacobian.hpp"
 #include "optim/bundle/whitening.hpp"
+#include "optim/estimation/jacobi_scaled_ldlt.hpp"
 #include "optim/estimation/rank_tested_inverse.hpp"
 #include "optim/estimation/symmetric_part.hpp"
 #include "optim/network/gauss_markov_elimination.hpp"
@@ -457,11 +458,10 @@ double network_gauss_newton_step(const NetworkLayout& l, const NetworkParameterB
   VectorXd state_solve = gm.gradient;  // becomes G⁻¹·b_g
   eliminate_gauss_markov(&gm, &normal.S, &state_solve, &grad_c);
   // S·δc = −b_c, Jacobi-scaled (the f–distance ridge of a narrow lens spans decades).
-  const VectorXd d = normal.S.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-  const Eigen::LDLT<MatrixXd> ldlt(d.asDiagonal() * normal.S * d.asDiagonal());
-  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all())
+  JacobiScaledLdlt cameras;
+  if (!cameras.compute(normal.S))
     throw_calibration_error("network", "the cameras' normal equations are not positive definite");
-  const VectorXd dc = d.asDiagonal() * ldlt.solve(-(d.asDiagonal() * grad_c));
+  const VectorXd dc = cameras.solve(-grad_c);
   const VectorXd dg = -(state_solve + gm.B * dc);  // δg = −G⁻¹·(b_g + B·δc)
   step->predicted_decrease = -grad_c.dot(dc) + gm.gradient.dot(state_solve);
   for (std::size_t k = 0; k < l.by_point.size(); ++k)

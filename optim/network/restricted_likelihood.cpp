@@ -7,6 +7,7 @@
 #include <exception>
 #include <limits>
 
+#include "optim/estimation/jacobi_scaled_ldlt.hpp"
 #include "optim/network/gauss_markov_elimination.hpp"
 
 namespace rangecal {
@@ -131,9 +132,8 @@ struct Factors {
   GaussMarkovSystem gm;
   GaussMarkovFactor L;
   std::vector<Matrix3d> g_inverse;  ///< diagonal blocks of G⁻¹
-  VectorXd d;                       ///< S's scaling: S = d⁻¹·(LDLᵀ)·d⁻¹
-  Eigen::LDLT<MatrixXd> ldlt;
-  MatrixXd H;  ///< factorise's workspace: a chunk of points' W·L⁻ᵀ side by side
+  JacobiScaledLdlt cameras;         ///< S, the cameras' reduced system
+  MatrixXd H;                       ///< factorise's workspace: a chunk of points' W·L⁻ᵀ side by side
 };
 
 /// The normal equations' image part under the scales of `x` into F (Factors::lin, U, gradient and
@@ -246,10 +246,8 @@ double factorise(const RemlMission& f, const LogParameters& x, bool chain, Facto
     }
     log_det += log_g;
   }
-  F->d = S.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-  F->ldlt.compute(F->d.asDiagonal() * S * F->d.asDiagonal());
-  if (F->ldlt.info() != Eigen::Success || !(F->ldlt.vectorD().array() > 0).all()) return kInfinity;
-  return log_det + F->ldlt.vectorD().array().log().sum() - 2 * F->d.array().log().sum();
+  if (!F->cameras.compute(S)) return kInfinity;
+  return F->cameras.add_log_determinant(log_det);
 }
 
 /// M·Δ = r solved with the factors for m right-hand sides at once: r on the cameras (r_c,
@@ -279,7 +277,7 @@ void solve(const RemlMission& f, const Factors& F, MatrixXd rc, const MatrixXd& 
     rc.noalias() -= F.gm.B.transpose() * s->g;  // B becomes Z = G⁻¹·B: Bᵀ·G⁻¹·r_g = Zᵀ·r_g
     solve_gauss_markov(F.L, &s->g);
   }
-  s->c = F.d.asDiagonal() * F.ldlt.solve(F.d.asDiagonal() * rc);
+  s->c = F.cameras.solve(rc);
   if (F.states > 0) s->g.noalias() -= F.gm.B * s->c;
   s->X.setZero(rX.rows(), m);
   for (std::size_t k = 0; k < f.lin.size(); ++k) {
@@ -310,7 +308,7 @@ struct Covariance {
 
 void covariance(const Factors& F, Covariance* out) {
   Covariance& C = *out;
-  C.cc = F.d.asDiagonal() * F.ldlt.solve(MatrixXd(F.d.asDiagonal()));
+  C.cc = F.cameras.inverse();
   if (F.states == 0) return;
   const MatrixXd& Z = F.gm.B;
   C.T.resize(Z.rows(), C.cc.cols());
