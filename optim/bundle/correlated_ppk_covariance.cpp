@@ -25,7 +25,7 @@ MatrixXd exponential_kernel_sum(const MatrixXd& H, const std::vector<double>& t,
   Eigen::VectorXd f = Eigen::VectorXd::Zero(p);
   for (Eigen::Index k = 0; k < H.cols(); ++k) {
     const std::size_t ks = static_cast<std::size_t>(k);
-    const double phi = k == 0 ? 0.0 : std::exp(-(t[ks] - t[ks - 1]) / tau);
+    const double phi = k == 0 ? 0.0 : gauss_markov_transition(t[ks] - t[ks - 1], tau);
     f = phi * f + H.col(k);  // Σ_{j≤k} exp(−(t_k − t_j)/τ)·h_j
     X.noalias() += H.col(k) * f.transpose();
     D.noalias() += H.col(k) * H.col(k).transpose();

@@ -8,9 +8,11 @@
 #include "config/error.hpp"
 #include "optim/bundle/projection_jacobian.hpp"
 #include "optim/bundle/whitening.hpp"
+#include "optim/estimation/jacobi_scaled_ldlt.hpp"
 #include "optim/estimation/rank_tested_inverse.hpp"
 #include "optim/estimation/symmetric_part.hpp"
 #include "optim/network/gauss_markov_elimination.hpp"
+#include "optim/network/point_chunk.hpp"
 
 namespace rangecal {
 namespace {
@@ -91,10 +93,6 @@ std::string joint_name(const NetworkLayout& l, int j) {
          parameter_name(l.free[c][static_cast<std::size_t>(j - l.offset[c])]);
 }
 
-/// Points per chunk of the blocked products below: a chunk's W_k side by side make one
-/// n × 3·kChunk matrix, and one product serves the whole chunk.
-constexpr int kChunk = 256;
-
 /// The points eliminated from the normal equations: their linearisations and V_k⁻¹ (zero for a
 /// point not in the solve).
 struct EliminatedPoints {
@@ -164,14 +162,8 @@ EliminatedPoints reduce_camera_system(const NetworkLayout& l, const NetworkParam
   EliminatedPoints points;
   points.lin.resize(np);
   points.Vinv.assign(np, Eigen::Matrix3d::Zero());
-  MatrixXd H = MatrixXd::Zero(n, 3 * kChunk);
-  int filled = 0;
-  auto flush = [&]() {
-    if (filled == 0) return;
-    out->S.selfadjointView<Eigen::Lower>().rankUpdate(H.leftCols(3 * filled), -1.0);
-    H.leftCols(3 * filled).setZero();
-    filled = 0;
-  };
+  MatrixXd H;
+  PointChunk chunk(n, &H);
   for (std::size_t k = 0; k < np; ++k) {
     points.lin[k] = linearise_point(l, b, sel, k, &out->S, &out->chi2, &out->residuals);
     const bool eliminated = !points.lin[k].V.isZero(0);
@@ -182,12 +174,13 @@ EliminatedPoints reduce_camera_system(const NetworkLayout& l, const NetworkParam
     // S −= W_k·V_k⁻¹·W_kᵀ = (W_k·L_k)(W_k·L_k)ᵀ, V_k⁻¹ = L_k·L_kᵀ: the columns W_k·L_k of a chunk
     // of points side by side (zero where a camera did not see the point), one product per chunk.
     const Eigen::Matrix3d L = points.Vinv[k].llt().matrixL();
+    const Eigen::Index at = chunk.add(k);
     for (const auto& [c, W] : points.lin[k].W)
-      H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * L;
+      chunk.matrix().block(l.offset[c], at, W.rows(), 3).noalias() = W * L;
     if (!points.lin[k].P.isZero(0)) couple_state(l, k, points.lin[k], points.Vinv[k], gm);
-    if (++filled == kChunk) flush();
+    if (chunk.full()) subtract_chunk_outer_product(&chunk, &out->S);
   }
-  flush();
+  subtract_chunk_outer_product(&chunk, &out->S);
   out->S = out->S.selfadjointView<Eigen::Lower>();
   return points;
 }
@@ -249,14 +242,13 @@ void single_view_point_covariances(const NetworkLayout& l, const NetworkParamete
 /// rank-deficient), W_kᵀ·Σ_cc·W_k for a chunk of points at once: Σ_cc times their W_k side by side.
 void eliminated_point_covariances(const NetworkLayout& l, const EliminatedPoints& points,
                                   NetworkCovariance* out) {
-  MatrixXd H = MatrixXd::Zero(l.n_camera_parameters, 3 * kChunk);
-  int filled = 0;
-  std::vector<std::size_t> chunk;
-  MatrixXd SW;
+  MatrixXd H, SW;
+  PointChunk chunk(l.n_camera_parameters, &H);
   auto finish_chunk = [&]() {
-    if (out->joint.size() > 0 && !chunk.empty()) SW.noalias() = out->joint * H.leftCols(3 * filled);
-    for (std::size_t j = 0; j < chunk.size(); ++j) {
-      const std::size_t k = chunk[j];
+    if (chunk.empty()) return;
+    if (out->joint.size() > 0) SW.noalias() = out->joint * chunk.filled();
+    for (std::size_t j = 0; j < chunk.points().size(); ++j) {
+      const std::size_t k = chunk.points()[j];
       Eigen::Matrix3d add = Eigen::Matrix3d::Zero();
       if (out->joint.size() > 0)
         for (const auto& [c, W] : points.lin[k].W)
@@ -264,15 +256,13 @@ void eliminated_point_covariances(const NetworkLayout& l, const EliminatedPoints
               W.transpose() * SW.block(l.offset[c], 3 * static_cast<Eigen::Index>(j), W.rows(), 3);
       out->point_cov[k] = points.Vinv[k] + points.Vinv[k] * add * points.Vinv[k];
     }
-    H.leftCols(3 * filled).setZero();
-    filled = 0;
     chunk.clear();
   };
   for (std::size_t k = 0; k < points.Vinv.size(); ++k) {
     if (points.Vinv[k].isZero(0) || !points.lin[k].P.isZero(0)) continue;  // chained: below
-    for (const auto& [c, W] : points.lin[k].W) H.block(l.offset[c], 3 * filled, W.rows(), 3) = W;
-    chunk.push_back(k);
-    if (++filled == kChunk) finish_chunk();
+    const Eigen::Index at = chunk.add(k);
+    for (const auto& [c, W] : points.lin[k].W) chunk.matrix().block(l.offset[c], at, W.rows(), 3) = W;
+    if (chunk.full()) finish_chunk();
   }
   finish_chunk();
 }
@@ -281,15 +271,13 @@ void eliminated_point_covariances(const NetworkLayout& l, const EliminatedPoints
 /// (network_covariance.hpp); Σ_cc·A for a chunk of points at once.
 void chained_point_covariances(const NetworkLayout& l, const EliminatedPoints& points, const MatrixXd& Z,
                                const std::vector<Eigen::Matrix3d>& state_cov, NetworkCovariance* out) {
-  const int n = l.n_camera_parameters;
-  MatrixXd H = MatrixXd::Zero(n, 3 * kChunk), SA;
-  std::vector<std::size_t> chunk;
+  MatrixXd H, SA;
+  PointChunk chunk(l.n_camera_parameters, &H);
   auto finish_chunk = [&]() {
     if (chunk.empty()) return;
-    const Eigen::Index cols = 3 * static_cast<Eigen::Index>(chunk.size());
-    if (out->joint.size() > 0) SA.noalias() = out->joint * H.leftCols(cols);
-    for (std::size_t i = 0; i < chunk.size(); ++i) {
-      const std::size_t k = chunk[i];
+    if (out->joint.size() > 0) SA.noalias() = out->joint * chunk.filled();
+    for (std::size_t i = 0; i < chunk.points().size(); ++i) {
+      const std::size_t k = chunk.points()[i];
       const Eigen::Index at = 3 * static_cast<Eigen::Index>(i);
       const Eigen::Matrix3d& P = points.lin[k].P;
       Eigen::Matrix3d add = P * state_cov[static_cast<std::size_t>(l.gm_state[k])] * P;
@@ -300,12 +288,11 @@ void chained_point_covariances(const NetworkLayout& l, const EliminatedPoints& p
   };
   for (std::size_t k = 0; k < points.Vinv.size(); ++k) {
     if (points.Vinv[k].isZero(0) || points.lin[k].P.isZero(0)) continue;
-    const Eigen::Index at = 3 * static_cast<Eigen::Index>(chunk.size());
-    H.middleCols(at, 3).noalias() =
+    const Eigen::Index at = chunk.add(k);
+    chunk.matrix().middleCols(at, 3).noalias() =
         -Z.middleRows(3 * static_cast<Eigen::Index>(l.gm_state[k]), 3).transpose() * points.lin[k].P;
-    for (const auto& [c, W] : points.lin[k].W) H.block(l.offset[c], at, W.rows(), 3) += W;
-    chunk.push_back(k);
-    if (static_cast<int>(chunk.size()) == kChunk) finish_chunk();
+    for (const auto& [c, W] : points.lin[k].W) chunk.matrix().block(l.offset[c], at, W.rows(), 3) += W;
+    if (chunk.full()) finish_chunk();
   }
   finish_chunk();
 }
@@ -457,11 +444,10 @@ double network_gauss_newton_step(const NetworkLayout& l, const NetworkParameterB
   VectorXd state_solve = gm.gradient;  // becomes G⁻¹·b_g
   eliminate_gauss_markov(&gm, &normal.S, &state_solve, &grad_c);
   // S·δc = −b_c, Jacobi-scaled (the f–distance ridge of a narrow lens spans decades).
-  const VectorXd d = normal.S.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-  const Eigen::LDLT<MatrixXd> ldlt(d.asDiagonal() * normal.S * d.asDiagonal());
-  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all())
+  JacobiScaledLdlt cameras;
+  if (!cameras.compute(normal.S))
     throw_calibration_error("network", "the cameras' normal equations are not positive definite");
-  const VectorXd dc = d.asDiagonal() * ldlt.solve(-(d.asDiagonal() * grad_c));
+  const VectorXd dc = cameras.solve(-grad_c);
   const VectorXd dg = -(state_solve + gm.B * dc);  // δg = −G⁻¹·(b_g + B·δc)
   step->predicted_decrease = -grad_c.dot(dc) + gm.gradient.dot(state_solve);
   for (std::size_t k = 0; k < l.by_point.size(); ++k)

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "config/number_format.hpp"
+#include "optim/network/ppk_error_model.hpp"
 #include "optim/network/restricted_likelihood.hpp"
 
 namespace rangecal {
@@ -307,7 +308,7 @@ CorrectionMoments correction_moments(const std::vector<Eigen::Vector3d>& e, cons
 /// log σ_h, log σ_v) for the .pos sd `sd`.
 Eigen::Vector4d moment_split(const CorrectionMoments& m, double tau, const Eigen::Vector2d& sd) {
   double phi = 0;
-  for (double dt : m.dt) phi += std::exp(-dt / tau) / static_cast<double>(m.dt.size());
+  for (double dt : m.dt) phi += gauss_markov_transition(dt, tau) / static_cast<double>(m.dt.size());
   Eigen::Vector4d x;
   for (int a = 0; a < 2; ++a) {
     const double c0 = std::max(m.c0[a], 1e-12);

@@ -38,11 +38,17 @@ struct PpkErrorModel {
   Eigen::Vector3d white_scale() const { return {white_scale_h, white_scale_h, white_scale_v}; }
 };
 
-/// φ per ENU axis for a step of dt seconds: exp(−dt/τ).
+/// φ = exp(−|dt|/τ) for a step of dt seconds of a Gauss–Markov process of time constant τ (s): the
+/// AR(1) chain's coefficient above, and the correlation of two of its values dt apart.
+inline double gauss_markov_transition(double dt_s, double tau_s) {
+  return std::exp(-std::abs(dt_s) / tau_s);
+}
+
+/// φ per ENU axis for a step of dt seconds: exp(−|dt|/τ).
 inline Eigen::Vector3d gauss_markov_transition(const PpkErrorModel& m, double dt_s) {
   const Eigen::Vector3d tau = m.tau();
   Eigen::Vector3d phi;
-  for (int a = 0; a < 3; ++a) phi[a] = std::exp(-std::abs(dt_s) / tau[a]);
+  for (int a = 0; a < 3; ++a) phi[a] = gauss_markov_transition(dt_s, tau[a]);
   return phi;
 }
 

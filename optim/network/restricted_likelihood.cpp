@@ -7,7 +7,9 @@
 #include <exception>
 #include <limits>
 
+#include "optim/estimation/jacobi_scaled_ldlt.hpp"
 #include "optim/network/gauss_markov_elimination.hpp"
+#include "optim/network/point_chunk.hpp"
 
 namespace rangecal {
 
@@ -39,8 +41,6 @@ PpkErrorModel model_of(const LogParameters& x) {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-/// Points whose camera–camera products are made as one (factorise).
-constexpr int kChunk = 256;
 
 /// Which of the six log parameters an ENU axis's white scale, GM sd and τ are.
 int scale_index(int axis) {
@@ -131,9 +131,8 @@ struct Factors {
   GaussMarkovSystem gm;
   GaussMarkovFactor L;
   std::vector<Matrix3d> g_inverse;  ///< diagonal blocks of G⁻¹
-  VectorXd d;                       ///< S's scaling: S = d⁻¹·(LDLᵀ)·d⁻¹
-  Eigen::LDLT<MatrixXd> ldlt;
-  MatrixXd H;  ///< factorise's workspace: a chunk of points' W·L⁻ᵀ side by side
+  JacobiScaledLdlt cameras;         ///< S, the cameras' reduced system
+  MatrixXd H;                       ///< factorise's workspace: a chunk of points' W·L⁻ᵀ side by side
 };
 
 /// The normal equations' image part under the scales of `x` into F (Factors::lin, U, gradient and
@@ -201,15 +200,7 @@ double factorise(const RemlMission& f, const LogParameters& x, bool chain, Facto
   gm.B.setZero(n3, l.n_camera_parameters);
   if (chain) F->steps = chain_steps(l, m), log_det += add_chain_prior(F->steps, &gm);
   MatrixXd S = F->U;
-  MatrixXd& H = F->H;
-  H.setZero(l.n_camera_parameters, 3 * kChunk);
-  int filled = 0;
-  const auto flush = [&]() {
-    if (filled == 0) return;
-    S.selfadjointView<Eigen::Lower>().rankUpdate(H.leftCols(3 * filled), -1.0);
-    H.leftCols(3 * filled).setZero();
-    filled = 0;
-  };
+  PointChunk chunk(l.n_camera_parameters, &F->H);
   F->Vinv.assign(np, Matrix3d::Zero()), F->P.assign(np, Matrix3d::Zero());
   const Matrix3d scale = m.white_scale().asDiagonal();
   for (std::size_t k = 0; k < np; ++k) {
@@ -230,13 +221,14 @@ double factorise(const RemlMission& f, const LogParameters& x, bool chain, Facto
     // S −= W·V⁻¹·Wᵀ = (W·L⁻ᵀ)(W·L⁻ᵀ)ᵀ, V = L·Lᵀ: a chunk of points' columns side by side, one
     // product per chunk on S's lower triangle (all the eliminations and the LDLT read), as
     // network_covariance.cpp reduces the camera system.
+    const Eigen::Index at = chunk.add(k);
     for (const auto& [c, W] : F->lin[k].W)
-      H.block(l.offset[c], 3 * filled, W.rows(), 3).noalias() = W * LinvT;
-    if (++filled == kChunk) flush();
+      chunk.matrix().block(l.offset[c], at, W.rows(), 3).noalias() = W * LinvT;
+    if (chunk.full()) subtract_chunk_outer_product(&chunk, &S);
     if (F->states > 0 && f.fix[k])
       couple_fix_to_state(l, static_cast<std::size_t>(l.gm_state[k]), F->P[k], Vinv, F->lin[k], &gm);
   }
-  flush();
+  subtract_chunk_outer_product(&chunk, &S);
   if (F->states > 0) {
     double log_g = 0;
     try {
@@ -246,10 +238,8 @@ double factorise(const RemlMission& f, const LogParameters& x, bool chain, Facto
     }
     log_det += log_g;
   }
-  F->d = S.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-  F->ldlt.compute(F->d.asDiagonal() * S * F->d.asDiagonal());
-  if (F->ldlt.info() != Eigen::Success || !(F->ldlt.vectorD().array() > 0).all()) return kInfinity;
-  return log_det + F->ldlt.vectorD().array().log().sum() - 2 * F->d.array().log().sum();
+  if (!F->cameras.compute(S)) return kInfinity;
+  return F->cameras.add_log_determinant(log_det);
 }
 
 /// M·Δ = r solved with the factors for m right-hand sides at once: r on the cameras (r_c,
@@ -279,7 +269,7 @@ void solve(const RemlMission& f, const Factors& F, MatrixXd rc, const MatrixXd& 
     rc.noalias() -= F.gm.B.transpose() * s->g;  // B becomes Z = G⁻¹·B: Bᵀ·G⁻¹·r_g = Zᵀ·r_g
     solve_gauss_markov(F.L, &s->g);
   }
-  s->c = F.d.asDiagonal() * F.ldlt.solve(F.d.asDiagonal() * rc);
+  s->c = F.cameras.solve(rc);
   if (F.states > 0) s->g.noalias() -= F.gm.B * s->c;
   s->X.setZero(rX.rows(), m);
   for (std::size_t k = 0; k < f.lin.size(); ++k) {
@@ -310,7 +300,7 @@ struct Covariance {
 
 void covariance(const Factors& F, Covariance* out) {
   Covariance& C = *out;
-  C.cc = F.d.asDiagonal() * F.ldlt.solve(MatrixXd(F.d.asDiagonal()));
+  C.cc = F.cameras.inverse();
   if (F.states == 0) return;
   const MatrixXd& Z = F.gm.B;
   C.T.resize(Z.rows(), C.cc.cols());
@@ -374,14 +364,12 @@ void point_products(const RemlMission& f, const Factors& F, const Covariance& C,
   out->WSW.assign(np, Matrix3d::Zero());
   out->WT.assign(np, Matrix3d::Zero());
   out->image_trace = VectorXd::Zero(static_cast<Eigen::Index>(f.cameras()));
-  H->setZero(l.n_camera_parameters, 3 * kChunk);
-  std::vector<std::size_t> chunk;
+  PointChunk chunk(l.n_camera_parameters, H);
   const auto flush = [&]() {
     if (chunk.empty()) return;
-    const Eigen::Index cols = 3 * static_cast<Eigen::Index>(chunk.size());
-    Y->noalias() = C.cc * H->leftCols(cols);
-    for (std::size_t i = 0; i < chunk.size(); ++i) {
-      const std::size_t k = chunk[i];
+    Y->noalias() = C.cc * chunk.filled();
+    for (std::size_t i = 0; i < chunk.points().size(); ++i) {
+      const std::size_t k = chunk.points()[i];
       const auto Yk = Y->middleCols(3 * static_cast<Eigen::Index>(i), 3);
       for (const auto& [c, W] : F.lin[k].W) {
         out->WSW[k].noalias() += W.transpose() * Yk.middleRows(l.offset[c], W.rows());
@@ -393,15 +381,13 @@ void point_products(const RemlMission& f, const Factors& F, const Covariance& C,
         add_image_traces(f, F, C, k, Yk, point_covariance(f, F, C, k, out->WSW[k], out->WT[k]),
                          &out->image_trace);
     }
-    H->leftCols(cols).setZero();
     chunk.clear();
   };
   for (std::size_t k = 0; k < np; ++k) {
     if (!f.in_solve[k] || (!f.fix[k] && f.images[k].empty())) continue;
-    const Eigen::Index at = 3 * static_cast<Eigen::Index>(chunk.size());
-    for (const auto& [c, W] : F.lin[k].W) H->block(l.offset[c], at, W.rows(), 3) = W;
-    chunk.push_back(k);
-    if (chunk.size() == static_cast<std::size_t>(kChunk)) flush();
+    const Eigen::Index at = chunk.add(k);
+    for (const auto& [c, W] : F.lin[k].W) chunk.matrix().block(l.offset[c], at, W.rows(), 3) = W;
+    if (chunk.full()) flush();
   }
   flush();
   // The cameras' own block of N_c: tr(Σ_cc,c·U_c).

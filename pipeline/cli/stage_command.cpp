@@ -10,6 +10,7 @@
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/progress_bar.hpp"
 #include "pipeline/io/run_outcome.hpp"
+#include "pipeline/io/stage_outputs.hpp"
 #include "pipeline/stages/mission_runner.hpp"
 
 namespace rangecal {
@@ -69,8 +70,9 @@ void add_calibrate_command(CLI::App& app, const CliContext& ctx) {
 }
 
 void add_run_command(CLI::App& app, const CliContext& ctx) {
-  CLI::App* sub =
-      app.add_subcommand("run", "Run every stage: gnss, align, detect, calibrate, intersect, report");
+  std::string stages;
+  for (const std::string& name : mission_stage_names()) stages += (stages.empty() ? "" : ", ") + name;
+  CLI::App* sub = app.add_subcommand("run", "Run every stage: " + stages);
   auto config = std::make_shared<std::string>();
   sub->add_option("CONFIG", *config, "Mission config (JSON)")->required();
   sub->callback([&ctx, config] {

@@ -49,7 +49,7 @@ std::vector<AutocorrelationBin> empirical_autocorrelation(const std::vector<doub
 double model_autocorrelation(double gm_sd_m, double tau_s, double white_sd_m, double lag_s) {
   if (!(gm_sd_m > 0) || !(tau_s > 0)) return 0;
   const double g2 = gm_sd_m * gm_sd_m;
-  return g2 * std::exp(-std::abs(lag_s) / tau_s) / (white_sd_m * white_sd_m + g2);
+  return g2 * gauss_markov_transition(lag_s, tau_s) / (white_sd_m * white_sd_m + g2);
 }
 
 AutocorrelationLags autocorrelation_lags(const PpkErrorModel& m, const std::vector<double>& t_s) {

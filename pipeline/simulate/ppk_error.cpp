@@ -18,8 +18,8 @@ std::vector<Eigen::Vector3d> draw_gauss_markov(const Eigen::Vector3d& sd_m, cons
     }
     const double dt = t_s[k] - t_s[k - 1];
     for (int a = 0; a < 3; ++a) {
-      // φ = exp(−Δt/τ); 1 − φ² = −expm1(−2Δt/τ), accurate also when Δt ≪ τ.
-      const double phi = std::exp(-dt / tau_s[a]);
+      // φ = exp(−Δt/τ) (ppk_error_model.hpp); 1 − φ² = −expm1(−2Δt/τ), accurate also when Δt ≪ τ.
+      const double phi = gauss_markov_transition(dt, tau_s[a]);
       g[k][a] = phi * g[k - 1][a] + sd_m[a] * std::sqrt(-std::expm1(-2.0 * dt / tau_s[a])) * w[a];
     }
   }

@@ -1,6 +1,8 @@
 #include "pipeline/stages/mission_runner.hpp"
 
 #include <chrono>
+#include <iterator>
+#include <stdexcept>
 
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
@@ -16,16 +18,24 @@ namespace rangecal {
 
 namespace {
 
-// The function that runs the stage called `name`; the order of the stages is
-// mission_stage_names()'s (pipeline/io/stage_outputs.hpp), which also knows their outputs.
-std::function<StageLog(const MissionConfig&)> stage_function(const std::string& name) {
-  if (name == "gnss") return run_gnss_stage;
-  if (name == "align") return run_align_stage;
-  if (name == "detect") return run_detect_stage;
-  if (name == "calibrate") return run_calibrate_stage;
-  if (name == "intersect") return run_intersect_stage;
-  if (name == "report") return run_report_stage;
-  throw Error(ErrorKind::usage, "", 0, "stage", "no function runs the stage '" + name + "'");
+using StageFunction = StageLog (*)(const MissionConfig&);
+
+/// The function that runs each row of mission_stage_table() (pipeline/io/stage_outputs.hpp), by
+/// its name: the table, below the stages, holds the order and the outputs; only this layer may
+/// name the functions.
+struct StageRunner {
+  const char* name;
+  StageFunction run;
+};
+constexpr StageRunner kStageRunners[] = {
+    {"gnss", run_gnss_stage},           {"align", run_align_stage},         {"detect", run_detect_stage},
+    {"calibrate", run_calibrate_stage}, {"intersect", run_intersect_stage}, {"report", run_report_stage},
+};
+
+StageFunction stage_function(const std::string& name) {
+  for (const StageRunner& r : kStageRunners)
+    if (name == r.name) return r.run;
+  throw std::logic_error("no function runs the stage '" + name + "'");
 }
 
 }  // namespace
@@ -33,7 +43,9 @@ std::function<StageLog(const MissionConfig&)> stage_function(const std::string& 
 const std::vector<NamedStage>& mission_stages() {
   static const std::vector<NamedStage> stages = [] {
     std::vector<NamedStage> v;
-    for (const std::string& name : mission_stage_names()) v.push_back({name, stage_function(name)});
+    for (const MissionStage& s : mission_stage_table()) v.push_back({s.name, stage_function(s.name)});
+    if (v.size() != std::size(kStageRunners))
+      throw std::logic_error("a stage function is bound to no stage of the table");
     return v;
   }();
   return stages;

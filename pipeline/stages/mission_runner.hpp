@@ -16,7 +16,9 @@ struct NamedStage {
   std::function<StageLog(const MissionConfig&)> run;
 };
 
-/// The stages of a full run, in order: gnss, align, detect, calibrate, intersect, report.
+/// The stages of a full run, in order: the rows of mission_stage_table() (gnss, align, detect,
+/// calibrate, intersect, report; pipeline/io/stage_outputs.hpp), each with the function that runs
+/// it. Throws std::logic_error when a row has no function or a function no row.
 const std::vector<NamedStage>& mission_stages();
 
 /// Runs the stage called `name` (one of mission_stages): removes temporary files left by dead
