@@ -55,6 +55,8 @@ struct ClockRecord {
   double search_best_score_px = 0;
   double search_other_score_px = 0;
   double search_other_offset_s = 0;
+  double readout_s = 0;  ///< a rolling shutter's readout (0: global shutter or not estimated)
+  double readout_sd_s = 0;
 };
 
 /// One camera's line: its alignment and where its frame times came from.

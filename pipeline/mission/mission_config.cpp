@@ -270,7 +270,7 @@ TrackConfig parse_track(const Loader& L, const JsonView& t, const SensorConfig& 
       "\"fps\" [+ \"t0_frame\"], \"clock\", \"clock_search_s\"}";
   t.require_object(form);
   t.check_keys({"file", "format", "point", "camera", "y_origin", "timestamps", "t0_utc", "t0_frame", "fps",
-                "clock", "clock_search_s"});
+                "clock", "clock_search_s", "readout_s"});
   TrackConfig track;
   track.file = L.input_file(t.at("file", "a 2-D track file path"), "a 2-D track file path");
   std::string formats;
@@ -327,6 +327,20 @@ TrackConfig parse_track(const Loader& L, const JsonView& t, const SensorConfig& 
     if (!(x[0] < x[1]) || std::abs(x[0]) > 1e6 || std::abs(x[1]) > 1e6) r->fail_expected(form_r);
     if (!track.estimate_clock) r->fail("applies only with \"clock\": \"estimate\"");
     track.clock_search_s = std::make_pair(x[0], x[1]);
+  }
+  if (auto r = t.find("readout_s")) {
+    const std::string form_r =
+        "a rolling shutter's readout in seconds (within ±0.1; negative when the bottom row is read first), "
+        "or "
+        "\"estimate\" (with \"clock\": \"estimate\")";
+    if (r->json().is_string()) {
+      if (r->string(form_r) != "estimate") r->fail_expected(form_r);
+      if (!track.estimate_clock)
+        r->fail("\"estimate\" needs \"clock\": \"estimate\" (the readout is found with the clock)");
+      track.estimate_readout = true;
+    } else {
+      track.readout_s = Loader::in_range(*r, -0.1, 0.1, form_r);
+    }
   }
   return track;
 }

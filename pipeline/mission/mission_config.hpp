@@ -68,6 +68,10 @@ struct TrackConfig {
   /// rate are found from the data (pipeline/steps/camera_clock.hpp). "time_code": they are UTC.
   bool estimate_clock = false;
   std::optional<std::pair<double, double>> clock_search_s;  ///< offsets searched (s); default: the overlap
+  /// A rolling shutter's readout (s; row v exposed (v/(H−1) − ½)·readout after the frame's time):
+  /// given, or estimated with the clock (`"readout_s": "estimate"`); 0: a global shutter.
+  double readout_s = 0;
+  bool estimate_readout = false;
 };
 
 struct CameraPriors {

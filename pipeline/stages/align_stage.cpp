@@ -43,6 +43,8 @@ ClockRecord clock_record(const CameraClock& c) {
   r.search_best_score_px = c.search_best_score_px;
   r.search_other_score_px = c.search_other_score_px;
   r.search_other_offset_s = c.search_other_offset_s;
+  r.readout_s = c.readout_s;
+  r.readout_sd_s = c.readout_sd_s;
   return r;
 }
 
@@ -68,13 +70,16 @@ CameraStamps track_stamps(const MissionConfig& cfg, const CameraConfig& cam, con
     ClockSearchOptions options;
     options.search_s = cam.track->clock_search_s;
     options.pixel_sigma_px = cam.pixel_sigma.track_px;
+    options.readout_s = cam.track->readout_s;
+    options.estimate_readout = cam.track->estimate_readout;
     SensorGeometry sensor;
     sensor.width_px = cam.sensor.width_px;
     sensor.height_px = cam.sensor.height_px;
     sensor.dx_mm = cam.sensor.pixel_size_um[0] * 1e-3;
     sensor.dy_mm = cam.sensor.pixel_size_um[1] * 1e-3;
     const CameraClock clock = estimate_camera_clock(hermite, labels, sensor, options, cam.track->file);
-    for (UtcTime& t : times) t = clock.time_of(t);
+    for (std::size_t i = 0; i < times.size(); ++i)
+      times[i] = clock.label_time(times[i], in.track.points[i].uv.y());
     out.clock = clock_record(clock);
     out.time_source += " + estimated clock";
     if (clock.variable_frame_rate)
@@ -84,6 +89,14 @@ CameraStamps track_stamps(const MissionConfig& cfg, const CameraConfig& cam, con
           "offset and rate; frame times carry errors of that size (docs/alignment.md \"Cameras without time "
           "code\")",
           cam.id, ClockSearchOptions{}.block_s, 1e3 * clock.worst_block_deviation_s));
+  } else if (cam.track->readout_s != 0) {
+    // A rolling shutter on a camera with time code: each label at its row's instant.
+    CameraClock readout;
+    readout.nominal_start = times.front();
+    readout.readout_s = cam.track->readout_s;
+    readout.image_height_px = cam.sensor.height_px;
+    for (std::size_t i = 0; i < times.size(); ++i)
+      times[i] = readout.label_time(times[i], in.track.points[i].uv.y());
   }
   for (std::size_t i = 0; i < times.size(); ++i) out.stamps.push_back({in.track.points[i].frame, times[i]});
   return out;

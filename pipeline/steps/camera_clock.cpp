@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "config/error.hpp"
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "vision/calibration/dlt.hpp"
+#include "vision/camera/camera_model.hpp"
+#include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
 
@@ -17,20 +20,32 @@ UtcTime CameraClock::time_of(UtcTime nominal) const {
   return UtcTime{nominal.ns + std::llround((offset_s + rate * since_start_s) * 1e9)};
 }
 
+UtcTime CameraClock::label_time(UtcTime nominal, double v_px) const {
+  const double row = v_px / std::max(1, image_height_px - 1) - 0.5;
+  return UtcTime{time_of(nominal).ns + std::llround(readout_s * row * 1e9)};
+}
+
 namespace {
 
 constexpr double kInfinite = std::numeric_limits<double>::infinity();
 
-// A clock to try: offset and rate on the labels' nominal times.
+// A clock to try: offset and rate on the labels' nominal times, and a rolling shutter's readout.
 struct Clock {
   UtcTime start;
   double offset_s = 0, rate = 0;
-  UtcTime at(UtcTime nominal) const {
+  double readout_s = 0;
+  int height_px = 2;
+  CameraClock camera_clock() const {
     CameraClock c;
     c.nominal_start = start;
     c.offset_s = offset_s;
     c.rate = rate;
-    return c.time_of(nominal);
+    c.readout_s = readout_s;
+    c.image_height_px = height_px;
+    return c;
+  }
+  UtcTime at(const ClockObservation& label) const {
+    return camera_clock().label_time(label.nominal, label.uv.y());
   }
 };
 
@@ -42,7 +57,7 @@ std::vector<TrackSample> samples_at(const HermiteTrack& track, const std::vector
   std::vector<TrackSample> out;
   kept->clear();
   for (std::size_t i : which) {
-    const TrackSample s = track.sample(clock.at(labels[i].nominal));
+    const TrackSample s = track.sample(clock.at(labels[i]));
     if (s.status != TrackSampleStatus::ok) continue;
     out.push_back(s);
     kept->push_back(i);
@@ -175,6 +190,58 @@ Line fit_line(const std::vector<ClockBlock>& blocks) {
   return line;
 }
 
+// The rolling shutter's readout correction, the camera and the clock's offset and rate held: a label
+// in row v was exposed ρ·readout after the frame's time (ρ = v/(H−1) − ½), so its residual moves by
+// g·ρ·Δreadout, g = J_X·v_lamp its image velocity (px/s). One least-squares Δ over all labels and
+// one per block; the blocks' scatter gives the σ (label errors are correlated from frame to frame).
+struct ReadoutStep {
+  double delta_s = 0, sd_s = 0;
+};
+
+ReadoutStep readout_step(const Camera& camera, const HermiteTrack& track,
+                         const std::vector<ClockObservation>& labels, const std::vector<std::size_t>& which,
+                         const Clock& clock, double clock_offset_s, double block_s) {
+  std::map<long, std::pair<double, double>> by_block;  // Σ aᵀa, Σ aᵀr
+  double aa = 0, ar = 0;
+  for (std::size_t i : which) {
+    const TrackSample s = track.sample(clock.at(labels[i]));
+    if (s.status != TrackSampleStatus::ok) continue;
+    // The point the camera was fitted to: the bundle's own offset δ moves it by −v·δ.
+    const Eigen::Vector3d X = s.enu - s.vel_enu * clock_offset_s;
+    Eigen::Vector2d uv;
+    if (!project(camera, X, &uv)) continue;
+    Eigen::Matrix<double, 2, 3> dX;
+    try {
+      pixel_jacobian_wrt_parameters(camera, {}, X, &dX);
+    } catch (const Error&) {
+      continue;
+    }
+    const double rho = labels[i].uv.y() / std::max(1, clock.height_px - 1) - 0.5;
+    const Eigen::Vector2d a = dX * s.vel_enu * rho, r = uv - labels[i].uv;
+    const long b =
+        static_cast<long>(1e-9 * static_cast<double>(labels[i].nominal.ns - clock.start.ns) / block_s);
+    by_block[b].first += a.squaredNorm();
+    by_block[b].second += a.dot(r);
+    aa += a.squaredNorm();
+    ar += a.dot(r);
+  }
+  ReadoutStep step;
+  if (!(aa > 0)) return step;
+  step.delta_s = -ar / aa;
+  std::vector<double> per_block;
+  for (const auto& [b, sums] : by_block)
+    if (sums.first > 0.01 * aa / static_cast<double>(by_block.size()))
+      per_block.push_back(-sums.second / sums.first);
+  if (per_block.size() >= 3) {
+    double mean = 0, ss = 0;
+    for (double x : per_block) mean += x / static_cast<double>(per_block.size());
+    for (double x : per_block) ss += (x - mean) * (x - mean);
+    step.sd_s =
+        std::sqrt(ss / static_cast<double>(per_block.size() - 1) / static_cast<double>(per_block.size()));
+  }
+  return step;
+}
+
 }  // namespace
 
 CameraClock estimate_camera_clock(const HermiteTrack& track, const std::vector<ClockObservation>& labels,
@@ -233,7 +300,7 @@ CameraClock estimate_camera_clock(const HermiteTrack& track, const std::vector<C
   // Step 2: offset and rate, every fine_step_s of the mid-record offset within ±fine_half_width_s and
   // every rate_step of rate within ±max_rate (step 1 holds the rate at 0, which fixes the clock at the
   // record's middle best: there the two agree).
-  Clock current{start, best.offset_s, 0};
+  Clock current{start, best.offset_s, 0, options.readout_s, sensor.height_px};
   double best_fine = kInfinite;
   const long n_rates = std::lround(options.max_rate / options.rate_step);
   const long n_offsets = std::lround(options.fine_half_width_s / options.fine_step_s);
@@ -241,7 +308,7 @@ CameraClock estimate_camera_clock(const HermiteTrack& track, const std::vector<C
     for (long k = -n_offsets; k <= n_offsets; ++k) {
       const double rate = static_cast<double>(i) * options.rate_step;
       const double mid_offset = best.offset_s + static_cast<double>(k) * options.fine_step_s;
-      const Clock trial{start, mid_offset - rate * 0.5 * span, rate};
+      const Clock trial{start, mid_offset - rate * 0.5 * span, rate, options.readout_s, sensor.height_px};
       const double score = dlt_score(track, labels, sample, trial, options);
       if (score < best_fine) {
         best_fine = score;
@@ -302,13 +369,26 @@ CameraClock estimate_camera_clock(const HermiteTrack& track, const std::vector<C
       current.rate += line.b;
       for (ClockBlock& b : clock.blocks)
         b.deviation_s -= line.a + line.b * b.mid_s;  // now the residual about the line
-      if (std::abs(line.a) + std::abs(line.b) * span < 5e-5) break;
+      double readout_change = 0;
+      if (options.estimate_readout) {
+        std::vector<std::size_t> inliers;
+        for (std::size_t k = 0; k < kept.size(); ++k)
+          if (!whole.outlier[k]) inliers.push_back(kept[k]);
+        const ReadoutStep step = readout_step(camera, track, labels, inliers, current,
+                                              whole.calibration.clock_offset_s, options.block_s);
+        current.readout_s += step.delta_s;
+        clock.readout_sd_s = step.sd_s;
+        readout_change = std::abs(step.delta_s) * 0.5;  // the most it moves a label (row at an edge)
+      }
+      if (std::abs(line.a) + std::abs(line.b) * span + readout_change < 5e-5) break;
     } catch (const Error& e) {
       if (e.kind() == ErrorKind::input) throw;
       throw_input_error(source, 0, "", std::string("the camera's clock could not be refined: ") + e.what());
     }
   clock.offset_s = current.offset_s;
   clock.rate = current.rate;
+  clock.readout_s = current.readout_s;
+  clock.image_height_px = sensor.height_px;
   clock.offset_sd_s = std::sqrt(line.cov(0, 0));
   clock.rate_sd = std::sqrt(line.cov(1, 1));
   const Eigen::Vector2d g_mid(1, 0.5 * span);

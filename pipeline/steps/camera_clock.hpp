@@ -17,6 +17,9 @@
 //     X − v·δ), then, the camera held, one offset per `block_s` block of frames; a weighted straight
 //     line through the block offsets corrects offset and rate. Repeated until the line moves the
 //     clock by less than 0.05 ms anywhere on the record.
+//  3b. With a rolling shutter (`estimate_readout`): each label's time gains (v/(H−1) − ½)·readout, v
+//     its row; the readout is corrected in the same loop by least squares on the labels' residuals
+//     along their image velocity, the camera and the line held, its σ from the blocks' scatter.
 //  4. σ from the line fit, scaled by the blocks' scatter about it (√(χ²/dof) when above 1): label
 //     errors are correlated from frame to frame, so the per-frame Hessian would claim ten times the
 //     precision the blocks show. A block whose offset is well determined (σ ≤ `vfr_block_sd_s`) and
@@ -57,6 +60,9 @@ struct ClockSearchOptions {
   double pixel_sigma_px = 1;       ///< the labels' σ the refinement weighs with (px)
   double vfr_block_sd_s = 0.003;   ///< a block this well determined …
   double vfr_threshold_s = 0.008;  ///< … and this far off the line flags a variable frame rate
+  /// A rolling shutter's readout (s): the value held, or the start when estimated (step 3b).
+  double readout_s = 0;
+  bool estimate_readout = false;
   /// A second basin farther than 2 s from the best that scores within this factor of it makes the
   /// offset ambiguous (an error naming both).
   double ambiguity_ratio = 1.5;
@@ -86,9 +92,16 @@ struct CameraClock {
   std::vector<ClockBlock> blocks;
   bool variable_frame_rate = false;
   double worst_block_deviation_s = 0;  ///< the largest |block − line| among well-determined blocks (s)
+  /// A rolling shutter's readout (s): row v is exposed (v/(H−1) − ½)·readout after the frame's time
+  /// (the middle row's); 0 for a global shutter or when not estimated. Its σ from the blocks.
+  double readout_s = 0;
+  double readout_sd_s = 0;
+  int image_height_px = 2;  ///< H
 
-  /// The estimated true time of a frame whose nominal time is `nominal`.
+  /// The estimated true time of a frame whose nominal time is `nominal` (its middle row).
   UtcTime time_of(UtcTime nominal) const;
+  /// The estimated true time of a label in row `v_px` of that frame (the readout's share added).
+  UtcTime label_time(UtcTime nominal, double v_px) const;
 };
 
 /// Estimates the clock (method in the header comment). `sensor` gives the image size and pixel pitch

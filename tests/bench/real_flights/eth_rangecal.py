@@ -42,6 +42,35 @@ def opencv_camera(path):
     return {"model": "B", "rx": rv[0], "ry": rv[1], "rz": rv[2], "tx": tv[0], "ty": tv[1], "tz": tv[2]}, {"K": K, "dist": d}
 
 
+def label_at_rs(cam, p, pub, t):
+    """eth_drone_tracking.label_at at the instant the label's row was exposed: a rolling shutter
+    reads row v at frame time + tau (v/(H-1) - 1/2), so the frame position is found again at
+    t - that delay, with v from the first interpolation (two passes: v barely moves in tau)."""
+    uv, ok = eth.label_at(cam, p, pub["fps"], t)
+    tau = p.get("tau", 0.0)
+    if tau == 0.0:
+        return uv, ok
+    for _ in range(2):
+        uv2, ok2 = eth.label_at(cam, p, pub["fps"], t - tau * (uv[:, 1] / (pub["height"] - 1) - 0.5))
+        uv = np.where(ok2[:, None], uv2, uv)
+        ok = ok & ok2
+    return uv, ok
+
+
+def triangulate_epochs_rs(ds, models, epochs):
+    """eth_drone_tracking.triangulate_epochs with each label at its row's instant (label_at_rs)."""
+    track = ds["track"]
+    labels = [label_at_rs(cam, p, pub, track.t[epochs]) for cam, (p, pub) in zip(ds["cams"], models)]
+    rows = []
+    for j, e in enumerate(epochs):
+        obs = [(lab[0][j], p, pub) for lab, (p, pub) in zip(labels, models) if lab[1][j]]
+        if len(obs) < 2:
+            continue
+        X, rms = eth.triangulate(obs)
+        rows.append((e, X, track.p[e], len(obs), rms, 0.0, "+".join(str(k) for k, lab in enumerate(labels) if lab[1][j])))
+    return rows
+
+
 def run(cmd):
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode not in (0,):
@@ -58,6 +87,7 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--datasets", default="dataset1,dataset2")
     ap.add_argument("--config-extra", default="{}", help="JSON merged into each mission (for experiments)")
+    ap.add_argument("--readout", default="", help="'estimate': each camera's rolling-shutter readout found with its clock")
     ap.add_argument("--published-pp-sigma", type=float, default=0,
                     help="> 0: each camera's principal point prior from its published calibration, with this σ (px)")
     args = ap.parse_args()
@@ -83,6 +113,7 @@ def main():
             d = os.path.join(args.out, name, f"split{split}")
             os.makedirs(d, exist_ok=True)
             cams_cfg = []
+            cam_height = {}
             for cam in ds["cams"]:
                 a = al[cam["name"]]
                 frames, uv = read_track_csv(os.path.join(args.eth_out, name, cam["name"], "track.csv"))
@@ -96,11 +127,12 @@ def main():
                         fh.write(f"{n},{u:.4f},{v:.4f}\n")
                 pub = [c for c in cam["calibs"] if c["file"] == a["calibration"]][0]
                 W, H = pub["res"]
+                cam_height[cam["name"]] = H
                 cams_cfg.append({
                     "id": cam["name"],
                     "track": {"file": os.path.join(cdir, "track.csv"),
                               "timestamps": os.path.join(args.eth_out, name, cam["name"], "timestamps.csv"),
-                              "clock": "estimate"},
+                              "clock": "estimate", **({"readout_s": "estimate"} if args.readout else {})},
                     "sensor": {"width_px": W, "height_px": H, "pixel_size_um": [1.0, 1.0]},
                     "lens": {"nominal_focal_mm": pub["K"][0, 0] / 1000.0}})
                 if args.published_pp_sigma > 0:
@@ -130,14 +162,16 @@ def main():
                 n0 = (int(read_track_csv(os.path.join(d, cam["name"], "track.csv"))[0][0]) - 1) / fps
                 r = ck["rate_ppm"] * 1e-6
                 p["t0"], p["ds"] = ck["offset_s"] - r * n0, ck["rate_ppm"]
+                p["tau"] = ck.get("readout_s", 0.0)
                 pub["fps"] = fps
+                pub["height"] = cam_height[cam["name"]]
                 clocks[cam["name"]] = {"t0_s": p["t0"], "rate_ppm": ck["rate_ppm"], "offset_sd_ms": ck["offset_sd_s"] * 1e3,
                                        "script_t0_s": al[cam["name"]]["t0_s"],
                                        "script_rate_ppm": (al[cam["name"]]["s"] - 1) * 1e6,
                                        "vfr": ck["variable_frame_rate"]}
                 models.append((p, pub))
             hold_ep = ep[in_span & (ep_block % 2 != split)]
-            rows = eth.triangulate_epochs(ds, models, hold_ep)
+            rows = triangulate_epochs_rs(ds, models, hold_ep)
             err = np.array([r[1] - r[2] for r in rows])
             # predicted σ: the intersect stage on the held-out epochs as check poles
             sig = float(np.mean(list(img_sigma.values()))) if img_sigma else 1.0
@@ -146,7 +180,7 @@ def main():
                 fh.write("id,role,E,N,U\n")
                 for r in rows:
                     fh.write(f"e{r[0]},check,{r[2][0]:.4f},{r[2][1]:.4f},{r[2][2]:.4f}\n")
-            labels = [eth.label_at(cam, p, pub["fps"], track.t[[r[0] for r in rows]]) for cam, (p, pub) in zip(ds["cams"], models)]
+            labels = [label_at_rs(cam, p, pub, track.t[[r[0] for r in rows]]) for cam, (p, pub) in zip(ds["cams"], models)]
             for k, cam in enumerate(ds["cams"]):
                 with open(os.path.join(d, cam["name"] + "_holdout_px.csv"), "w") as fh:
                     fh.write("id,u,v\n")

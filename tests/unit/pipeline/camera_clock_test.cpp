@@ -106,6 +106,45 @@ TEST(CameraClock, RecoversFortySecondsAndOneInTenThousand) {
   }
 }
 
+// A rolling shutter: row v exposed (v/(H−1) − ½)·20 ms after the frame's time; the readout is found
+// with the clock, and the labels' times then match their truth.
+TEST(CameraClock, RecoversARollingShutterReadout) {
+  const Camera cam = wide_camera();
+  const HermiteTrack track(lamp_track(300), 0.5);
+  const double readout = 0.020, offset = 31.5;
+  DeterministicRandom rng(11);
+  Labels l;
+  for (int k = 0; k < 6000; ++k) {
+    const double frame_truth = kStart + 60 + k / 50.0;
+    // The row's delay depends on the row the lamp lands in: two passes settle it.
+    Eigen::Vector2d uv;
+    double t = frame_truth;
+    for (int pass = 0; pass < 3; ++pass) {
+      if (!project(cam, lamp_at(t), &uv)) break;
+      t = frame_truth + readout * (uv.y() / (cam.intr.height_px - 1) - 0.5);
+    }
+    if (!project(cam, lamp_at(t), &uv)) continue;
+    uv += 0.5 * Eigen::Vector2d(rng.normal(), rng.normal());
+    if (uv.x() < 0 || uv.y() < 0 || uv.x() > cam.intr.width_px - 1 || uv.y() > cam.intr.height_px - 1)
+      continue;
+    l.labels.push_back({k, utc(frame_truth - offset), uv});
+    l.truth_s.push_back(t);
+  }
+  ClockSearchOptions o;
+  o.estimate_readout = true;
+  const CameraClock c = estimate_camera_clock(track, l.labels, sensor_of(cam), o, "sim");
+  double worst = 0;
+  for (std::size_t i = 0; i < l.labels.size(); ++i)
+    worst = std::max(
+        worst, std::abs(1e-9 * static_cast<double>(c.label_time(l.labels[i].nominal, l.labels[i].uv.y()).ns) -
+                        l.truth_s[i]));
+  std::printf("readout %.2f ms (σ %.2f), true 20; worst label-time error %.3f ms\n", 1e3 * c.readout_s,
+              1e3 * c.readout_sd_s, 1e3 * worst);
+  EXPECT_NEAR(c.readout_s, readout, 0.002);
+  EXPECT_LT(worst, 0.002);
+  EXPECT_NEAR(c.offset_s, offset, 0.002);
+}
+
 // A phone's variable frame rate: one 20-s stretch whose frames run 30 ms late is flagged.
 TEST(CameraClock, FlagsAVariableFrameRate) {
   const Camera cam = wide_camera();

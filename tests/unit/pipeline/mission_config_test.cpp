@@ -555,3 +555,21 @@ TEST(MissionConfig, ImportedTrackErrors) {
 
 }  // namespace
 }  // namespace rangecal
+
+namespace rangecal {
+namespace {
+
+TEST(MissionConfig, TrackReadout) {
+  nlohmann::json j = minimal();
+  j["cameras"][0]["track"] = {{"file", "t.csv"}, {"timestamps", "a.csv"}, {"readout_s", 0.021}};
+  EXPECT_DOUBLE_EQ(parse_mission_config(j.dump(), kPath, false).cameras[0].track->readout_s, 0.021);
+  j["cameras"][0]["track"]["readout_s"] = "estimate";
+  expect_error(j, "cameras[0].track.readout_s", "needs");
+  j["cameras"][0]["track"]["clock"] = "estimate";
+  EXPECT_TRUE(parse_mission_config(j.dump(), kPath, false).cameras[0].track->estimate_readout);
+  j["cameras"][0]["track"]["readout_s"] = 0.5;
+  expect_error(j, "cameras[0].track.readout_s", "±0.1");
+}
+
+}  // namespace
+}  // namespace rangecal
