@@ -40,6 +40,7 @@ const RecordField<ClockRecord> kClockFields[] = {
     {"search_best_score_px", &ClockRecord::search_best_score_px},
     {"search_other_score_px", &ClockRecord::search_other_score_px},
     {"search_other_offset_s", &ClockRecord::search_other_offset_s},
+    {"track_sd_s", &ClockRecord::track_sd_s},
     {"readout_s", &ClockRecord::readout_s},
     {"readout_sd_s", &ClockRecord::readout_sd_s},
 };

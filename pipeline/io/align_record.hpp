@@ -55,7 +55,8 @@ struct ClockRecord {
   double search_best_score_px = 0;
   double search_other_score_px = 0;
   double search_other_offset_s = 0;
-  double readout_s = 0;  ///< a rolling shutter's readout (0: global shutter or not estimated)
+  double track_sd_s = 0;  ///< the lamp track's share of the σ (its sd along the path over the speed)
+  double readout_s = 0;   ///< a rolling shutter's readout (0: global shutter or not estimated)
   double readout_sd_s = 0;
 };
 

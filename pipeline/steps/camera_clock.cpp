@@ -271,8 +271,21 @@ CameraClock estimate_camera_clock(const HermiteTrack& track, const std::vector<C
   for (std::size_t i = 0; i < labels.size(); ++i) all[i] = i;
   const std::size_t n_sample = std::min(options.subsample, labels.size());
   for (std::size_t k = 0; k < n_sample; ++k) sample.push_back(k * labels.size() / n_sample);
-  const std::vector<Scored> coarse =
-      scan(track, labels, sample, start, lo, hi, options.coarse_step_s, options);
+  // The coarse step: a wrong offset by half a step must misplace the labels by less than the score's
+  // truncation, so the right basin stands out — on a telephoto camera 0.2 s of lamp motion is
+  // hundreds of pixels. The labels show their own image speed (px/s between consecutive labels).
+  std::vector<double> speed;
+  for (std::size_t i = 1; i < labels.size(); ++i) {
+    const double dt = 1e-9 * static_cast<double>(labels[i].nominal.ns - labels[i - 1].nominal.ns);
+    if (dt > 0 && dt < 1) speed.push_back((labels[i].uv - labels[i - 1].uv).norm() / dt);
+  }
+  double step = options.coarse_step_s;
+  if (!speed.empty()) {
+    const std::size_t p90 = speed.size() * 9 / 10;
+    std::nth_element(speed.begin(), speed.begin() + static_cast<long>(p90), speed.end());
+    if (speed[p90] > 0) step = std::clamp(0.5 * options.truncate_px / speed[p90], options.fine_step_s, step);
+  }
+  const std::vector<Scored> coarse = scan(track, labels, sample, start, lo, hi, step, options);
   const Scored best = *std::min_element(coarse.begin(), coarse.end(),
                                         [](const Scored& a, const Scored& b) { return a.score < b.score; });
   if (!std::isfinite(best.score))
@@ -303,7 +316,7 @@ CameraClock estimate_camera_clock(const HermiteTrack& track, const std::vector<C
   Clock current{start, best.offset_s, 0, options.readout_s, sensor.height_px};
   double best_fine = kInfinite;
   const long n_rates = std::lround(options.max_rate / options.rate_step);
-  const long n_offsets = std::lround(options.fine_half_width_s / options.fine_step_s);
+  const long n_offsets = std::lround(std::max(options.fine_half_width_s, step) / options.fine_step_s);
   for (long i = -n_rates; i <= n_rates; ++i)
     for (long k = -n_offsets; k <= n_offsets; ++k) {
       const double rate = static_cast<double>(i) * options.rate_step;
@@ -389,6 +402,24 @@ CameraClock estimate_camera_clock(const HermiteTrack& track, const std::vector<C
   clock.rate = current.rate;
   clock.readout_s = current.readout_s;
   clock.image_height_px = sensor.height_px;
+  // The lamp track's own error along the lamp's path is a time shift the labels cannot tell from the
+  // clock's: a PPK error correlated over the record (Gauss–Markov, τ of minutes) moves the offset by
+  // its size over the speed, and drifts it over the record. Its share: the median over the labels of
+  // the fix's sd along the velocity over the speed; at most that drift across the record for the rate.
+  std::vector<double> along;
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const TrackSample s = track.sample(current.at(labels[kept[k]]));
+    const double speed = s.vel_enu.norm();
+    if (s.status == TrackSampleStatus::ok && speed > 0.1)
+      along.push_back(s.sd_enu.cwiseProduct(s.vel_enu).norm() / speed / speed);  // axes independent
+  }
+  if (!along.empty()) {
+    std::nth_element(along.begin(), along.begin() + static_cast<long>(along.size() / 2), along.end());
+    clock.track_sd_s = along[along.size() / 2];
+  }
+  const double track_var = clock.track_sd_s * clock.track_sd_s;
+  line.cov(0, 0) += track_var;
+  line.cov(1, 1) += 2 * track_var / std::max(span * span, 1.0);
   clock.offset_sd_s = std::sqrt(line.cov(0, 0));
   clock.rate_sd = std::sqrt(line.cov(1, 1));
   const Eigen::Vector2d g_mid(1, 0.5 * span);

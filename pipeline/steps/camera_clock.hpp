@@ -4,7 +4,8 @@
 // offset and a rate,
 //   t_k = n₀ + offset + (1 + rate)·(n_k − n₀),        n₀ the first labelled frame's nominal time,
 // and both are estimated from the camera's 2-D track against the lamp track, in four steps:
-//  1. Coarse search over the whole overlap: every `coarse_step_s` of offset such that at least half of
+//  1. Coarse search over the whole overlap: every step of offset (`coarse_step_s`, or less: half the
+//     truncation over the labels' 90th-percentile image speed) such that at least half of
 //     the frames fall inside the lamp track (or over `search_s` when given), a linear DLT (Hartley &
 //     Zisserman alg. 7.1) on an even subsample of the labels, refitted once without the points beyond
 //     3× its median residual, scored by its rms residual truncated at `truncate_px` (a wrong offset
@@ -25,8 +26,10 @@
 //     precision the blocks show. A block whose offset is well determined (σ ≤ `vfr_block_sd_s`) and
 //     lies more than `vfr_threshold_s` off the line flags a variable frame rate: one offset and rate
 //     then cannot follow the camera's clock, and the frames carry errors of that size.
-// The clock's σ is not carried into the calibration's covariance: an offset error σ moves the lamp
-// by |v|·σ along its path (docs/alignment.md).
+// The σ also carry the lamp track's own error along the lamp's path (its fixes' sd along the velocity
+// over the speed): a PPK error correlated over the record shifts the lamp along its path, which the
+// labels cannot tell from a clock offset. The clock's σ is not carried into the calibration's covariance: an
+// offset error σ moves the lamp by |v|·σ along its path (docs/alignment.md).
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
@@ -48,7 +51,8 @@ struct ClockObservation {
 struct ClockSearchOptions {
   /// The offsets searched (s, added to the nominal times); nullopt: the whole overlap (step 1).
   std::optional<std::pair<double, double>> search_s;
-  double coarse_step_s = 0.2;  ///< 0.2 s: the lamp moves ≤ 2 m between tries at 10 m/s
+  /// The coarse step's upper limit: smaller where the labels move fast in the image (step 1).
+  double coarse_step_s = 0.2;
   double fine_step_s = 0.01;
   double fine_half_width_s = 0.2;  ///< ± the coarse step: the best basin's neighbours
   double max_rate = 2e-3;          ///< rates searched in step 2 (±; consumer cameras reach 1e-3)
@@ -84,8 +88,10 @@ struct CameraClock {
   double rate_sd = 0;
   double span_s = 0;           ///< nominal time from the first to the last label (s)
   double mid_offset_sd_s = 0;  ///< 1σ of the correction at the record's middle (s): the best-known instant
-  double rms_px = 0;           ///< the refined camera's rms residual over the labels it kept (px)
-  std::size_t points = 0;      ///< labels inside the lamp track at the final clock
+  /// The lamp track's share of those σ (s): its fixes' sd along the lamp's path over the speed (median).
+  double track_sd_s = 0;
+  double rms_px = 0;                 ///< the refined camera's rms residual over the labels it kept (px)
+  std::size_t points = 0;            ///< labels inside the lamp track at the final clock
   double search_best_score_px = 0;   ///< step 1's truncated rms at the best basin
   double search_other_score_px = 0;  ///< … at the best offset more than 2 s away (0: none searched)
   double search_other_offset_s = 0;
