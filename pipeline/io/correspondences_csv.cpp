@@ -10,11 +10,15 @@
 namespace rangecal {
 
 std::string format_correspondences_csv(const std::vector<Correspondence>& pairs) {
-  bool with_sd = !pairs.empty(), with_vel = !pairs.empty();
-  for (const auto& p : pairs) with_sd = with_sd && p.sd_enu.has_value(), with_vel = with_vel && p.vel_enu;
+  bool with_sd = !pairs.empty(), with_vel = !pairs.empty(), with_sigma = false;
+  for (const auto& p : pairs) {
+    with_sd = with_sd && p.sd_enu.has_value(), with_vel = with_vel && p.vel_enu;
+    with_sigma = with_sigma || p.pixel_sigma_px;
+  }
   std::string out = "utc,E,N,U,u,v,residual_px,used";
   out += with_sd ? ",sdE,sdN,sdU" : "";
-  out += with_vel ? ",vE,vN,vU\n" : "\n";
+  out += with_vel ? ",vE,vN,vU" : "";
+  out += with_sigma ? ",pixel_sigma_px\n" : "\n";
   auto it = std::back_inserter(out);
   for (const auto& p : pairs) {
     out += format_iso8601_utc(p.utc, 9);
@@ -28,6 +32,10 @@ std::string format_correspondences_csv(const std::vector<Correspondence>& pairs)
     }
     if (with_vel) {
       fmt::format_to(it, ",{:.4f},{:.4f},{:.4f}", p.vel_enu->x(), p.vel_enu->y(), p.vel_enu->z());
+    }
+    if (with_sigma) {
+      out += ",";
+      if (p.pixel_sigma_px) fmt::format_to(it, "{:.4f}", *p.pixel_sigma_px);
     }
     out += "\n";
   }
@@ -54,6 +62,7 @@ std::vector<Correspondence> parse_correspondences_csv(const std::string& text, c
   const auto c_ve = t.find_column("vE"), c_vn = t.find_column("vN"), c_vu = t.find_column("vU");
   if ((c_ve || c_vn || c_vu) && !(c_ve && c_vn && c_vu))
     throw_input_error(path, 1, "vE", "the velocity columns come as a set: vE,vN,vU");
+  const auto c_sigma = t.find_column("pixel_sigma_px");
   std::vector<Correspondence> out;
   out.reserve(t.records.size());
   for (const auto& r : t.records) {
@@ -86,6 +95,8 @@ std::vector<Correspondence> parse_correspondences_csv(const std::string& text, c
                                   t.number_in(r, *c_vn, -v, v, "velocity, m/s"),
                                   t.number_in(r, *c_vu, -v, v, "velocity, m/s"));
     }
+    if (c_sigma && !t.text(r, *c_sigma).empty())
+      p.pixel_sigma_px = t.number_in(r, *c_sigma, 1e-6, 100, "the pixel's 1σ per axis, px, > 0 and ≤ 100");
     out.push_back(p);
   }
   return out;

@@ -2,7 +2,7 @@
 // `<cam>/correspondences.csv` (docs/outputs.md): the (lamp ENU, lamp pixel) pairs the calibrate stage
 // uses, written by align+detect — or by a user who already has point pairs.
 //
-// Columns: utc,E,N,U,u,v,residual_px,used[,sdE,sdN,sdU][,vE,vN,vU]
+// Columns: utc,E,N,U,u,v,residual_px,used[,sdE,sdN,sdU][,vE,vN,vU][,pixel_sigma_px]
 //   utc      ISO 8601 UTC (Z, 9 digits) of the frame
 //   E,N,U    lamp centre, local ENU metres about site.origin
 //   u,v      lamp pixel (u right, v down, top-left pixel centre = (0,0))
@@ -12,6 +12,9 @@
 //                sd interpolated to the frame; when absent the calibrate stage uses its default.
 //   vE,vN,vU     optional (our extension): the lamp velocity at the frame, m/s, for the bundle's
 //                clock-offset parameter; when absent the clock offset cannot be estimated.
+//   pixel_sigma_px  optional (our extension): the pixel's own 1σ per axis (px, an imported track's
+//                `sigma_px`); blank: the camera's a-priori σ, which the network scales by its image
+//                variance component. A stated σ is taken as stated, as a pole pick's.
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -29,6 +32,7 @@ struct Correspondence {
   std::optional<bool> used;           ///< filled by the calibrate stage
   std::optional<Eigen::Vector3d> sd_enu;
   std::optional<Eigen::Vector3d> vel_enu;  ///< m/s
+  std::optional<double> pixel_sigma_px;    ///< the pixel's own σ (px); none: the camera's
   long line = 0;  ///< line of the file it was read from (0 when made in memory), for messages
 };
 

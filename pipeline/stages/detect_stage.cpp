@@ -41,7 +41,8 @@ std::string rejection_summary(const std::map<std::string, int>& by_status) {
 // A camera with an imported track: its labels at the aligned frames, as the detector's rows (status
 // ok; peak, area and snr not known).
 std::vector<LampDetection> track_detections(const CameraConfig& cam, const std::vector<AlignedFrame>& aligned,
-                                            const std::string& aligned_path) {
+                                            const std::string& aligned_path,
+                                            std::map<std::int64_t, double>* sigma_by_utc) {
   const CameraTrackInput in = read_camera_track(cam);
   std::unordered_map<std::int64_t, std::size_t> index_of_frame;
   for (std::size_t i = 0; i < in.track.points.size(); ++i)
@@ -60,6 +61,7 @@ std::vector<LampDetection> track_detections(const CameraConfig& cam, const std::
     d.u = in.track.points[it->second].uv.x();
     d.v = in.track.points[it->second].uv.y();
     d.status = lamp_status::kOk;
+    if (const auto& sigma = in.track.points[it->second].sigma_px) (*sigma_by_utc)[a.utc.ns] = *sigma;
     out.push_back(d);
   }
   return out;
@@ -87,8 +89,9 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
     const std::vector<AlignedFrame> aligned = read_aligned_csv(aligned_path);
     DetectCameraRecord& counts = record.cameras[cam.id];
     CameraDetections cd;
+    std::map<std::int64_t, double> sigma_by_utc;  // an imported track's own σ per label
     if (cam.track) {
-      cd.detections = track_detections(cam, aligned, aligned_path);
+      cd.detections = track_detections(cam, aligned, aligned_path, &sigma_by_utc);
       counts.time_source = "imported track";
     } else {
       const FrameSource source = open_camera_frames(cfg, cam);
@@ -111,6 +114,9 @@ StageLog run_detect_stage(const MissionConfig& cfg) {
       counts.time_source = source.time_source();
     }
     cd.pairs = lamp_pairs(aligned, cd.detections);
+    for (Correspondence& p : cd.pairs)
+      if (const auto it = sigma_by_utc.find(p.utc.ns); it != sigma_by_utc.end())
+        p.pixel_sigma_px = it->second;
     std::map<std::string, int> by_status;
     for (const LampDetection& d : cd.detections) ++by_status[d.status];
     counts.frames_examined = cd.detections.size();

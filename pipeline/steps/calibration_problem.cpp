@@ -46,6 +46,7 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
     const Eigen::Vector3d sd = c.sd_enu ? *c.sd_enu : Eigen::Vector3d::Constant(kDefaultWorldSigmaM);
     o.world_cov = sd.cwiseProduct(sd).asDiagonal();
     if (c.vel_enu) o.velocity = *c.vel_enu;
+    if (c.pixel_sigma_px) o.pixel_sigma_px = *c.pixel_sigma_px;  // stated: not the camera's, not scaled
     // The fix's place in a correlated PPK error model's Gauss–Markov process (BundleObservation::time_s).
     o.time_s = 1e-9 * static_cast<double>(c.utc.ns - pairs.front().utc.ns);
     if (c.line > 0) o.source = "correspondences line " + std::to_string(c.line);

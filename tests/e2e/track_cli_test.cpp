@@ -41,7 +41,7 @@ std::vector<std::pair<double, double>> write_track(const json& cam, const fs::pa
   std::vector<std::pair<double, double>> labelled;
   fs::create_directories(dir);
   std::ofstream track(dir / "track.csv"), times(dir / "nominal_times.csv");
-  track << "frame,u,v\n";
+  track << "frame,u,v,sigma_px\n";
   times << "frame,utc\n";
   double first = NAN;
   for (const json& f : cam["frames"]) {
@@ -55,7 +55,8 @@ std::vector<std::pair<double, double>> write_track(const json& cam, const fs::pa
     labelled.emplace_back(nominal, truth);
     track << f["frame"].get<long>() << "," << std::setprecision(10)
           << f["lamp_px"][0].get<double>() + 0.3 * rng->normal() << ","
-          << f["lamp_px"][1].get<double>() + 0.3 * rng->normal() << "\n";
+          << f["lamp_px"][1].get<double>() + 0.3 * rng->normal() << ","
+          << (labelled.size() % 10 == 0 ? "0.3" : "") << "\n";  // every 10th label states its σ
   }
   return labelled;
 }
@@ -115,6 +116,10 @@ TEST(ImportedTracks, CamerasWithoutTimeCodeCalibrate) {
     EXPECT_LT(std::abs(clock["rate_ppm"].get<double>() - 1e6 * kRate), 4 * clock["rate_sd_ppm"].get<double>())
         << id << " rate " << clock["rate_ppm"] << " ± " << clock["rate_sd_ppm"];
     EXPECT_EQ(run["stages"]["align"]["counts"][id]["time_source"], "track timestamps CSV + estimated clock");
+    // The labels that state their σ carry it to correspondences.csv; the others leave it blank.
+    const std::string corr = test::read_text(dir / "out" / id / "correspondences.csv");
+    EXPECT_NE(corr.find(",pixel_sigma_px\n"), std::string::npos) << id;
+    EXPECT_NE(corr.find(",0.3000\n"), std::string::npos) << id;
     const json cal = read_json(dir / "out" / id / "calibration.json");
     const double f = cal["focal_mm"].get<double>(), sd = cal["sigma"]["focal_mm"].get<double>();
     EXPECT_LT(std::abs(f - tc["focal_mm"].get<double>()), 4 * sd) << id << " f " << f << " ± " << sd;

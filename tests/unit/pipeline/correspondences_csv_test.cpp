@@ -39,6 +39,29 @@ TEST(CorrespondencesIo, RoundTripIsExactToPrintedPrecision) {
   EXPECT_EQ(format_correspondences_csv(back), test::read_text(path));
 }
 
+// An imported track's own σ per label: written only when some pair has one, blank where a pair has
+// none, read back; a σ of zero is refused naming its line and column.
+TEST(CorrespondencesIo, PixelSigmaColumn) {
+  std::vector<Correspondence> pairs(2);
+  pairs[0].utc = *parse_iso8601_utc("2025-06-01T03:00:00Z");
+  pairs[1].utc = *parse_iso8601_utc("2025-06-01T03:00:01Z");
+  pairs[0].enu = pairs[1].enu = {1, 2, 3};
+  EXPECT_EQ(format_correspondences_csv(pairs).find("pixel_sigma_px"), std::string::npos);
+  pairs[1].pixel_sigma_px = 1.25;
+  const std::string text = format_correspondences_csv(pairs);
+  EXPECT_NE(text.find(",used,pixel_sigma_px\n"), std::string::npos) << text;
+  const auto back = parse_correspondences_csv(text, "c.csv");
+  EXPECT_FALSE(back[0].pixel_sigma_px);
+  EXPECT_DOUBLE_EQ(*back[1].pixel_sigma_px, 1.25);
+  try {
+    parse_correspondences_csv("utc,E,N,U,u,v,pixel_sigma_px\n2025-06-01T03:00:00Z,1,2,3,4,5,0\n", "c.csv");
+    FAIL() << "a zero σ was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.field(), "pixel_sigma_px");
+  }
+}
+
 TEST(CorrespondencesIo, BadLinesNameFileLineAndField) {
   const auto dir = test::scratch_dir("corr_bad");
   const std::string header = "utc,E,N,U,u,v,residual_px,used\n";
