@@ -24,6 +24,15 @@ FrameSource open_camera_frames(const MissionConfig& cfg, const CameraConfig& cam
                      "none of `timestamps`, `cine` or `mraw` is set");
 }
 
+SensorGeometry sensor_geometry(const SensorConfig& sensor) {
+  SensorGeometry g;
+  g.width_px = sensor.width_px;
+  g.height_px = sensor.height_px;
+  g.dx_mm = sensor.pixel_size_um[0] * 1e-3;
+  g.dy_mm = sensor.pixel_size_um[1] * 1e-3;
+  return g;
+}
+
 CameraTrackInput read_camera_track(const CameraConfig& camera) {
   const TrackConfig& tc = *camera.track;
   CameraTrackInput in;

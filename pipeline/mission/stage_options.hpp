@@ -3,6 +3,7 @@
 // their own options and never the config): the one place that knows which config key feeds which
 // option. Defaults of keys the config leaves out are the options' own.
 #include "pipeline/mission/mission_config.hpp"
+#include "vision/camera/sensor_geometry.hpp"
 #include "vision/detection/lamp_detector.hpp"
 #include "vision/frames/frame_source.hpp"
 #include "vision/tracks/image_track.hpp"
@@ -16,6 +17,10 @@ FrameSourceOptions frame_source_options(const CameraConfig& camera);
 /// (the .mraw timed by its header and frames.clock_utc_offset_h). Throws
 /// rangecal::Error (usage) naming `cameras[].frames` when neither is set.
 FrameSource open_camera_frames(const MissionConfig& cfg, const CameraConfig& camera);
+
+/// The sensor a camera's config states (image size, pixel pitch in mm), as the initialisers and the
+/// clock take it.
+SensorGeometry sensor_geometry(const SensorConfig& sensor);
 
 /// A camera's imported 2-D track (cameras[i].track) with its frames' times as the config gives them
 /// (UTC, or nominal when the clock is estimated).

@@ -73,12 +73,8 @@ CameraStamps track_stamps(const MissionConfig& cfg, const CameraConfig& cam, con
     options.pixel_sigma_px = cam.pixel_sigma.track_px;
     options.readout_s = cam.track->readout_s;
     options.estimate_readout = cam.track->estimate_readout;
-    SensorGeometry sensor;
-    sensor.width_px = cam.sensor.width_px;
-    sensor.height_px = cam.sensor.height_px;
-    sensor.dx_mm = cam.sensor.pixel_size_um[0] * 1e-3;
-    sensor.dy_mm = cam.sensor.pixel_size_um[1] * 1e-3;
-    const CameraClock clock = estimate_camera_clock(hermite, labels, sensor, options, cam.track->file);
+    const CameraClock clock =
+        estimate_camera_clock(hermite, labels, sensor_geometry(cam.sensor), options, cam.track->file);
     for (std::size_t i = 0; i < times.size(); ++i)
       times[i] = clock.label_time(times[i], in.track.points[i].uv.y());
     out.clock = clock_record(clock);

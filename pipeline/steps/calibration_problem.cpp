@@ -3,6 +3,7 @@
 #include <map>
 
 #include "config/error.hpp"
+#include "pipeline/mission/stage_options.hpp"
 
 namespace rangecal {
 
@@ -22,10 +23,7 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
                                             const ControlPoleViews& poles) {
   CalibrationProblem p;
   p.camera_id = cam.id;
-  p.sensor.width_px = cam.sensor.width_px;
-  p.sensor.height_px = cam.sensor.height_px;
-  p.sensor.dx_mm = cam.sensor.pixel_size_um[0] * 1e-3;
-  p.sensor.dy_mm = cam.sensor.pixel_size_um[1] * 1e-3;
+  p.sensor = sensor_geometry(cam.sensor);
   p.nominal_focal_mm = cam.nominal_focal_mm;
   p.priors = cam.priors;
   p.free = calibrate.free;
