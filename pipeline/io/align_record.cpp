@@ -41,6 +41,7 @@ const RecordField<ClockRecord> kClockFields[] = {
     {"search_other_score_px", &ClockRecord::search_other_score_px},
     {"search_other_offset_s", &ClockRecord::search_other_offset_s},
     {"track_sd_s", &ClockRecord::track_sd_s},
+    {"wander_sd_s", &ClockRecord::wander_sd_s},
     {"readout_s", &ClockRecord::readout_s},
     {"readout_sd_s", &ClockRecord::readout_sd_s},
 };

@@ -6,7 +6,7 @@
 //                 max_abs_dt_s, max_speed_mps, worst_position_error_m, worst_position_error_frame,
 //                 time_source[, clock {nominal_start_utc, offset_s, offset_sd_s, rate_ppm, rate_sd_ppm,
 //                 mid_offset_sd_s, span_s, rms_px, points, blocks, variable_frame_rate,
-//                 worst_block_deviation_s, search_best_score_px, search_other_score_px,
+//                 worst_block_deviation_s, wander_sd_s, search_best_score_px, search_other_score_px,
 //                 search_other_offset_s}]}
 // The alignment step reports in AlignReport (pipeline/steps/align_frames.hpp fills it).
 #include <cstddef>
@@ -55,8 +55,9 @@ struct ClockRecord {
   double search_best_score_px = 0;
   double search_other_score_px = 0;
   double search_other_offset_s = 0;
-  double track_sd_s = 0;  ///< the lamp track's share of the σ (its sd along the path over the speed)
-  double readout_s = 0;   ///< a rolling shutter's readout (0: global shutter or not estimated)
+  double track_sd_s = 0;   ///< the lamp track's share of the σ (its sd along the path over the speed)
+  double wander_sd_s = 0;  ///< the blocks' scatter about the line beyond their σ (a variable frame rate)
+  double readout_s = 0;    ///< a rolling shutter's readout (0: global shutter or not estimated)
   double readout_sd_s = 0;
 };
 

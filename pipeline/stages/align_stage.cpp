@@ -44,6 +44,7 @@ ClockRecord clock_record(const CameraClock& c) {
   r.search_other_score_px = c.search_other_score_px;
   r.search_other_offset_s = c.search_other_offset_s;
   r.track_sd_s = c.track_sd_s;
+  r.wander_sd_s = c.wander_sd_s;
   r.readout_s = c.readout_s;
   r.readout_sd_s = c.readout_sd_s;
   return r;

@@ -25,6 +25,22 @@ UtcTime CameraClock::label_time(UtcTime nominal, double v_px) const {
   return UtcTime{time_of(nominal).ns + std::llround(readout_s * row * 1e9)};
 }
 
+double clock_time_sd_s(double offset_sd_s, double rate_sd, double mid_offset_sd_s, double span_s,
+                       double since_start_s, double wander_sd_s) {
+  const double var_a = offset_sd_s * offset_sd_s, var_b = rate_sd * rate_sd;
+  const double cov_ab =
+      span_s > 0 ? (mid_offset_sd_s * mid_offset_sd_s - var_a - 0.25 * span_s * span_s * var_b) / span_s
+                 : 0.0;
+  const double s = since_start_s;
+  const double var = var_a + 2 * s * cov_ab + s * s * var_b;
+  return std::sqrt(std::max(0.0, var) + wander_sd_s * wander_sd_s);
+}
+
+double CameraClock::time_sd_s(UtcTime nominal) const {
+  const double since_start_s = 1e-9 * static_cast<double>(nominal.ns - nominal_start.ns);
+  return clock_time_sd_s(offset_sd_s, rate_sd, mid_offset_sd_s, span_s, since_start_s, wander_sd_s);
+}
+
 namespace {
 
 constexpr double kInfinite = std::numeric_limits<double>::infinity();
@@ -425,11 +441,23 @@ CameraClock estimate_camera_clock(const HermiteTrack& track, const std::vector<C
   const Eigen::Vector2d g_mid(1, 0.5 * span);
   clock.mid_offset_sd_s = std::sqrt(g_mid.dot(line.cov * g_mid));
   clock.span_s = span;
+  double dev2 = 0, sd2 = 0;
+  std::size_t determined = 0;
   for (const ClockBlock& b : clock.blocks)
     if (b.sd_s <= options.vfr_block_sd_s) {
       clock.worst_block_deviation_s = std::max(clock.worst_block_deviation_s, std::abs(b.deviation_s));
       if (std::abs(b.deviation_s) > options.vfr_threshold_s) clock.variable_frame_rate = true;
+      dev2 += b.deviation_s * b.deviation_s;
+      sd2 += b.sd_s * b.sd_s;
+      ++determined;
     }
+  // The wander: the blocks' scatter about the line beyond their own σ (the line takes two degrees of
+  // freedom). A frame outside the blocks the line was fitted to carries it: a variable frame rate's
+  // stretches keep their own offsets, which no line through other stretches predicts.
+  if (determined > 2) {
+    const double excess = dev2 / static_cast<double>(determined - 2) - sd2 / static_cast<double>(determined);
+    clock.wander_sd_s = std::sqrt(std::max(0.0, excess));
+  }
   return clock;
 }
 

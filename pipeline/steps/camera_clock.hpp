@@ -98,6 +98,9 @@ struct CameraClock {
   std::vector<ClockBlock> blocks;
   bool variable_frame_rate = false;
   double worst_block_deviation_s = 0;  ///< the largest |block − line| among well-determined blocks (s)
+  /// The blocks' scatter about the line beyond their own σ (s): how far a frame's time may be off in
+  /// a stretch the line was not fitted to (a variable frame rate's wander); 0 for a steady clock.
+  double wander_sd_s = 0;
   /// A rolling shutter's readout (s): row v is exposed (v/(H−1) − ½)·readout after the frame's time
   /// (the middle row's); 0 for a global shutter or when not estimated. Its σ from the blocks.
   double readout_s = 0;
@@ -108,7 +111,16 @@ struct CameraClock {
   UtcTime time_of(UtcTime nominal) const;
   /// The estimated true time of a label in row `v_px` of that frame (the readout's share added).
   UtcTime label_time(UtcTime nominal, double v_px) const;
+  /// The 1σ of time_of(nominal) (s): the line's σ there (offset, rate and their correlation through
+  /// mid_offset_sd_s) and the wander.
+  double time_sd_s(UtcTime nominal) const;
 };
+
+/// The 1σ (s) of a clock's correction `since_start_s` of nominal time after n₀: the line's variance
+/// there, var(a) + 2s·cov(a, b) + s²·var(b), with cov(a, b) recovered from the σ at the record's
+/// middle (s = span/2), plus the wander's.
+double clock_time_sd_s(double offset_sd_s, double rate_sd, double mid_offset_sd_s, double span_s,
+                       double since_start_s, double wander_sd_s);
 
 /// Estimates the clock (method in the header comment). `sensor` gives the image size and pixel pitch
 /// the DLT's camera is expressed in. Throws rangecal::Error (input, naming `source`, e.g. the track

@@ -132,6 +132,10 @@ ViewParameters validated_views(const std::vector<TriangulationView>& views, cons
       throw_input_error("", 0, "pick_sigma_px",
                         what + ": camera " + v.camera.id + " pick σ must be positive, got " +
                             format_number("%g", v.pick_sigma_px));
+    if (!(std::isfinite(v.timing_sigma_s) && v.timing_sigma_s >= 0 && v.image_velocity_px_s.allFinite()))
+      throw_input_error("", 0, "timing_sigma_s",
+                        what + ": camera " + v.camera.id +
+                            " timing σ must be finite and not negative, its image velocity finite");
     bool cm = true;
     vp.param_idx[i] = parameter_indices(v.calibration.parameters, v.camera.id, &cm);
     vp.center_mode[i] = cm;
@@ -145,6 +149,14 @@ ViewParameters validated_views(const std::vector<TriangulationView>& views, cons
       throw_calibration_error("camera " + v.camera.id + " covariance", "has non-finite entries");
   }
   return vp;
+}
+
+// A view's pixel covariance: the pick's σ²·I and, for a moving point, the image motion over the
+// view's time error, σ_t²·g·gᵀ (g the pixel velocity): a label whose instant is off by δt lies δt·g
+// along the image track.
+Eigen::Matrix2d view_covariance(const TriangulationView& v) {
+  return v.pick_sigma_px * v.pick_sigma_px * Eigen::Matrix2d::Identity() +
+         v.timing_sigma_s * v.timing_sigma_s * v.image_velocity_px_s * v.image_velocity_px_s.transpose();
 }
 
 // 1. Linear: least-squares midpoint of the rays; sets linear_point and max_ray_angle_deg.
@@ -191,9 +203,9 @@ void gauss_newton_point(const std::vector<TriangulationView>& views, const ViewP
     for (std::size_t i = 0; i < n; ++i) {
       const ProjectionDerivatives pd = differentiate(views[i].camera, vp.center_mode[i] != 0, X, false);
       if (!(pd.depth > 0)) behind_camera(what, views[i].camera, pd.depth);
-      const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
-      N += w * pd.d_point.transpose() * pd.d_point;
-      g += w * pd.d_point.transpose() * (pd.uv - views[i].uv_px);
+      const Eigen::Matrix2d W = view_covariance(views[i]).inverse();
+      N += pd.d_point.transpose() * W * pd.d_point;
+      g += pd.d_point.transpose() * W * (pd.uv - views[i].uv_px);
     }
     const Eigen::Vector3d step = -N.ldlt().solve(g);
     if (!step.allFinite()) throw_calibration_error(what, "the reprojection normal equations are singular");
@@ -215,27 +227,41 @@ void residuals_and_covariance(const std::vector<TriangulationView>& views, const
   const Eigen::Vector3d& X = res.point;
   Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
   std::vector<ProjectionDerivatives> pds(n);
+  std::vector<Eigen::Matrix2d> Ws(n);
   double sum_sq = 0;
   for (std::size_t i = 0; i < n; ++i) {
     pds[i] = differentiate(views[i].camera, vp.center_mode[i] != 0, X, !vp.param_idx[i].empty());
     if (!(pds[i].depth > 0)) behind_camera(what, views[i].camera, pds[i].depth);
-    const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
-    N += w * pds[i].d_point.transpose() * pds[i].d_point;
+    Ws[i] = view_covariance(views[i]).inverse();
+    N += pds[i].d_point.transpose() * Ws[i] * pds[i].d_point;
     res.residuals_px.push_back(pds[i].uv - views[i].uv_px);
     sum_sq += res.residuals_px.back().squaredNorm();
   }
   res.rms_px = std::sqrt(sum_sq / static_cast<double>(n));
   const Eigen::Matrix3d Ninv = N.inverse();
-  res.cov_pick_m2 = Ninv;
+  // N⁻¹ = N⁻¹·(Σ JᵀW·(σ²I + σ_t²ggᵀ)·WJ)·N⁻¹: the pick's share and the timing's.
+  Eigen::Matrix3d pick = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Matrix<double, 3, 2> JW = pds[i].d_point.transpose() * Ws[i];
+    pick += views[i].pick_sigma_px * views[i].pick_sigma_px * JW * JW.transpose();
+  }
+  bool timed = false;
+  for (const TriangulationView& v : views) timed = timed || v.timing_sigma_s > 0;
+  if (timed) {
+    res.cov_pick_m2 = Ninv * pick * Ninv;
+    res.cov_pick_m2 = 0.5 * (res.cov_pick_m2 + res.cov_pick_m2.transpose()).eval();
+    res.cov_timing_m2 = Ninv - res.cov_pick_m2;
+  } else {
+    res.cov_pick_m2 = Ninv;
+  }
   std::vector<Eigen::MatrixXd> dXs(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::vector<int>& idx = vp.param_idx[i];
     if (idx.empty()) continue;
-    const double w = 1.0 / (views[i].pick_sigma_px * views[i].pick_sigma_px);
     Eigen::MatrixXd Jt(2, static_cast<Eigen::Index>(idx.size()));
     for (std::size_t k = 0; k < idx.size(); ++k)
       Jt.col(static_cast<Eigen::Index>(k)) = pds[i].d_params.col(idx[k]);
-    const Eigen::MatrixXd dX = -Ninv * (w * pds[i].d_point.transpose()) * Jt;  // ∂X/∂θ_i, 3×m
+    const Eigen::MatrixXd dX = -Ninv * (pds[i].d_point.transpose() * Ws[i]) * Jt;  // ∂X/∂θ_i, 3×m
     res.cov_calibration_m2 += dX * views[i].calibration.covariance * dX.transpose();
     dXs[i] = dX;
   }
@@ -250,7 +276,7 @@ void residuals_and_covariance(const std::vector<TriangulationView>& views, const
         res.cov_calibration_m2 += dXs[i] * C * dXs[j].transpose();
       }
   res.cov_calibration_m2 = 0.5 * (res.cov_calibration_m2 + res.cov_calibration_m2.transpose()).eval();
-  res.cov_m2 = res.cov_pick_m2 + res.cov_calibration_m2;
+  res.cov_m2 = res.cov_pick_m2 + res.cov_timing_m2 + res.cov_calibration_m2;
   res.sigma_m = std::sqrt(res.cov_m2.trace());
 }
 

@@ -6,13 +6,14 @@
 //  1. Linear: the least-squares midpoint of the undistorted viewing rays (pixel_ray_world):
 //       X0 = argmin Σ_i |(I − d_i d_iᵀ)(X − C_i)|²   (closed form, 3×3 solve).
 //  2. Nonlinear: Gauss–Newton on the reprojection error (camera_model's project, distortion
-//     inverted exactly), each camera's residual weighted by 1/σ_px².
-//  3. Covariance, first order at the solution (J_i = ∂pixel_i/∂X, W_i = I/σ_i²,
-//     N = Σ J_iᵀ W_i J_i):
-//       pick noise:   Σ_pick = N⁻¹
+//     inverted exactly), each camera's residual weighted by W_i = (σ_px²·I + σ_t²·g·gᵀ)⁻¹ — for a
+//     moving point the label's instant is uncertain by σ_t, which moves it along its image
+//     velocity g (0 for a static point: W_i = I/σ_px²).
+//  3. Covariance, first order at the solution (J_i = ∂pixel_i/∂X, N = Σ J_iᵀ W_i J_i):
+//       pick noise and timing:  N⁻¹ = Σ_pick + Σ_timing, split by the two parts of W_i⁻¹
 //       calibration:  ∂X/∂θ_i = −N⁻¹ J_iᵀ W_i ∂pixel_i/∂θ_i      (implicit-function theorem)
 //                     Σ_cal  = Σ_i (∂X/∂θ_i) Σ_θi (∂X/∂θ_i)ᵀ   (cameras independent)
-//       Σ_X = Σ_pick + Σ_cal;  sigma_m = √trace Σ_X, the predicted RMS of ΔR (Table 4).
+//       Σ_X = Σ_pick + Σ_timing + Σ_cal;  sigma_m = √trace Σ_X, the predicted RMS of ΔR (Table 4).
 #include <Eigen/Core>
 #include <array>
 #include <string>
@@ -41,6 +42,11 @@ struct TriangulationView {
   CameraCovariance calibration;
   Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();  ///< picked pixel (u right, v down)
   double pick_sigma_px = 0.2;                       ///< 1σ of the pick per axis (px, > 0)
+  /// A moving point (a target's label at an instant): the label's image velocity (px/s) and the 1σ
+  /// of its instant (s): the view's pixel covariance gains σ_t²·g·gᵀ along the image track. Zero for
+  /// a static point.
+  Eigen::Vector2d image_velocity_px_s = Eigen::Vector2d::Zero();
+  double timing_sigma_s = 0;
 };
 
 struct TriangulationResult {
@@ -50,6 +56,7 @@ struct TriangulationResult {
   double rms_px = 0;                                       ///< √(mean over views of |residual|²) (px)
   double max_ray_angle_deg = 0;  ///< largest angle between two views' rays (intersection geometry)
   Eigen::Matrix3d cov_pick_m2 = Eigen::Matrix3d::Zero();         ///< from pick noise (m²)
+  Eigen::Matrix3d cov_timing_m2 = Eigen::Matrix3d::Zero();       ///< from the views' timing σ (m²)
   Eigen::Matrix3d cov_calibration_m2 = Eigen::Matrix3d::Zero();  ///< from calibration covariances (m²)
   Eigen::Matrix3d cov_m2 = Eigen::Matrix3d::Zero();              ///< total (m²)
   double sigma_m = 0;  ///< √trace(cov_m2): predicted RMS of the 3-D error ΔR (m)
