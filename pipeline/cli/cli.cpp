@@ -35,8 +35,10 @@ void silence_library_logging(const char* argv0) {
 // arguments were not expected"; a range engineer typing `rangecal calibarte` wants the nearest.
 std::string unknown_command_message(const CLI::App& app, int argc, char** argv) {
   std::vector<std::string> names;
-  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
     names.push_back(sub->get_name());
+    for (const std::string& alias : sub->get_aliases()) names.push_back(alias);
+  }
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
     if (word.empty() || word[0] == '-') continue;
@@ -72,6 +74,7 @@ int run_cli(int argc, char** argv) {
   add_project_command(app, ctx);
   add_compare_command(app, ctx);
   add_intersect_command(app, ctx);
+  add_trajectory_command(app, ctx);
   add_report_command(app, ctx);
   add_montecarlo_command(app, ctx);
   add_plan_command(app, ctx);

@@ -36,6 +36,9 @@ void add_compare_command(CLI::App& app, const CliContext& ctx);
 void add_intersect_command(CLI::App& app, const CliContext& ctx);
 
 /// `rangecal report CONFIG`: report.html and summary.json (docs/outputs.md; pipeline/cli/report_command.cpp).
+/// `rangecal trajectory CONFIG` (alias `track`): the target's trajectory from the cameras' target
+/// tracks (docs/trajectory.md; pipeline/cli/stage_command.cpp).
+void add_trajectory_command(CLI::App& app, const CliContext& ctx);
 void add_report_command(CLI::App& app, const CliContext& ctx);
 
 /// `rangecal montecarlo CONFIG` and `rangecal plan SCENARIO.json ...` (docs/accuracy_analysis.md;

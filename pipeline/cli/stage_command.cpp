@@ -12,6 +12,7 @@
 #include "pipeline/io/run_outcome.hpp"
 #include "pipeline/io/stage_outputs.hpp"
 #include "pipeline/stages/mission_runner.hpp"
+#include "pipeline/stages/trajectory_stage.hpp"
 
 namespace rangecal {
 
@@ -67,6 +68,23 @@ void add_calibrate_command(CLI::App& app, const CliContext& ctx) {
       app, ctx, "calibrate",
       "Calibrate each camera from <cam>/correspondences.csv (writes calibration.json, "
       "camera_opencv.yml, dlt_coefficients.csv, argus_profile.txt, residuals.csv, methods.csv)");
+}
+
+void add_trajectory_command(CLI::App& app, const CliContext& ctx) {
+  CLI::App* sub = app.add_subcommand(
+      "trajectory",
+      "Triangulate the target of the cameras' target tracks at every output instant, with σ from the labels, "
+      "their timing and the calibrations (writes trajectory.csv)");
+  sub->alias("track");
+  auto config = std::make_shared<std::string>();
+  sub->add_option("CONFIG", *config, "Mission config (JSON)")->required();
+  sub->callback([&ctx, config] {
+    const MissionConfig cfg = load_mission_config(*config);
+    require_trajectory_inputs(cfg);  // asked for this stage alone: nothing to do is an error
+    const StageLog log = run_stage("trajectory", cfg);
+    if (!ctx.quiet) std::cout << stage_summary(log, ctx.verbose) << std::flush;
+    require_complete_outcome(cfg);
+  });
 }
 
 void add_run_command(CLI::App& app, const CliContext& ctx) {

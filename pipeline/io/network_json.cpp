@@ -327,6 +327,25 @@ std::optional<PpkErrorModelRecord> read_network_ppk_error_model(const std::strin
   return parse_ppk_error_model_json(j["statistics"]["ppk_error_model"], path, "statistics.ppk_error_model");
 }
 
+std::map<std::string, double> read_network_image_sigma(const std::string& path) {
+  std::map<std::string, double> out;
+  if (!std::filesystem::exists(path)) return out;
+  const nlohmann::json j = parse_network_file(path);
+  if (!j.is_object() || !j.contains("statistics") || !j["statistics"].is_object() ||
+      !j["statistics"].contains("image_sigma"))
+    return out;
+  const nlohmann::json& s = j["statistics"]["image_sigma"];
+  if (!s.is_object()) throw_input_error(path, 0, "statistics.image_sigma", "expected an object");
+  for (const auto& [id, v] : s.items()) {
+    const std::string field = "statistics.image_sigma." + id + ".estimated_px";
+    if (!v.is_object() || !v.contains("estimated_px") || !v["estimated_px"].is_number() ||
+        !(v["estimated_px"].get<double>() > 0))
+      throw_input_error(path, 0, field, "expected a positive number (px)");
+    out[id] = v["estimated_px"].get<double>();
+  }
+  return out;
+}
+
 std::optional<FloatEpochsRecord> read_network_float_epochs(const std::string& path) {
   if (!std::filesystem::exists(path)) return std::nullopt;
   const nlohmann::json j = parse_network_file(path);

@@ -9,6 +9,7 @@
 // float_epochs {epochs, cameras [{id, parameters, sigma_with, sigma_without (null when the cameras
 // are undetermined without them)}]} — what they add (docs/optimisation.md, "Float epochs").
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -77,6 +78,11 @@ struct NetworkStatisticsRecord {
 /// wrong type throws rangecal::Error (input) naming `field.<key>`.
 NetworkStatisticsRecord parse_network_statistics_json(const nlohmann::json& j, const std::string& path,
                                                       const std::string& field);
+
+/// network.json's `statistics.image_sigma`: each camera's estimated image σ per axis (px) by id;
+/// empty when the file or the object is absent (a network written without image variance components).
+/// A malformed entry throws rangecal::Error (input) naming the file and field.
+std::map<std::string, double> read_network_image_sigma(const std::string& path);
 
 /// network.json's `float_epochs` read back: each camera's a-priori σ (its parameters' units, in
 /// `parameters` order) with the float epochs and without them.

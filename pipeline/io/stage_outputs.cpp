@@ -45,6 +45,10 @@ std::vector<std::string> intersect_outputs(const MissionConfig& cfg) {
   return {mission_output(cfg, kIntersectionCsv)};
 }
 
+std::vector<std::string> trajectory_outputs(const MissionConfig& cfg) {
+  return {mission_output(cfg, kTrajectoryCsv)};
+}
+
 std::vector<std::string> report_outputs(const MissionConfig& cfg) {
   return {mission_output(cfg, kSummaryJson), mission_output(cfg, kReportHtml)};
 }
@@ -60,7 +64,8 @@ const MissionStage& stage_row(const std::string& stage) {
 const std::vector<MissionStage>& mission_stage_table() {
   static const std::vector<MissionStage> table = {
       {"gnss", gnss_outputs},           {"align", align_outputs},         {"detect", detect_outputs},
-      {"calibrate", calibrate_outputs}, {"intersect", intersect_outputs}, {"report", report_outputs},
+      {"calibrate", calibrate_outputs}, {"intersect", intersect_outputs}, {"trajectory", trajectory_outputs},
+      {"report", report_outputs},
   };
   return table;
 }

@@ -264,13 +264,20 @@ FramesConfig parse_frames(const Loader& L, const JsonView& f) {
 }
 
 // cameras[i].track (docs/config.md "Imported tracks"); the sensor gives the image the labels lie in.
-TrackConfig parse_track(const Loader& L, const JsonView& t, const SensorConfig& sensor) {
+// cameras[i].target_track (docs/trajectory.md) takes the same keys, with "clock" "time_code" or
+// "calibration" and "timing_sigma_s".
+TrackConfig parse_track(const Loader& L, const JsonView& t, const SensorConfig& sensor, bool target = false) {
   const std::string form =
       "an object {\"file\", \"format\", \"point\", \"camera\", \"y_origin\", \"timestamps\" | \"t0_utc\" + "
-      "\"fps\" [+ \"t0_frame\"], \"clock\", \"clock_search_s\"}";
+      "\"fps\" [+ \"t0_frame\"], \"clock\", " +
+      std::string(target ? "\"readout_s\", \"timing_sigma_s\"}" : "\"clock_search_s\", \"readout_s\"}");
   t.require_object(form);
-  t.check_keys({"file", "format", "point", "camera", "y_origin", "timestamps", "t0_utc", "t0_frame", "fps",
-                "clock", "clock_search_s", "readout_s"});
+  if (target)
+    t.check_keys({"file", "format", "point", "camera", "y_origin", "timestamps", "t0_utc", "t0_frame", "fps",
+                  "clock", "readout_s", "timing_sigma_s"});
+  else
+    t.check_keys({"file", "format", "point", "camera", "y_origin", "timestamps", "t0_utc", "t0_frame", "fps",
+                  "clock", "clock_search_s", "readout_s"});
   TrackConfig track;
   track.file = L.input_file(t.at("file", "a 2-D track file path"), "a 2-D track file path");
   std::string formats;
@@ -316,10 +323,18 @@ TrackConfig parse_track(const Loader& L, const JsonView& t, const SensorConfig& 
   }
   if (auto c = t.find("clock")) {
     const std::string form_c =
-        "\"time_code\" (the times are UTC) or \"estimate\" (nominal: find offset and rate)";
+        target
+            ? "\"time_code\" (the times are UTC) or \"calibration\" (nominal, on the clock the align stage "
+              "found from this camera's calibration track)"
+            : "\"time_code\" (the times are UTC) or \"estimate\" (nominal: find offset and rate)";
     const std::string w = c->string(form_c);
-    if (w != "time_code" && w != "estimate") c->fail_expected(form_c);
-    track.estimate_clock = w == "estimate";
+    if (w != "time_code" && w != (target ? "calibration" : "estimate")) c->fail_expected(form_c);
+    track.estimate_clock = !target && w == "estimate";
+    track.calibration_clock = target && w == "calibration";
+  }
+  if (auto x = t.find("timing_sigma_s")) {
+    const std::string form_x = "a frame time's 1σ in seconds (0 to 1)";
+    track.timing_sigma_s = Loader::in_range(*x, 0, 1, form_x);
   }
   if (auto r = t.find("clock_search_s")) {
     const std::string form_r = "[lo, hi]: the clock offsets to search (s, lo < hi, within ±1e6)";
@@ -425,7 +440,8 @@ PixelSigmaConfig parse_pixel_sigma(const JsonView& v) {
 
 CameraConfig parse_camera(const Loader& L, const JsonView& c) {
   c.require_object("a camera object {\"id\", \"frames\", \"sensor\", \"lens\", ...}");
-  c.check_keys({"id", "frames", "track", "sensor", "lens", "pole_observations", "priors", "pixel_sigma_px"});
+  c.check_keys({"id", "frames", "track", "sensor", "lens", "pole_observations", "priors", "pixel_sigma_px",
+                "target_track"});
   CameraConfig cam;
   cam.id = parse_camera_id(c);
   if (auto f = c.find("frames")) cam.frames = parse_frames(L, *f);
@@ -434,6 +450,14 @@ CameraConfig parse_camera(const Loader& L, const JsonView& c) {
     if (c.has("frames"))
       t->fail("a camera gives either frames (the lamp is detected in them) or an imported track, not both");
     cam.track = parse_track(L, *t, cam.sensor);
+  }
+  if (auto t = c.find("target_track")) {
+    cam.target_track = parse_track(L, *t, cam.sensor, true);
+    if (cam.target_track->calibration_clock && !(cam.track && cam.track->estimate_clock))
+      t->at("clock", "")
+          .fail(
+              "\"calibration\" takes the clock the align stage estimates from this camera's \"track\" with "
+              "\"clock\": \"estimate\", and this camera has none; give UTC times (\"time_code\")");
   }
   cam.nominal_focal_mm = parse_nominal_focal_mm(c);
   if (auto p = c.find("pole_observations"))
@@ -532,7 +556,7 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
   const JsonView root(doc, path, "", ErrorKind::usage);
   root.require_object("a mission config object (docs/config.md)");
   root.check_keys({"mission", "site", "gnss", "attitude", "lever_arm", "poles", "cameras", "align", "detect",
-                   "calibrate", "intersect", "run", "output_dir"});
+                   "calibrate", "intersect", "trajectory", "run", "output_dir"});
   const Loader L{path, abs.parent_path(), check_files};
 
   if (auto m = root.find("mission")) cfg.mission = m->string("a free-text string");
@@ -603,6 +627,15 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
       const std::string form = "a positive distance in metres, at most 1 (e.g. 0.01 for 1 cm)";
       cfg.intersect.bar_mean_dR_m = Loader::positive(*v, form);
       if (cfg.intersect.bar_mean_dR_m > 1) v->fail_expected(form);
+    }
+  }
+  if (auto x = root.find("trajectory")) {
+    x->require_object("an object {\"rate_hz\"}");
+    x->check_keys({"rate_hz"});
+    if (auto v = x->find("rate_hz")) {
+      const std::string form = "output instants per second, positive, at most 100000";
+      cfg.trajectory.rate_hz = Loader::positive(*v, form);
+      if (cfg.trajectory.rate_hz > 1e5) v->fail_expected(form);
     }
   }
   if (auto r = root.find("run")) cfg.run = parse_run(*r);

@@ -72,6 +72,13 @@ struct TrackConfig {
   /// given, or estimated with the clock (`"readout_s": "estimate"`); 0: a global shutter.
   double readout_s = 0;
   bool estimate_readout = false;
+  /// A target's track (cameras[i].target_track) only. "calibration": the times above are nominal,
+  /// on the same camera clock the align stage estimated from the camera's calibration track (the same
+  /// recording or a free-running clock that kept running): that clock (and readout) applies.
+  bool calibration_clock = false;
+  /// A target's track only: the 1σ of a frame's time beyond the clock's own (s), e.g. a time-code
+  /// reader's or the exposure's mid-point uncertainty; 0 by default.
+  double timing_sigma_s = 0;
 };
 
 struct CameraPriors {
@@ -96,6 +103,9 @@ struct CameraConfig {
   std::string id;  ///< unique, [A-Za-z0-9_-]+, used as the output folder name
   FramesConfig frames;
   std::optional<TrackConfig> track;  ///< instead of frames
+  /// The target whose trajectory the trajectory stage estimates, as this camera tracked it (2-D labels
+  /// with their frame times, docs/trajectory.md).
+  std::optional<TrackConfig> target_track;
   SensorConfig sensor;
   double nominal_focal_mm = 0;
   std::string pole_observations;  ///< `id,u,v` CSV, or empty
@@ -142,6 +152,13 @@ struct IntersectConfig {
   double bar_mean_dR_m = 0.010;
 };
 
+/// The trajectory stage's options (docs/trajectory.md).
+struct TrajectoryConfig {
+  /// Output instants per second, on a grid of whole UTC seconds (5: …00.0, …00.2, …); 0: the
+  /// fastest target track's median frame rate.
+  double rate_hz = 0;
+};
+
 /// What the run's outcome counts as incomplete beyond the fixed rules (docs/reliability.md "Run
 /// outcome").
 struct RunConfig {
@@ -171,6 +188,7 @@ struct MissionConfig {
   DetectConfig detect;
   CalibrateConfig calibrate;
   IntersectConfig intersect;
+  TrajectoryConfig trajectory;
   RunConfig run;
   std::string output_dir;  ///< absolute; default "<config_dir>/out"
 };

@@ -34,7 +34,10 @@ SensorGeometry sensor_geometry(const SensorConfig& sensor) {
 }
 
 CameraTrackInput read_camera_track(const CameraConfig& camera) {
-  const TrackConfig& tc = *camera.track;
+  return read_track_input(*camera.track);
+}
+
+CameraTrackInput read_track_input(const TrackConfig& tc) {
   CameraTrackInput in;
   in.track = read_image_track(tc.file, tc.format, tc.read);
   if (!tc.timestamps.empty()) {

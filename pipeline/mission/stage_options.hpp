@@ -32,6 +32,8 @@ struct CameraTrackInput {
 /// Reads cameras[i].track (vision/tracks/). Throws rangecal::Error (input) naming the file, line and
 /// field.
 CameraTrackInput read_camera_track(const CameraConfig& camera);
+/// Reads any track config (a camera's track or its target_track) the same way.
+CameraTrackInput read_track_input(const TrackConfig& track);
 
 /// `detect.min_snr`; the other detector options at their defaults.
 LampDetectorOptions lamp_detector_options(const DetectConfig& detect);

@@ -13,6 +13,7 @@
 #include "pipeline/stages/gnss_stage.hpp"
 #include "pipeline/stages/intersect_stage.hpp"
 #include "pipeline/stages/report_stage.hpp"
+#include "pipeline/stages/trajectory_stage.hpp"
 
 namespace rangecal {
 
@@ -28,8 +29,10 @@ struct StageRunner {
   StageFunction run;
 };
 constexpr StageRunner kStageRunners[] = {
-    {"gnss", run_gnss_stage},           {"align", run_align_stage},         {"detect", run_detect_stage},
-    {"calibrate", run_calibrate_stage}, {"intersect", run_intersect_stage}, {"report", run_report_stage},
+    {"gnss", run_gnss_stage},           {"align", run_align_stage},
+    {"detect", run_detect_stage},       {"calibrate", run_calibrate_stage},
+    {"intersect", run_intersect_stage}, {"trajectory", run_trajectory_stage},
+    {"report", run_report_stage},
 };
 
 StageFunction stage_function(const std::string& name) {

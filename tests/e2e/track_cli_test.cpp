@@ -14,6 +14,10 @@
 #include <iomanip>
 #include <nlohmann/json.hpp>
 
+#include <Eigen/Core>
+#include <algorithm>
+
+#include "config/csv_table.hpp"
 #include "config/deterministic_random.hpp"
 #include "gnss/time/utc_time.hpp"
 #include "support/paths.hpp"
@@ -124,6 +128,77 @@ TEST(ImportedTracks, CamerasWithoutTimeCodeCalibrate) {
     const double f = cal["focal_mm"].get<double>(), sd = cal["sigma"]["focal_mm"].get<double>();
     EXPECT_LT(std::abs(f - tc["focal_mm"].get<double>()), 4 * sd) << id << " f " << f << " ± " << sd;
   }
+  // The lamp as a target: each camera's own track given again as its target track on the clock the
+  // align stage found, the cameras calibrated by the default method (the network: joint covariance,
+  // image σ and PPK model estimated); the trajectory stage triangulates it at 20 Hz, against the
+  // simulator's lamp.
+  json target = mission;
+  for (json& cam : target["cameras"]) {
+    cam["target_track"] = cam["track"];
+    cam["target_track"]["clock"] = "calibration";
+  }
+  target["calibrate"].erase("method");
+  test::write_text(dir / "sim" / "target.json", target.dump(2));
+  for (const char* stage : {"calibrate", "track"}) {
+    const auto r = test::run_cli(std::string(stage) + " '" + (dir / "sim" / "target.json").string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << stage << ": " << r.err << r.out;
+  }
+  std::vector<std::pair<double, Eigen::Vector3d>> lamp;  // the simulator's lamp at each frame's true time
+  for (const json& f : truth["cameras"][0]["frames"])
+    lamp.emplace_back(seconds(f["true_utc"].get<std::string>()),
+                      Eigen::Vector3d(f["lamp_enu_m"][0].get<double>(), f["lamp_enu_m"][1].get<double>(),
+                                      f["lamp_enu_m"][2].get<double>()));
+  const CsvTable rows = parse_csv(test::read_text(dir / "out" / "trajectory.csv"), "trajectory.csv");
+  std::vector<Eigen::Vector3d> errors;
+  std::vector<double> precision_var, sigma_u;
+  double z2 = 0, e2 = 0;
+  std::size_t n = 0;
+  for (const CsvRecord& r : rows.records) {
+    const double t = seconds(rows.text(r, rows.column("utc")));
+    const auto after =
+        std::lower_bound(lamp.begin(), lamp.end(), t, [](const auto& a, double x) { return a.first < x; });
+    if (after == lamp.begin() || after == lamp.end()) continue;
+    const auto& a = *(after - 1);
+    const auto& b = *after;
+    const Eigen::Vector3d truth_enu = a.second + (t - a.first) / (b.first - a.first) * (b.second - a.second);
+    const Eigen::Vector3d enu(rows.number(r, rows.column("E")), rows.number(r, rows.column("N")),
+                              rows.number(r, rows.column("U")));
+    const double e = (enu - truth_enu).squaredNorm(), sigma = rows.number(r, rows.column("sigma_m"));
+    z2 += e / (sigma * sigma);
+    e2 += e;
+    ++n;
+    errors.push_back(enu - truth_enu);
+    precision_var.push_back(std::pow(rows.number(r, rows.column("sigma_labels_m")), 2) +
+                            std::pow(rows.number(r, rows.column("sigma_timing_m")), 2));
+    sigma_u.push_back(rows.number(r, rows.column("sigma_U")));
+  }
+  ASSERT_GT(n, 200u);
+  const double z = std::sqrt(z2 / n), rms = std::sqrt(e2 / n);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& e : errors) mean += e / static_cast<double>(n);
+  double zp2 = 0;
+  for (std::size_t i = 0; i < n; ++i) zp2 += (errors[i] - mean).squaredNorm() / precision_var[i];
+  const double z_precision = std::sqrt(zp2 / n);
+  std::nth_element(sigma_u.begin(), sigma_u.begin() + static_cast<long>(n / 2), sigma_u.end());
+  std::printf(
+      "trajectory: %zu instants, error rms %.2f cm, z rms %.2f; common shift (%.2f, %.2f, %.2f) cm, "
+      "about it z rms %.2f against the labels' and timing σ\n",
+      n, 100 * rms, z, 100 * mean.x(), 100 * mean.y(), 100 * mean.z(), z_precision);
+  // One mission, so two checks: the scatter about the common shift against the labels' and timing
+  // σ (the σ's check over many missions is tests/unit/vision/target_trajectory_test.cpp), and the
+  // shift itself — the calibration's datum, carried by the fixes' slow error (τ 30 s over a 26.6-s
+  // record) — within 3 of its σ. The whole z (≈ 1.5 on this draw) is not asserted: a record shorter
+  // than τ cannot show the slow part, which the σ does not yet carry (docs/trajectory.md).
+  EXPECT_LT(rms, 0.05);
+  EXPECT_GT(z_precision, 0.5);
+  EXPECT_LT(z_precision, 1.3);
+  EXPECT_LT(std::abs(mean.z()), 3 * sigma_u[n / 2]);
+  const json tr = read_json(dir / "out" / "run.json")["stages"]["trajectory"]["counts"];
+  EXPECT_EQ(tr["triangulated"].get<std::size_t>(), rows.records.size());
+  EXPECT_GT(tr["median_sigma_timing_m"].get<double>(), 0);
+  EXPECT_EQ(tr["cameras"].size(), mission["cameras"].size());
+  EXPECT_TRUE(tr["joint_covariance"].get<bool>());
+
   // A file that is no track.
   mission["cameras"][0]["track"]["file"] = (dir / "sim" / "mission.json").string();
   test::write_text(dir / "sim" / "bad.json", mission.dump(2));

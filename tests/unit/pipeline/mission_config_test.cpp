@@ -573,3 +573,49 @@ TEST(MissionConfig, TrackReadout) {
 
 }  // namespace
 }  // namespace rangecal
+
+namespace rangecal {
+namespace {
+
+// cameras[i].target_track and trajectory (docs/trajectory.md): the track keys, with "clock"
+// "time_code" or "calibration" and "timing_sigma_s".
+TEST(MissionConfig, TargetTrack) {
+  nlohmann::json j = minimal();
+  j["cameras"][0]["target_track"] = {
+      {"file", "cam1/target.csv"}, {"timestamps", "cam1/ts.csv"}, {"timing_sigma_s", 0.0005}};
+  j["trajectory"] = {{"rate_hz", 100}};
+  MissionConfig c = parse_mission_config(j.dump(), kPath, false);
+  ASSERT_TRUE(c.cameras[0].target_track);
+  EXPECT_EQ(c.cameras[0].target_track->file, "/missions/m1/cam1/target.csv");
+  EXPECT_DOUBLE_EQ(c.cameras[0].target_track->timing_sigma_s, 0.0005);
+  EXPECT_FALSE(c.cameras[0].target_track->calibration_clock);
+  EXPECT_DOUBLE_EQ(c.trajectory.rate_hz, 100);
+  // "calibration": the clock the align stage estimates from the camera's own track.
+  j["cameras"][0]["target_track"]["clock"] = "calibration";
+  expect_error(j, "cameras[0].target_track.clock", "this camera has none");
+  j["cameras"][0].erase("frames");
+  j["cameras"][0]["track"] = {{"file", "t.csv"}, {"timestamps", "a.csv"}, {"clock", "estimate"}};
+  c = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_TRUE(c.cameras[0].target_track->calibration_clock);
+  EXPECT_FALSE(c.cameras[0].target_track->estimate_clock);
+}
+
+TEST(MissionConfig, TargetTrackErrors) {
+  nlohmann::json j = minimal();
+  j["cameras"][0]["target_track"] = {{"file", "t.csv"}, {"timestamps", "a.csv"}, {"clock", "estimate"}};
+  expect_error(j, "cameras[0].target_track.clock", "calibration");
+  j["cameras"][0]["target_track"] = {{"file", "t.csv"}, {"timestamps", "a.csv"}, {"clock_search_s", {0, 1}}};
+  expect_error(j, "cameras[0].target_track", "clock_search_s");
+  j["cameras"][0]["target_track"] = {{"file", "t.csv"}, {"timestamps", "a.csv"}, {"timing_sigma_s", 2}};
+  expect_error(j, "cameras[0].target_track.timing_sigma_s", "0 to 1");
+  j["cameras"][0]["target_track"] = {{"file", "t.csv"}, {"timestamps", "a.csv"}, {"readout_s", "estimate"}};
+  expect_error(j, "cameras[0].target_track.readout_s", "needs");
+  j["cameras"][0].erase("target_track");
+  j["trajectory"] = {{"rate_hz", 0}};
+  expect_error(j, "trajectory.rate_hz", "positive");
+  j["trajectory"] = {{"rate", 5}};
+  expect_error(j, "trajectory", "rate");
+}
+
+}  // namespace
+}  // namespace rangecal

@@ -26,7 +26,7 @@ TEST(MissionStages, EveryRowOfTheTableHasItsFunctionInOrder) {
     EXPECT_EQ(mission_stage_names()[i], table[i].name);
   }
   EXPECT_EQ(mission_stage_names(),
-            (std::vector<std::string>{"gnss", "align", "detect", "calibrate", "intersect", "report"}));
+            (std::vector<std::string>{"gnss", "align", "detect", "calibrate", "intersect", "trajectory", "report"}));
 }
 
 TEST(MissionStages, EachStageWritesFilesNoOtherStageWrites) {

@@ -1,0 +1,33 @@
+#pragma once
+// <out>/trajectory.csv, the trajectory stage's table (docs/outputs.md "trajectory.csv"; method in
+// docs/trajectory.md): one row per instant with the target triangulated from two or more cameras.
+//   utc                      ISO 8601, ns
+//   E,N,U                    site ENU (m)
+//   lat,lon,h                WGS84 degrees, ellipsoidal height (m) of that point
+//   sigma_E,sigma_N,sigma_U  1σ (m), total: labels + timing + calibration
+//   cov_EN,cov_EU,cov_NU     the total covariance's off-diagonal (m²)
+//   sigma_m                  √trace of the covariance: the predicted rms of the 3-D error (m)
+//   sigma_labels_m, sigma_timing_m, sigma_calibration_m   √trace of each part (m)
+//   vE,vN,vU                 velocity (m/s), central difference; blank without neighbours
+//   sigma_vE,sigma_vN,sigma_vU   their 1σ (m/s)
+//   cameras                  the cameras whose labels were used, joined by '+'
+//   rms_px                   the views' reprojection rms (px)
+//   chi2,dof                 the views' χ² under their label and timing σ, and 2·views − 3
+//   inflated                 1: χ² above its 99 % quantile, every σ above scaled by √(χ²/dof)
+//   extrapolated             the cameras whose label lies outside the image region their calibration saw
+//                            (joined by '+'; blank: none): the lens model is extrapolated there
+#include <string>
+#include <vector>
+
+#include "gnss/geodesy/local_enu.hpp"
+#include "vision/triangulation/target_trajectory.hpp"
+
+namespace rangecal {
+
+/// The CSV text of `trajectory`, geodetic columns through `site`.
+std::string format_trajectory_csv(const Trajectory& trajectory, const LocalEnu& site);
+
+/// Writes it atomically (a failed write leaves no partial file).
+void write_trajectory_csv(const std::string& path, const Trajectory& trajectory, const LocalEnu& site);
+
+}  // namespace rangecal

@@ -1,0 +1,236 @@
+#include "pipeline/stages/trajectory_stage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <map>
+
+#include "config/csv_table.hpp"
+#include "config/error.hpp"
+#include "config/json_view.hpp"
+#include "gnss/geodesy/local_enu.hpp"
+#include "pipeline/io/align_record.hpp"
+#include "pipeline/io/calibration_json.hpp"
+#include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/network_json.hpp"
+#include "pipeline/io/output_paths.hpp"
+#include "pipeline/io/trajectory_csv.hpp"
+#include "pipeline/mission/stage_options.hpp"
+#include "pipeline/steps/camera_clock.hpp"
+#include "pipeline/steps/intersection.hpp"
+
+namespace rangecal {
+
+namespace {
+
+bool any_target_track(const MissionConfig& cfg) {
+  for (const CameraConfig& cam : cfg.cameras)
+    if (cam.target_track) return true;
+  return false;
+}
+
+// run.json's align record (the clocks the align stage estimated); empty without one.
+AlignRecord read_align_record(const MissionConfig& cfg) {
+  const std::string path = mission_output(cfg, kRunJson);
+  if (!std::filesystem::exists(path)) return {};
+  const nlohmann::json doc = parse_json_text(read_file_text(path), path, ErrorKind::input);
+  if (!doc.is_object() || !doc.contains("stages") || !doc["stages"].is_object() ||
+      !doc["stages"].contains("align") || !doc["stages"]["align"].is_object() ||
+      !doc["stages"]["align"].contains("counts"))
+    return {};
+  return parse_align_record(doc["stages"]["align"]["counts"], path, "stages.align.counts");
+}
+
+// The labels of a camera's target track at their true times with their timing σ: UTC as given
+// ("time_code"), or the camera's estimated clock applied ("calibration"; its σ at that time, wander
+// included); a rolling shutter's readout (given, or the clock's) moves each label to its row's time.
+std::vector<TimedLabel> timed_labels(const CameraConfig& cam, const CameraTrackInput& in,
+                                     const AlignRecord& align, const std::string& run_json) {
+  const TrackConfig& tc = *cam.target_track;
+  std::optional<ClockRecord> clock;
+  UtcTime n0;
+  if (tc.calibration_clock) {
+    const auto it = align.cameras.find(cam.id);
+    if (it == align.cameras.end() || !it->second.clock)
+      throw_input_error(run_json, 0, "stages.align.counts." + cam.id + ".clock",
+                        "camera " + cam.id +
+                            "'s target track is on its estimated clock, and the align stage has not "
+                            "estimated one; run rangecal align CONFIG first");
+    clock = it->second.clock;
+    std::string why;
+    const auto t = parse_iso8601_utc(clock->nominal_start_utc, &why);
+    if (!t) throw_input_error(run_json, 0, "stages.align.counts." + cam.id + ".clock.nominal_start_utc", why);
+    n0 = *t;
+  }
+  const double readout = tc.readout_s != 0 ? tc.readout_s : clock ? clock->readout_s : 0.0;
+  const double height = std::max(1, cam.sensor.height_px - 1);
+  std::vector<TimedLabel> labels;
+  labels.reserve(in.track.points.size());
+  for (std::size_t i = 0; i < in.track.points.size(); ++i) {
+    const TrackedPoint& p = in.track.points[i];
+    TimedLabel l;
+    l.uv_px = p.uv;
+    l.line = p.line;
+    double shift_s = readout * (p.uv.y() / height - 0.5);
+    double sd = tc.timing_sigma_s;
+    if (clock) {
+      const double since = 1e-9 * static_cast<double>(in.times[i].ns - n0.ns);
+      shift_s += clock->offset_s + 1e-6 * clock->rate_ppm * since;
+      const double c = clock_time_sd_s(clock->offset_sd_s, 1e-6 * clock->rate_sd_ppm, clock->mid_offset_sd_s,
+                                       clock->span_s, since, clock->wander_sd_s);
+      sd = std::sqrt(sd * sd + c * c);
+    }
+    l.t = UtcTime{in.times[i].ns + std::llround(shift_s * 1e9)};
+    l.timing_sigma_s = sd;
+    if (!labels.empty() && !(labels.back().t < l.t))
+      throw_input_error(tc.file, p.line, "frame",
+                        "the label's time does not follow the previous label's (frame times not increasing)");
+    labels.push_back(l);
+  }
+  return labels;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+double um(double v) {
+  return std::isfinite(v) ? std::round(v * 1e6) / 1e6 : v;
+}
+
+}  // namespace
+
+void require_trajectory_inputs(const MissionConfig& cfg) {
+  if (!any_target_track(cfg))
+    throw_input_error(
+        cfg.config_path, 0, "cameras[].target_track",
+        "no camera has a target track; the trajectory stage needs \"target_track\" (a 2-D "
+        "track of the target with its frame times, docs/trajectory.md) for at least two cameras");
+}
+
+StageLog run_trajectory_stage(const MissionConfig& cfg) {
+  StageLog log;
+  log.stage = "trajectory";
+  nlohmann::json counts = nlohmann::json::object();
+  if (!any_target_track(cfg)) {
+    counts["skipped"] = "no camera has a \"target_track\"";
+    log.counts = counts;
+    return log;
+  }
+  const std::string run_json = mission_output(cfg, kRunJson);
+  const AlignRecord align = read_align_record(cfg);
+  const std::string network_path = mission_output(cfg, kNetworkJson);
+  const std::map<std::string, double> image_sigma = read_network_image_sigma(network_path);
+
+  std::vector<TrajectoryCamera> cameras;
+  std::vector<std::vector<CameraParameter>> parameters;
+  bool all_network = true;
+  nlohmann::json per_camera = nlohmann::json::object();
+  for (const CameraConfig& cc : cfg.cameras) {
+    if (!cc.target_track) continue;
+    const std::string cal_path = camera_output(cfg, cc.id, kCalibrationJson);
+    if (!std::filesystem::exists(cal_path)) {
+      log.warnings.push_back(cc.id + ": no " + cal_path +
+                             " (run rangecal calibrate CONFIG first): camera skipped");
+      continue;
+    }
+    const CalibrationResult cal = read_calibration_json(cal_path);
+    TrajectoryCamera tc;
+    tc.id = cc.id;
+    tc.camera = cal.camera;
+    bool usable = false;
+    tc.calibration = camera_covariance(cal, &usable);
+    if (!usable)
+      log.warnings.push_back(cc.id +
+                             ": calibration.json has no usable covariance: the trajectory's σ counts "
+                             "its labels and timing only for this camera");
+    const auto s = image_sigma.find(cc.id);
+    const bool estimated = cal.method == "network" && s != image_sigma.end();
+    tc.label_sigma_px = estimated ? s->second : cc.pixel_sigma.track_px;
+    // The calibration's coverage, from the pairs it was given (a 64-px grid: 30 × 17 cells on a
+    // 1920 × 1080 image; a label within a cell of a covered one counts as covered).
+    if (const std::string pairs = camera_output(cfg, cc.id, kCorrespondencesCsv);
+        std::filesystem::exists(pairs)) {
+      std::vector<Eigen::Vector2d> seen;
+      for (const Correspondence& c : read_correspondences_csv(pairs)) seen.push_back(c.uv);
+      tc.coverage = ImageCoverage(seen, 64);
+    }
+    const CameraTrackInput in = read_track_input(*cc.target_track);
+    tc.labels = timed_labels(cc, in, align, run_json);
+    std::vector<double> timing;
+    for (const TimedLabel& l : tc.labels) timing.push_back(l.timing_sigma_s);
+    nlohmann::json pc;
+    pc["labels"] = tc.labels.size();
+    pc["outside_image"] = in.track.outside_image_lines.size();
+    pc["label_sigma_px"] = tc.label_sigma_px;
+    pc["label_sigma_source"] =
+        estimated ? "network image variance component" : "pixel_sigma_px.track (stated)";
+    pc["timing_sigma_s_median"] = median(timing);
+    pc["clock"] = cc.target_track->calibration_clock ? "calibration" : "time_code";
+    per_camera[cc.id] = pc;
+    all_network = all_network && cal.method == "network" && usable;
+    parameters.push_back(tc.calibration.parameters);
+    cameras.push_back(std::move(tc));
+  }
+  counts["cameras"] = per_camera;
+  if (cameras.size() < 2) {
+    log.shortfalls.push_back("the trajectory needs two calibrated cameras with a target track; " +
+                             std::to_string(cameras.size()) + " has one (see the warnings)");
+    log.counts = counts;
+    return log;
+  }
+  CrossCovariances cross;
+  if (all_network) {
+    std::vector<std::string> ids;
+    for (const TrajectoryCamera& c : cameras) ids.push_back(c.id);
+    cross = read_network_cross_covariances(network_path, ids, &parameters);
+    if (cross.empty())
+      log.warnings.push_back("the calibrations come from the network but " + network_path +
+                             " does not hold their joint covariance: the trajectory's σ takes the cameras as "
+                             "independent");
+  }
+  const double rate = cfg.trajectory.rate_hz > 0 ? cfg.trajectory.rate_hz : fastest_label_rate_hz(cameras);
+  const std::vector<UtcTime> instants = trajectory_instants(cameras, rate);
+  const Trajectory trajectory = estimate_trajectory(cameras, instants, cross.empty() ? nullptr : &cross);
+  for (const std::string& w : trajectory.warnings) log.warnings.push_back(w);
+  LocalEnu site(cfg.origin);
+  write_trajectory_csv(mission_output(cfg, kTrajectoryCsv), trajectory, site);
+
+  std::vector<double> sig, lab, tim, calp;
+  for (const TrajectoryPoint& p : trajectory.points) {
+    sig.push_back(p.fix.sigma_m);
+    lab.push_back(std::sqrt(std::max(0.0, p.fix.cov_pick_m2.trace())));
+    tim.push_back(std::sqrt(std::max(0.0, p.fix.cov_timing_m2.trace())));
+    calp.push_back(std::sqrt(std::max(0.0, p.fix.cov_calibration_m2.trace())));
+  }
+  counts["rate_hz"] = rate;
+  counts["instants"] = trajectory.instants;
+  counts["triangulated"] = trajectory.points.size();
+  counts["single_camera"] = trajectory.single_camera;
+  counts["joint_covariance"] = !cross.empty();
+  std::size_t inflated = 0;
+  for (const TrajectoryPoint& p : trajectory.points) inflated += p.inflated ? 1 : 0;
+  counts["inflated"] = inflated;
+  std::size_t extrapolated = 0;
+  for (const TrajectoryPoint& p : trajectory.points) extrapolated += p.extrapolated.empty() ? 0 : 1;
+  counts["extrapolated"] = extrapolated;
+  if (extrapolated > 0)
+    log.warnings.push_back(std::to_string(extrapolated) + " of " + std::to_string(trajectory.points.size()) +
+                           " instants rest on a camera's label outside the image region its calibration saw "
+                           "(trajectory.csv column extrapolated): the lens model is extrapolated there and "
+                           "their σ may not hold");
+  counts["median_sigma_m"] = um(median(sig));
+  counts["median_sigma_labels_m"] = um(median(lab));
+  counts["median_sigma_timing_m"] = um(median(tim));
+  counts["median_sigma_calibration_m"] = um(median(calp));
+  log.counts = counts;
+  if (trajectory.points.empty())
+    log.shortfalls.push_back(
+        "no instant of the target was seen by two calibrated cameras: trajectory.csv is empty");
+  return log;
+}
+
+}  // namespace rangecal

@@ -1,0 +1,188 @@
+// The trajectory of a moving target from unsynchronised cameras (vision/triangulation/target_trajectory.hpp):
+// its σ against simulated truth over many missions with timing errors — a clock offset per camera and
+// per-frame jitter — that move each label along its image track; ignoring the timing term must
+// under-cover; the output grid, gaps, velocity and the extrapolation flag.
+#include "vision/triangulation/target_trajectory.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "config/error.hpp"
+
+#include "support/synthetic_camera.hpp"
+
+namespace rangecal {
+namespace {
+
+constexpr std::int64_t kT0 = 1'800'000'000'000'000'000;  // 2027-01-15T08:00:00Z, a whole second
+
+// A drone-like target: a 6-m circle at 8 m/s, 20 m up, ~64 m from the cameras.
+Eigen::Vector3d target_at(double t) {
+  const double w = 8.0 / 6.0;
+  return {6 * std::cos(w * t), 6 * std::sin(w * t), 20 + 0.5 * t};
+}
+
+struct Simulated {
+  std::vector<TrajectoryCamera> cameras;
+};
+
+// Three cameras at 50, 60 and 47 frames/s, starting at different instants; each label's time is off
+// by its camera's clock error (σ clock_sd) plus jitter (σ jitter_sd) and its pixel by noise (σ 0.5 px);
+// the labels state a timing σ of √(clock² + jitter²) when `state_timing`.
+Simulated simulate(std::mt19937_64* rng, double clock_sd, double jitter_sd, bool state_timing,
+                   double seconds = 4) {
+  std::normal_distribution<double> n01(0, 1);
+  const Eigen::Vector3d aim(0, 0, 21);
+  const struct {
+    const char* id;
+    Eigen::Vector3d centre;
+    double fps, start_s;
+  } rig[] = {{"west", {-46, -44, 1.5}, 50, 0.003},
+             {"east", {45, -46, 1.8}, 60, 0.011},
+             {"north", {4, 62, 2.5}, 47, 0.017}};
+  Simulated s;
+  for (const auto& r : rig) {
+    TrajectoryCamera c;
+    c.id = r.id;
+    c.camera = test::range_camera_at(r.id, r.centre, aim);
+    c.label_sigma_px = 0.5;
+    const double clock_error = clock_sd * n01(*rng);
+    for (int j = 0; r.start_s + j / r.fps < seconds + 0.1; ++j) {
+      const double stated = r.start_s + j / r.fps;
+      const double truth = stated + clock_error + jitter_sd * n01(*rng);
+      TimedLabel l;
+      l.t = UtcTime{kT0 + std::llround(stated * 1e9)};
+      EXPECT_TRUE(project(c.camera, target_at(truth), &l.uv_px));
+      l.uv_px += 0.5 * Eigen::Vector2d(n01(*rng), n01(*rng));
+      l.timing_sigma_s = state_timing ? std::hypot(clock_sd, jitter_sd) : 0.0;
+      c.labels.push_back(l);
+    }
+    s.cameras.push_back(std::move(c));
+  }
+  return s;
+}
+
+double seconds_of(UtcTime t) {
+  return 1e-9 * static_cast<double>(t.ns - kT0);
+}
+
+// z² = |error|²/σ_m² pooled over every instant of `missions` missions.
+double z_rms(bool state_timing, int missions, double* error_rms_m = nullptr) {
+  std::mt19937_64 rng(2026);
+  double z2 = 0, e2 = 0;
+  std::size_t n = 0;
+  for (int m = 0; m < missions; ++m) {
+    const Simulated s = simulate(&rng, 0.002, 0.002, state_timing);
+    const Trajectory tr = estimate_trajectory(s.cameras, trajectory_instants(s.cameras, 25), nullptr);
+    EXPECT_GT(tr.points.size(), 90u);
+    for (const TrajectoryPoint& p : tr.points) {
+      const double e = (p.fix.point - target_at(seconds_of(p.t))).squaredNorm();
+      z2 += e / (p.fix.sigma_m * p.fix.sigma_m);
+      e2 += e;
+      ++n;
+    }
+  }
+  if (error_rms_m) *error_rms_m = std::sqrt(e2 / static_cast<double>(n));
+  return std::sqrt(z2 / static_cast<double>(n));
+}
+
+TEST(TargetTrajectory, SigmaHoldsWithTimingErrorsOverTwentyMissions) {
+  double rms = 0;
+  const double z = z_rms(true, 20, &rms);
+  std::printf("timing stated: error rms %.2f cm, z rms %.3f\n", 100 * rms, z);
+  EXPECT_GT(z, 0.85);
+  EXPECT_LT(z, 1.15);
+  // 8 m/s × 2.8 ms ≈ 2.3 cm along the path, against ~0.5 cm from the labels' noise alone.
+  EXPECT_GT(rms, 0.01);
+}
+
+TEST(TargetTrajectory, IgnoringTheTimingTermUnderCovers) {
+  const double z = z_rms(false, 20);
+  std::printf("timing not stated: z rms %.2f\n", z);
+  EXPECT_GT(z, 1.5);
+}
+
+TEST(TargetTrajectory, InstantsOnWholeSecondsWhereTwoCamerasSee) {
+  std::mt19937_64 rng(1);
+  const Simulated s = simulate(&rng, 0, 0, true, 2);
+  const std::vector<UtcTime> t = trajectory_instants(s.cameras, 5);
+  ASSERT_FALSE(t.empty());
+  // From the second-earliest first label (0.011 s) to the second-latest last label: 0.2, 0.4, …
+  EXPECT_EQ(t.front().ns, kT0 + 200'000'000);
+  for (std::size_t i = 1; i < t.size(); ++i) EXPECT_EQ(t[i].ns - t[i - 1].ns, 200'000'000);
+  EXPECT_NEAR(fastest_label_rate_hz(s.cameras), 60, 1e-4);  // frame times rounded to ns
+}
+
+TEST(TargetTrajectory, GapsVelocityAndExtrapolation) {
+  std::mt19937_64 rng(7);
+  Simulated s = simulate(&rng, 0, 0, true);
+  // The north camera loses the target between 1.0 and 2.0 s; the east camera's calibration saw only
+  // the left half of its image.
+  auto& north = s.cameras[2].labels;
+  north.erase(std::remove_if(north.begin(), north.end(),
+                             [](const TimedLabel& l) {
+                               const double t = 1e-9 * static_cast<double>(l.t.ns - kT0);
+                               return t > 1.0 && t < 2.0;
+                             }),
+              north.end());
+  std::vector<Eigen::Vector2d> left;
+  for (double u = 0; u < 640; u += 16)
+    for (double v = 0; v < 800; v += 16) left.emplace_back(u, v);
+  s.cameras[1].coverage = ImageCoverage(left, 64);
+  const Trajectory tr = estimate_trajectory(s.cameras, trajectory_instants(s.cameras, 25), nullptr);
+  std::size_t two = 0, flagged = 0, right_half = 0;
+  for (const TrajectoryPoint& p : tr.points) {
+    const double t = seconds_of(p.t);
+    if (t > 1.05 && t < 1.95) {
+      EXPECT_EQ(p.cameras.size(), 2u) << t;  // west and east only
+      ++two;
+    }
+    Eigen::Vector2d uv;
+    ASSERT_TRUE(project(s.cameras[1].camera, target_at(t), &uv));
+    const bool outside = uv.x() > 640 + 64 + 1;  // beyond the covered cells and their neighbours
+    right_half += outside ? 1 : 0;
+    const bool is_flagged =
+        std::find(p.extrapolated.begin(), p.extrapolated.end(), "east") != p.extrapolated.end();
+    flagged += is_flagged ? 1 : 0;
+    if (outside) {
+      EXPECT_TRUE(is_flagged) << t;
+    }
+    if (uv.x() < 640) {
+      EXPECT_FALSE(is_flagged) << t;
+    }
+    // Velocity by central difference of the 25-Hz instants: the circle's 8 m/s (and 0.5 m/s up)
+    // within 4σ plus the difference's own bias on the circle, (ω·Δt)²/6 of the speed.
+    if (std::isfinite(p.velocity.x())) {
+      const double h = 1e-4;
+      const Eigen::Vector3d v = (target_at(t + h) - target_at(t - h)) / (2 * h);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_LT(std::abs(p.velocity[k] - v[k]), 4 * p.velocity_sd[k] + 0.01) << t << " axis " << k;
+      }
+    }
+  }
+  EXPECT_GT(two, 15u);
+  EXPECT_GT(right_half, 5u);
+  EXPECT_GT(flagged, 0u);
+  EXPECT_EQ(tr.single_camera, 0u);
+}
+
+TEST(TargetTrajectory, LabelsOutOfOrderAreAnInputError) {
+  std::mt19937_64 rng(3);
+  Simulated s = simulate(&rng, 0, 0, true, 1);
+  std::swap(s.cameras[0].labels[3], s.cameras[0].labels[4]);
+  s.cameras[0].labels[4].line = 6;
+  try {
+    estimate_trajectory(s.cameras, trajectory_instants(s.cameras, 10), nullptr);
+    FAIL() << "accepted labels out of time order";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::input);
+    EXPECT_EQ(e.line(), 6);
+    EXPECT_NE(std::string(e.what()).find("west"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rangecal

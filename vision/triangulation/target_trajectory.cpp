@@ -1,0 +1,210 @@
+#include "vision/triangulation/target_trajectory.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "config/error.hpp"
+
+namespace rangecal {
+
+namespace {
+
+constexpr std::size_t kMaxWarnings = 20;
+
+// The χ²_k quantile of upper-tail probability 1 % by Wilson & Hilferty's cube-root normal
+// approximation (Proc. Natl. Acad. Sci. 17, 1931): within 1 % of the exact value for k ≥ 1 (6.58
+// against 6.63 for k = 1).
+double chi2_quantile_99(int k) {
+  const double z = 2.3263478740408408;  // the standard normal's 99 % quantile
+  const double a = 2.0 / (9.0 * k);
+  const double c = 1 - a + z * std::sqrt(a);
+  return k * c * c * c;
+}
+
+double median_interval_s(const std::vector<TimedLabel>& labels) {
+  std::vector<double> d;
+  for (std::size_t i = 1; i < labels.size(); ++i) d.push_back(seconds_between(labels[i - 1].t, labels[i].t));
+  if (d.empty()) return 0;
+  std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
+  return d[d.size() / 2];
+}
+
+void check_camera(const TrajectoryCamera& c) {
+  if (!(std::isfinite(c.label_sigma_px) && c.label_sigma_px > 0))
+    throw_input_error("", 0, "label_sigma_px", "camera " + c.id + ": the labels' σ must be positive");
+  for (std::size_t i = 1; i < c.labels.size(); ++i)
+    if (!(c.labels[i - 1].t < c.labels[i].t))
+      throw_input_error("", c.labels[i].line, "frame",
+                        "camera " + c.id + ": the target's labels are not in strictly increasing time");
+}
+
+// The camera's view of the target at t: its two labels around t, at most max_gap apart.
+std::optional<TriangulationView> view_at(const TrajectoryCamera& c, double max_gap_s, UtcTime t) {
+  const auto it = std::lower_bound(c.labels.begin(), c.labels.end(), t,
+                                   [](const TimedLabel& l, UtcTime x) { return l.t < x; });
+  if (it == c.labels.end()) return std::nullopt;
+  const auto i = static_cast<std::size_t>(it - c.labels.begin());
+  std::size_t ia = 0, ib = 0;
+  if (it->t == t) {  // on a label: it and a neighbour (for the image velocity)
+    if (i + 1 < c.labels.size()) {
+      ia = i;
+      ib = i + 1;
+    } else if (i > 0) {
+      ia = i - 1;
+      ib = i;
+    } else {
+      return std::nullopt;
+    }
+  } else {
+    if (i == 0) return std::nullopt;
+    ia = i - 1;
+    ib = i;
+  }
+  const TimedLabel& a = c.labels[ia];
+  const TimedLabel& b = c.labels[ib];
+  const double span = seconds_between(a.t, b.t);
+  if (!(span > 0) || span > max_gap_s) return std::nullopt;
+  const double w = seconds_between(a.t, t) / span;  // 0 at a, 1 at b
+  TriangulationView v;
+  v.camera = c.camera;
+  v.calibration = c.calibration;
+  v.uv_px = (1 - w) * a.uv_px + w * b.uv_px;
+  v.pick_sigma_px = c.label_sigma_px;
+  v.image_velocity_px_s = (b.uv_px - a.uv_px) / span;
+  v.timing_sigma_s = (1 - w) * a.timing_sigma_s + w * b.timing_sigma_s;
+  return v;
+}
+
+// Central differences over neighbours exactly one grid step away on each side (or one-sided at a
+// stretch's ends); σ from the label and timing parts of both positions.
+void add_velocities(Trajectory& out) {
+  std::vector<TrajectoryPoint>& p = out.points;
+  std::vector<double> steps;
+  for (std::size_t k = 1; k < p.size(); ++k) steps.push_back(seconds_between(p[k - 1].t, p[k].t));
+  if (steps.empty()) return;
+  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
+  const double grid = steps[steps.size() / 2];
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    // Neighbours farther than 1.5 grid steps lie across a gap: not differenced.
+    const TrajectoryPoint* prev =
+        k > 0 && seconds_between(p[k - 1].t, p[k].t) <= 1.5 * grid ? &p[k - 1] : nullptr;
+    const TrajectoryPoint* next =
+        k + 1 < p.size() && seconds_between(p[k].t, p[k + 1].t) <= 1.5 * grid ? &p[k + 1] : nullptr;
+    const TrajectoryPoint* a = prev ? prev : &p[k];
+    const TrajectoryPoint* b = next ? next : &p[k];
+    if (a == b) continue;
+    const double dt = seconds_between(a->t, b->t);
+    p[k].velocity = (b->fix.point - a->fix.point) / dt;
+    const Eigen::Matrix3d ca = a->fix.cov_pick_m2 + a->fix.cov_timing_m2;
+    const Eigen::Matrix3d cb = b->fix.cov_pick_m2 + b->fix.cov_timing_m2;
+    p[k].velocity_sd = ((ca + cb).diagonal() / (dt * dt)).cwiseSqrt();
+  }
+}
+
+}  // namespace
+
+double fastest_label_rate_hz(const std::vector<TrajectoryCamera>& cameras) {
+  double best = 0;
+  for (const TrajectoryCamera& c : cameras) {
+    const double d = median_interval_s(c.labels);
+    if (d > 0) best = std::max(best, 1 / d);
+  }
+  return best;
+}
+
+std::vector<UtcTime> trajectory_instants(const std::vector<TrajectoryCamera>& cameras, double rate_hz) {
+  // Two or more cameras: from the second-earliest first label to the second-latest last label.
+  std::vector<std::int64_t> starts, ends;
+  for (const TrajectoryCamera& c : cameras)
+    if (c.labels.size() >= 2) {
+      starts.push_back(c.labels.front().t.ns);
+      ends.push_back(c.labels.back().t.ns);
+    }
+  std::vector<UtcTime> out;
+  if (starts.size() < 2 || !(rate_hz > 0)) return out;
+  std::sort(starts.begin(), starts.end());
+  std::sort(ends.begin(), ends.end());
+  const std::int64_t first = starts[1], last = ends[ends.size() - 2];
+  constexpr std::int64_t kSecond = 1000000000;
+  const std::int64_t second =
+      first >= 0 ? first / kSecond * kSecond : (first - kSecond + 1) / kSecond * kSecond;
+  const double step_ns = 1e9 / rate_hz;
+  const auto k0 = static_cast<std::int64_t>(std::ceil(static_cast<double>(first - second) / step_ns - 1e-9));
+  for (std::int64_t k = k0;; ++k) {
+    const std::int64_t t = second + std::llround(static_cast<double>(k) * step_ns);
+    if (t > last) break;
+    out.push_back(UtcTime{t});
+  }
+  return out;
+}
+
+Trajectory estimate_trajectory(const std::vector<TrajectoryCamera>& cameras,
+                               const std::vector<UtcTime>& instants, const CrossCovariances* cross,
+                               const TrajectoryOptions& options) {
+  std::vector<double> max_gap_s(cameras.size());
+  for (std::size_t c = 0; c < cameras.size(); ++c) {
+    check_camera(cameras[c]);
+    max_gap_s[c] = options.max_gap_frames * median_interval_s(cameras[c].labels);
+  }
+  Trajectory out;
+  out.instants = instants.size();
+  for (const UtcTime t : instants) {
+    std::vector<TriangulationView> views;
+    std::vector<std::size_t> used;
+    for (std::size_t c = 0; c < cameras.size(); ++c)
+      if (auto v = view_at(cameras[c], max_gap_s[c], t)) {
+        views.push_back(std::move(*v));
+        used.push_back(c);
+      }
+    if (views.size() < 2) {
+      out.single_camera += views.size() == 1 ? 1 : 0;
+      continue;
+    }
+    CrossCovariances sub;
+    if (cross && !cross->empty()) {
+      sub.assign(used.size(), std::vector<Eigen::MatrixXd>(used.size()));
+      for (std::size_t i = 0; i < used.size(); ++i)
+        for (std::size_t j = 0; j < used.size(); ++j)
+          if (used[i] < cross->size() && used[j] < (*cross)[used[i]].size())
+            sub[i][j] = (*cross)[used[i]][used[j]];
+    }
+    TrajectoryPoint p;
+    p.t = t;
+    try {
+      p.fix =
+          triangulate_point(views, "the target at " + format_iso8601_utc(t, 3), sub.empty() ? nullptr : &sub);
+    } catch (const Error& e) {
+      if (e.kind() == ErrorKind::input) throw;
+      if (out.warnings.size() < kMaxWarnings) out.warnings.push_back(e.what());
+      continue;
+    }
+    for (std::size_t i = 0; i < views.size(); ++i) {
+      const Eigen::Matrix2d cov =
+          views[i].pick_sigma_px * views[i].pick_sigma_px * Eigen::Matrix2d::Identity() +
+          views[i].timing_sigma_s * views[i].timing_sigma_s * views[i].image_velocity_px_s *
+              views[i].image_velocity_px_s.transpose();
+      p.chi2 += p.fix.residuals_px[i].dot(cov.ldlt().solve(p.fix.residuals_px[i]));
+    }
+    p.dof = 2 * static_cast<int>(views.size()) - 3;
+    if (p.chi2 > chi2_quantile_99(p.dof)) {
+      const double f = p.chi2 / p.dof;
+      p.inflated = true;
+      p.fix.cov_pick_m2 *= f;
+      p.fix.cov_timing_m2 *= f;
+      p.fix.cov_calibration_m2 *= f;
+      p.fix.cov_m2 *= f;
+      p.fix.sigma_m *= std::sqrt(f);
+    }
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      p.cameras.push_back(cameras[used[i]].id);
+      if (!cameras[used[i]].coverage.covers(views[i].uv_px)) p.extrapolated.push_back(cameras[used[i]].id);
+    }
+    out.points.push_back(std::move(p));
+  }
+  add_velocities(out);
+  return out;
+}
+
+}  // namespace rangecal
