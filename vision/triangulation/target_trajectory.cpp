@@ -180,11 +180,18 @@ Trajectory estimate_trajectory(const std::vector<TrajectoryCamera>& cameras,
       if (out.warnings.size() < kMaxWarnings) out.warnings.push_back(e.what());
       continue;
     }
+    // The views' χ² under everything that moves a residual: the label's and timing σ and the
+    // camera's calibration covariance projected to its pixel (cameras taken as independent here).
     for (std::size_t i = 0; i < views.size(); ++i) {
-      const Eigen::Matrix2d cov =
-          views[i].pick_sigma_px * views[i].pick_sigma_px * Eigen::Matrix2d::Identity() +
-          views[i].timing_sigma_s * views[i].timing_sigma_s * views[i].image_velocity_px_s *
-              views[i].image_velocity_px_s.transpose();
+      const TriangulationView& v = views[i];
+      Eigen::Matrix2d cov =
+          v.pick_sigma_px * v.pick_sigma_px * Eigen::Matrix2d::Identity() +
+          v.timing_sigma_s * v.timing_sigma_s * v.image_velocity_px_s * v.image_velocity_px_s.transpose();
+      if (!v.calibration.parameters.empty()) {
+        const Eigen::MatrixXd J =
+            pixel_jacobian_wrt_parameters(v.camera, v.calibration.parameters, p.fix.point);
+        cov += J * v.calibration.covariance * J.transpose();
+      }
       p.chi2 += p.fix.residuals_px[i].dot(cov.ldlt().solve(p.fix.residuals_px[i]));
     }
     p.dof = 2 * static_cast<int>(views.size()) - 3;

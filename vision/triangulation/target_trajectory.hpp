@@ -57,7 +57,8 @@ struct TrajectoryPoint {
   /// extrapolated lens model, and its σ may not hold.
   std::vector<std::string> extrapolated;
   TriangulationResult fix;  ///< point, covariance (label, timing, calibration parts), residuals
-  /// The views' χ² = Σ rᵢᵀ·Wᵢ·rᵢ (labels' and timing σ) and its degrees of freedom 2·views − 3.
+  /// The views' χ² = Σ rᵢᵀ·Cᵢ⁻¹·rᵢ, Cᵢ the label's and timing covariance plus the camera's calibration
+  /// covariance projected to its pixel, and its degrees of freedom 2·views − 3.
   double chi2 = 0;
   int dof = 0;
   /// The views disagree beyond their σ (χ² above its 99 % quantile: a label off, or a camera's model
