@@ -187,11 +187,7 @@ Trajectory estimate_trajectory(const std::vector<TrajectoryCamera>& cameras,
       Eigen::Matrix2d cov =
           v.pick_sigma_px * v.pick_sigma_px * Eigen::Matrix2d::Identity() +
           v.timing_sigma_s * v.timing_sigma_s * v.image_velocity_px_s * v.image_velocity_px_s.transpose();
-      if (!v.calibration.parameters.empty()) {
-        const Eigen::MatrixXd J =
-            pixel_jacobian_wrt_parameters(v.camera, v.calibration.parameters, p.fix.point);
-        cov += J * v.calibration.covariance * J.transpose();
-      }
+      cov += p.fix.calibration_pixel_cov[i];
       p.chi2 += p.fix.residuals_px[i].dot(cov.ldlt().solve(p.fix.residuals_px[i]));
     }
     p.dof = 2 * static_cast<int>(views.size()) - 3;

@@ -255,6 +255,7 @@ void residuals_and_covariance(const std::vector<TriangulationView>& views, const
     res.cov_pick_m2 = Ninv;
   }
   std::vector<Eigen::MatrixXd> dXs(n);
+  res.calibration_pixel_cov.assign(n, Eigen::Matrix2d::Zero());
   for (std::size_t i = 0; i < n; ++i) {
     const std::vector<int>& idx = vp.param_idx[i];
     if (idx.empty()) continue;
@@ -263,6 +264,7 @@ void residuals_and_covariance(const std::vector<TriangulationView>& views, const
       Jt.col(static_cast<Eigen::Index>(k)) = pds[i].d_params.col(idx[k]);
     const Eigen::MatrixXd dX = -Ninv * (pds[i].d_point.transpose() * Ws[i]) * Jt;  // ∂X/∂θ_i, 3×m
     res.cov_calibration_m2 += dX * views[i].calibration.covariance * dX.transpose();
+    res.calibration_pixel_cov[i] = Jt * views[i].calibration.covariance * Jt.transpose();
     dXs[i] = dX;
   }
   if (cross)

@@ -53,7 +53,9 @@ struct TriangulationResult {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();         ///< ENU (m), nonlinear solution
   Eigen::Vector3d linear_point = Eigen::Vector3d::Zero();  ///< ENU (m), midpoint start
   std::vector<Eigen::Vector2d> residuals_px;               ///< projected − picked, per view (px)
-  double rms_px = 0;                                       ///< √(mean over views of |residual|²) (px)
+  /// Each view's calibration covariance projected to its pixel, J_θ·Σ_θ·J_θᵀ (px²; zero without one).
+  std::vector<Eigen::Matrix2d> calibration_pixel_cov;
+  double rms_px = 0;             ///< √(mean over views of |residual|²) (px)
   double max_ray_angle_deg = 0;  ///< largest angle between two views' rays (intersection geometry)
   Eigen::Matrix3d cov_pick_m2 = Eigen::Matrix3d::Zero();         ///< from pick noise (m²)
   Eigen::Matrix3d cov_timing_m2 = Eigen::Matrix3d::Zero();       ///< from the views' timing σ (m²)
