@@ -25,8 +25,8 @@ TEST(MissionStages, EveryRowOfTheTableHasItsFunctionInOrder) {
     EXPECT_TRUE(static_cast<bool>(stages[i].run)) << table[i].name;
     EXPECT_EQ(mission_stage_names()[i], table[i].name);
   }
-  EXPECT_EQ(mission_stage_names(),
-            (std::vector<std::string>{"gnss", "align", "detect", "calibrate", "intersect", "trajectory", "report"}));
+  EXPECT_EQ(mission_stage_names(), (std::vector<std::string>{"gnss", "align", "detect", "calibrate",
+                                                             "intersect", "trajectory", "report"}));
 }
 
 TEST(MissionStages, EachStageWritesFilesNoOtherStageWrites) {
