@@ -12,6 +12,7 @@
 #include "pipeline/io/intersection_csv.hpp"
 #include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
+#include "pipeline/stages/stage_inputs.hpp"
 #include "pipeline/steps/intersection.hpp"
 
 namespace rangecal {
@@ -109,24 +110,18 @@ StageLog run_intersect_stage(const MissionConfig& cfg) {
   std::vector<std::vector<CameraParameter>> parameters;
   for (const CameraConfig& cc : cfg.cameras) {
     if (cc.pole_observations.empty()) continue;
-    const std::string cal_path = camera_output(cfg, cc.id, kCalibrationJson);
-    if (!std::filesystem::exists(cal_path)) {
-      // One uncalibrated camera (e.g. its calibration failed) must not stop the others.
-      log.warnings.push_back(cc.id + ": no " + cal_path +
-                             " (run rangecal calibrate CONFIG first): camera skipped");
-      missing.push_back(cal_path);
+    const std::optional<CalibratedCamera> calibrated =
+        read_calibrated_camera(cfg, cc.id, "sigma_m counts pick noise", &log.warnings);
+    if (!calibrated) {
+      missing.push_back(camera_output(cfg, cc.id, kCalibrationJson));
       continue;
     }
-    const CalibrationResult cal = read_calibration_json(cal_path);
+    const CalibrationResult& cal = calibrated->result;
+    const bool usable = calibrated->usable;
     IntersectCamera ic;
     ic.id = cc.id;
     ic.camera = cal.camera;
-    bool usable = false;
-    ic.calibration = camera_covariance(cal, &usable);
-    if (!usable)
-      log.warnings.push_back(cc.id +
-                             ": calibration.json has no usable covariance: sigma_m counts pick "
-                             "noise only for this camera");
+    ic.calibration = calibrated->covariance;
     ic.picks = read_pole_picks(cc.pole_observations, {cal.camera.intr.width_px, cal.camera.intr.height_px});
     for (const PolePick& p : ic.picks) picked_ids.insert(p.id);
     all_network = all_network && cal.method == "network" && usable;

@@ -17,6 +17,7 @@
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/trajectory_csv.hpp"
 #include "pipeline/mission/stage_options.hpp"
+#include "pipeline/stages/stage_inputs.hpp"
 #include "pipeline/steps/camera_clock.hpp"
 #include "pipeline/steps/intersection.hpp"
 
@@ -131,22 +132,15 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   nlohmann::json per_camera = nlohmann::json::object();
   for (const CameraConfig& cc : cfg.cameras) {
     if (!cc.target_track) continue;
-    const std::string cal_path = camera_output(cfg, cc.id, kCalibrationJson);
-    if (!std::filesystem::exists(cal_path)) {
-      log.warnings.push_back(cc.id + ": no " + cal_path +
-                             " (run rangecal calibrate CONFIG first): camera skipped");
-      continue;
-    }
-    const CalibrationResult cal = read_calibration_json(cal_path);
+    const std::optional<CalibratedCamera> calibrated =
+        read_calibrated_camera(cfg, cc.id, "the trajectory's σ counts its labels and timing", &log.warnings);
+    if (!calibrated) continue;
+    const CalibrationResult& cal = calibrated->result;
+    const bool usable = calibrated->usable;
     TrajectoryCamera tc;
     tc.id = cc.id;
     tc.camera = cal.camera;
-    bool usable = false;
-    tc.calibration = camera_covariance(cal, &usable);
-    if (!usable)
-      log.warnings.push_back(cc.id +
-                             ": calibration.json has no usable covariance: the trajectory's σ counts "
-                             "its labels and timing only for this camera");
+    tc.calibration = calibrated->covariance;
     const auto s = image_sigma.find(cc.id);
     const bool estimated = cal.method == "network" && s != image_sigma.end();
     tc.label_sigma_px = estimated ? s->second : cc.pixel_sigma.track_px;
