@@ -233,10 +233,14 @@ PlanTable survey_table(const std::vector<RoutePlanAnalysis>& cands, const std::s
   return t;
 }
 
-/// Free set k's predicted intersection 1σ at the poles (per-camera calibration, pick σ included).
+/// Free set k's predicted intersection 1σ at the poles (the run's calibration method, pick σ included).
 PlanTable pole_table(const std::vector<RoutePlanAnalysis>& cands, std::size_t k, const std::string& free) {
   PlanTable t;
-  t.title = "Predicted intersection 1σ at the poles (m; pick σ of the scenario), free " + free;
+  t.title =
+      "Predicted intersection 1σ at the poles (m; the network's joint covariance where the cameras share "
+      "epochs, else the per-camera calibrations with their shared-fix cross-covariances, as the run states "
+      "them; pick σ of the scenario), free " +
+      free;
   t.header.push_back("pole");
   for (const RoutePlanAnalysis& cand : cands) t.header.push_back(cand.name);
   for (const PoleBound& pb : cands.front().free_sets[k].poles) {

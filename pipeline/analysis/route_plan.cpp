@@ -82,6 +82,20 @@ std::vector<std::vector<std::string>> default_plan_free_sets() {
   return {default_free_parameters(), with_pp};
 }
 
+std::vector<std::string> scenario_free_parameters(const Scenario& s) {
+  const auto it =
+      s.mission_calibrate.is_object() ? s.mission_calibrate.find("free") : s.mission_calibrate.end();
+  if (!s.mission_calibrate.is_object() || it == s.mission_calibrate.end()) return default_free_parameters();
+  std::vector<std::string> free;
+  if (it->is_array())
+    for (const nlohmann::json& x : *it)
+      if (x.is_string()) free.push_back(x.get<std::string>());
+  if (!it->is_array() || free.size() != it->size() || free.empty())
+    throw_config_error(s.file, "mission_calibrate.free", "must be a non-empty list of parameter names");
+  expand_free_parameters(free, s.file, "mission_calibrate.free");
+  return free;
+}
+
 std::vector<BundleObservation> planned_observations(const Scenario& s, std::size_t camera_index,
                                                     const PlanOptions& options) {
   const SimMission m = simulate_mission(s);
@@ -262,11 +276,18 @@ RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name,
       v.network_datum_floor_m = predicted_intersection_rms(
           net.truth, params, network_cramer_rao_bound(net, free, o.pixel_sigma_px, kDatumFloorImageFactor),
           volume, true);
+    // The poles' σ under the calibration the run would make: the network's joint covariance when
+    // the cameras share epochs (the run's default), else the per-camera calibrations with the
+    // cross-covariances their shared fixes give them — as the intersect stage states them.
+    const bool network = fp.network.applies() && !fp.network.singular;
+    const Eigen::MatrixXd& joint = network ? fp.network.joint : per_camera;
+    const Eigen::Index np = static_cast<Eigen::Index>(params.size());
     for (const ScenarioPole& pole : s.poles) {
       PoleBound pb;
       pb.id = pole.id;
       pb.role = pole.role;
       std::vector<TriangulationView> views;
+      std::vector<Eigen::Index> block;  // each view's camera's first row in `joint`
       bool all_bounded = true;
       for (std::size_t c = 0; c < m.cameras.size(); ++c) {
         TriangulationView v;
@@ -274,17 +295,32 @@ RoutePlanAnalysis analyse_route_plan(const Scenario& s, const std::string& name,
         v.camera.id = m.cameras[c].spec.id;
         if (!project(v.camera, pole.enu_m, &v.uv_px) || !inside_image(v.camera.intr, v.uv_px)) continue;
         all_bounded = all_bounded && !fp.cameras[c].singular;
+        block.push_back(static_cast<Eigen::Index>(c) * np);
         v.calibration.parameters = fp.cameras[c].free_parameters;
         v.calibration.covariance = fp.cameras[c].covariance;
         v.pick_sigma_px = s.pick_noise_px;
         views.push_back(v);
       }
       pb.n_cameras = static_cast<int>(views.size());
-      if (views.size() >= 2 && all_bounded) {
+      if (views.size() < 2 || !all_bounded) {
+        fp.poles.push_back(pb);
+        continue;
+      }
+      // Parallel rays or a pole behind a camera: no prediction, shown as "-".
+      try {
+        pb.per_camera_independent_sigma_m = triangulate_point(views, "pole " + pole.id).sigma_m;
+      } catch (const Error&) {
+      }
+      if (joint.size() > 0) {
+        CrossCovariances cross(views.size(), std::vector<Eigen::MatrixXd>(views.size()));
+        for (std::size_t i = 0; i < views.size(); ++i) {
+          views[i].calibration.covariance = joint.block(block[i], block[i], np, np);
+          for (std::size_t j = 0; j < views.size(); ++j)
+            if (i != j) cross[i][j] = joint.block(block[i], block[j], np, np);
+        }
         try {
-          pb.sigma_m = triangulate_point(views, "pole " + pole.id).sigma_m;
+          pb.sigma_m = triangulate_point(views, "pole " + pole.id, &cross).sigma_m;
         } catch (const Error&) {
-          // Parallel rays or a pole behind a camera: no prediction, shown as "-".
         }
       }
       fp.poles.push_back(pb);

@@ -34,6 +34,11 @@ namespace rangecal {
 /// The default free set and the same with the principal point free.
 std::vector<std::vector<std::string>> default_plan_free_sets();
 
+/// The free set the scenario's mission would calibrate (`mission_calibrate.free`), else the default
+/// f, k1, pose: what `plan` predicts unless told otherwise. Throws rangecal::Error (config) naming
+/// the scenario file and `mission_calibrate.free` when it is not a list of known parameter names.
+std::vector<std::string> scenario_free_parameters(const Scenario& s);
+
 struct PlanOptions {
   /// Free-parameter sets to analyse (optim/bundle/bundle_adjustment.hpp names): the default calibration
   /// and the same with the principal point free, to show how well the routes fix it.
@@ -108,8 +113,13 @@ CameraBound cramer_rao_bound(const Camera& truth, const std::vector<BundleObserv
 struct PoleBound {
   std::string id;
   std::string role;
-  int n_cameras = 0;                                          ///< cameras whose image holds it
-  double sigma_m = std::numeric_limits<double>::quiet_NaN();  ///< predicted √trace Σ_X (m)
+  int n_cameras = 0;  ///< cameras whose image holds it
+  /// Predicted √trace Σ_X (m) under the calibration the run would make (the network's joint bound
+  /// with its cross blocks when the cameras share epochs, else the per-camera joint covariance).
+  double sigma_m = std::numeric_limits<double>::quiet_NaN();
+  /// The same from each camera's own bound, the cameras taken as independent: what separate
+  /// per-camera calibration.json files would state (m).
+  double per_camera_independent_sigma_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The network calibration's bound beside the per-camera one (docs/accuracy_analysis.md "Network

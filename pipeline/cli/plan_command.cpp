@@ -27,7 +27,7 @@ namespace rangecal {
 void add_plan_command(CLI::App& app, const CliContext& /*ctx*/) {
   struct Args {
     std::vector<std::string> scenarios;
-    std::string free = "f,k1,pose";
+    std::string free;  ///< empty: the first scenario's mission_calibrate.free, else f,k1,pose
     double pixel_sigma_px = kDefaultPixelSigmaPx;
     std::string html;
   };
@@ -38,19 +38,27 @@ void add_plan_command(CLI::App& app, const CliContext& /*ctx*/) {
       "intersection 1σ from scenario files; several files are candidate route sets compared side by "
       "side");
   sub->add_option("SCENARIO", args->scenarios, "Scenario file(s) (JSON, docs/simulator.md)")->required();
-  sub->add_option("--free", args->free,
-                  "Free parameters (comma-separated; default f,k1,pose; also sx, k2, k3, p1, p2, a1, a2, "
-                  "rotation, center, clock_offset); the same set with u0,v0 is analysed too");
+  sub->add_option(
+      "--free", args->free,
+      "Free parameters (comma-separated; default: the first scenario's mission_calibrate.free, else "
+      "f,k1,pose; also sx, k2, k3, p1, p2, a1, a2, rotation, center, clock_offset); the same set "
+      "with u0,v0 is analysed too");
   sub->add_option("--pixel-sigma", args->pixel_sigma_px, "Lamp centroid σ, px (default 0.1)");
   sub->add_option("--html", args->html, "Also write the tables as a self-contained HTML page here");
   sub->callback([args]() {
     if (!(args->pixel_sigma_px > 0)) throw_config_error("", "--pixel-sigma", "must be positive");
     PlanOptions o;
     o.pixel_sigma_px = args->pixel_sigma_px;
+    std::vector<Scenario> scenarios;
+    for (const std::string& path : args->scenarios) scenarios.push_back(load_scenario(path));
     std::vector<std::string> base;
-    std::stringstream ss(args->free);
-    for (std::string item; std::getline(ss, item, ',');)
-      if (!item.empty()) base.push_back(item);
+    if (args->free.empty()) {
+      base = scenario_free_parameters(scenarios.front());
+    } else {
+      std::stringstream ss(args->free);
+      for (std::string item; std::getline(ss, item, ',');)
+        if (!item.empty()) base.push_back(item);
+    }
     expand_free_parameters(base, "", "--free");  // names checked here, before any work
     if (base.empty()) throw_config_error("", "--free", "no parameters given");
     std::vector<std::string> with_pp = base;
@@ -60,9 +68,9 @@ void add_plan_command(CLI::App& app, const CliContext& /*ctx*/) {
     o.free_sets = {base};
     if (with_pp != base) o.free_sets.push_back(with_pp);
     std::vector<RoutePlanAnalysis> cands;
-    for (const std::string& path : args->scenarios)
+    for (std::size_t i = 0; i < scenarios.size(); ++i)
       cands.push_back(
-          analyse_route_plan(load_scenario(path), std::filesystem::path(path).stem().string(), o));
+          analyse_route_plan(scenarios[i], std::filesystem::path(args->scenarios[i]).stem().string(), o));
     if (!args->html.empty()) write_file_atomic(args->html, format_plan_html(cands));
     std::cout << format_plan_table(cands);
   });

@@ -526,7 +526,10 @@ std::string format_mission_config(const SimMission& m) {
                     {"height_px", in.height_px},
                     {"pixel_size_um", {in.dx_mm * 1e3, in.dy_mm * 1e3}}};
     cj["lens"] = {{"nominal_focal_mm", c.spec.nominal_focal_mm}};
-    if (!c.picks.empty()) cj["pole_observations"] = c.spec.id + "/poles_px.csv";
+    if (!c.picks.empty()) {
+      cj["pole_observations"] = c.spec.id + "/poles_px.csv";
+      if (s.pick_noise_px > 0) cj["pixel_sigma_px"] = {{"pick", s.pick_noise_px}};
+    }
     cams.push_back(cj);
   }
   j["cameras"] = cams;
@@ -535,6 +538,12 @@ std::string format_mission_config(const SimMission& m) {
     j["calibrate"] = s.mission_calibrate;
     if (!j["calibrate"].contains("seed")) j["calibrate"]["seed"] = s.seed;
   }
+  // The survey's and the picks' σ stated as the range states those of its own instruments: the
+  // σ the poles and picks were drawn with (else the run states the defaults, 5 mm and 0.5 px, and
+  // its pole σ answer a question the scenario did not ask).
+  if (!m.poles.empty() && s.survey_noise_m > 0 && !j["calibrate"].contains("control_sigma_m"))
+    j["calibrate"]["control_sigma_m"] = s.survey_noise_m;
+  if (!m.poles.empty() && s.pick_noise_px > 0) j["intersect"] = {{"pick_sigma_px", s.pick_noise_px}};
   j["output_dir"] = "out";
   return j.dump(2) + "\n";
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -16,6 +17,7 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "pipeline/analysis/route_plan.hpp"
 #include "pipeline/demo/demo.hpp"
 #include "pipeline/demo/demo_bars.hpp"
 #include "pipeline/demo/demo_scenario_text.hpp"
@@ -111,10 +113,11 @@ TEST(Demo, AccuracyBarsPassAndAreOnesACorrectCalibrationPassesAtNinetyNinePercen
   ASSERT_EQ(run.results.cameras.size(), 2u);
   for (const DemoCamera& c : run.results.cameras) {
     // Reprojection rms consistent with the simulated PPK + centroid noise: below the expectation
-    // from the .pos sd, as the pose absorbs most of the slow (Gauss–Markov) part over a 27 s record
-    // (0.79 and 0.86 of it when measured), never above it.
+    // from the .pos sd, as the pose, f, sx and the principal point absorb most of the slow
+    // (Gauss–Markov) part over a 27 s record (0.66 and 0.60 of it when measured; 0.79 and 0.86 with
+    // f, k1, pose alone, where the misfit of the simulated sx added its own), never above it.
     const CalibrationResult& r = c.by_method.at("bundle");
-    EXPECT_GT(r.reprojection.rms_px, 0.6 * c.expected_rms_px) << c.id;
+    EXPECT_GT(r.reprojection.rms_px, 0.5 * c.expected_rms_px) << c.id;
     EXPECT_LT(r.reprojection.rms_px, 1.15 * c.expected_rms_px) << c.id;
     // Tsai and the paper's SA-sparrow method are reported beside the bundle.
     EXPECT_TRUE(c.by_method.count("tsai")) << c.id;
@@ -158,6 +161,34 @@ double mean_check_pole_sigma_m(const DemoIntersection& d) {
   return d.check_poles.empty() ? 0 : sum / static_cast<double>(d.check_poles.size());
 }
 
+TEST(Demo, PlanPredictsTheCheckPoleSigmaTheRunStates) {
+  // `plan` on the demo's own scenario, before any flight, against the σ the demo's network states
+  // after it: the plan takes the scenario's PPK model as known, the run estimates it from a 26.6-s
+  // record (σ_g held at the .pos sd); both state the scenario's survey and pick σ. Each check pole
+  // within 25 %, the rms over them within 15 % (measured: 0.42–0.63 cm planned, 0.44–0.71 cm stated).
+  const DemoRun& run = demo().run;
+  const Scenario s = parse_scenario(demo_scenario_json(), "<built-in demo scenario>");
+  PlanOptions o;
+  o.free_sets = {scenario_free_parameters(s)};
+  const RoutePlanAnalysis plan = analyse_route_plan(s, "demo", o);
+  const DemoIntersection* net = find_method(run.results, "network");
+  ASSERT_NE(net, nullptr);
+  double planned2 = 0, stated2 = 0;
+  int n = 0;
+  for (const DemoIntersection::Pole& p : net->check_poles) {
+    double planned = std::numeric_limits<double>::quiet_NaN();
+    for (const PoleBound& pb : plan.free_sets.front().poles)
+      if (pb.id == p.id) planned = pb.sigma_m;
+    ASSERT_TRUE(std::isfinite(planned)) << p.id;
+    const double stated = std::sqrt(p.cov_m2.trace());
+    std::printf("%s: planned %.2f cm, stated %.2f cm\n", p.id.c_str(), 100 * planned, 100 * stated);
+    EXPECT_NEAR(planned / stated, 1, 0.25) << p.id;
+    planned2 += planned * planned, stated2 += stated * stated, ++n;
+  }
+  ASSERT_EQ(n, 11);
+  EXPECT_NEAR(std::sqrt(planned2 / stated2), 1, 0.15);
+}
+
 TEST(Demo, ComparedMethodsStateTheirSigmaUnderTheEstimatedModel) {
   // The demo's network estimates a Gauss–Markov part; the per-camera bundle and every compare method
   // then state σ under it (pipeline/steps/covariance_under_model.hpp), each method at its own
@@ -188,7 +219,8 @@ TEST(Demo, ComparedMethodsStateTheirSigmaUnderTheEstimatedModel) {
     const double ratio = mean_check_pole_sigma_m(*d) / sb;
     std::printf("%s: check-pole σ %.2f cm, %.2f× the bundle's\n", m.c_str(),
                 100 * mean_check_pole_sigma_m(*d), ratio);
-    EXPECT_GT(ratio, 0.7) << m;
+    // Tsai's methods hold the principal point the bundle frees (0.69× its σ when measured).
+    EXPECT_GT(ratio, 0.6) << m;
     EXPECT_LT(ratio, 1.4) << m;
   }
 }
