@@ -1,7 +1,7 @@
 #pragma once
 // What `rangecal inspect` shows of one input file, whatever its kind: the same fields for every
 // kind so that files can be printed and compared side by side. Each format's reader layer fills
-// it (gnss/formats/gnss_file_facts.hpp, vision/frames/frame_file_facts.hpp) from the values its
+// it (gnss/formats/gnss_file_facts.hpp, vision/frames/frame_formats.hpp) from the values its
 // reader reads — nothing here is guessed; a fact the format does not carry stays empty.
 #include <cstdint>
 #include <optional>

@@ -9,6 +9,7 @@
 #include "pipeline/stages/stage_inputs.hpp"
 #include "pipeline/steps/align_frames.hpp"
 #include "pipeline/steps/camera_clock.hpp"
+#include "vision/frames/frame_formats.hpp"
 
 #include <fmt/format.h>
 
@@ -107,7 +108,7 @@ CameraStamps frame_stamps(const MissionConfig& cfg, const CameraConfig& cam) {
   for (const auto& e : source.entries()) out.stamps.push_back({e.frame, e.utc});
   out.origin = source.origin();
   out.time_source = source.time_source();
-  if (source.time_source() == FrameSource::kTimeSourceMrawHeader)
+  if (source.time_source() == frame_format(".mraw").own_time_source)
     out.warnings.push_back(
         cam.id + ": frame times come from the Photron header (camera clock to the second, " +
         "shifted by clock_utc_offset_h, plus frame number / record rate): a coarse source; " +

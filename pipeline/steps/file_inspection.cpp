@@ -10,8 +10,8 @@
 #include "config/text_encoding.hpp"
 #include "gnss/formats/ardupilot_dataflash.hpp"
 #include "gnss/formats/gnss_file_facts.hpp"
-#include "vision/frames/frame_file_facts.hpp"
-#include "vision/frames/frame_source.hpp"
+#include "vision/frames/frame_formats.hpp"
+#include "vision/frames/frame_timestamps_facts.hpp"
 
 namespace rangecal {
 
@@ -21,12 +21,6 @@ namespace {
 
 // Enough for any header line of our text formats and every magic number.
 constexpr std::size_t kHeadBytes = 64 * 1024;
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 std::string read_head(const std::string& path) {
   std::error_code ec;
@@ -44,11 +38,6 @@ bool has_control_bytes(std::string_view head) {
   for (char c : head)
     if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') return true;
   return false;
-}
-
-bool is_cine(std::string_view head) {
-  return head.size() >= 4 && head[0] == 'C' && head[1] == 'I' && static_cast<unsigned char>(head[2]) == 44 &&
-         head[3] == 0;
 }
 
 // The first line that is not blank and not a '#' comment (as CsvTable skips them).
@@ -107,53 +96,70 @@ const char* to_string(InputFileKind k) {
       return "video";
     case InputFileKind::image:
       return "image";
+    case InputFileKind::other_frame_format:
+      return "other_frame_format";
   }
   return "unknown";
 }
 
-InputFileKind input_file_kind(const std::string& path) {
+namespace {
+
+// The kind of the built-in frame formats that have one; any other registered format is
+// other_frame_format.
+InputFileKind frame_input_kind(const FrameFormat* format) {
+  if (format == FrameFileKind::cine) return InputFileKind::phantom_cine;
+  if (format == FrameFileKind::mraw) return InputFileKind::photron_mraw;
+  if (format == FrameFileKind::video) return InputFileKind::video;
+  if (format == FrameFileKind::image) return InputFileKind::image;
+  return InputFileKind::other_frame_format;
+}
+
+struct Classified {
+  InputFileKind kind;
+  const FrameFormat* frame_format = nullptr;  ///< for the frame kinds: whose facts to read
+};
+
+Classified classify(const std::string& path) {
   const std::string head = read_head(path);
-  const std::string ext = lower_extension(path);
   // A .mraw is bare pixels: only its name says what it is.
-  if (ext == ".mraw" || ext == ".cih" || ext == ".cihx") return InputFileKind::photron_mraw;
+  const FrameFormat* named = find_frame_format_or_companion(path);
+  if (named && named->bare) return {frame_input_kind(named), named};
   if (head.empty()) throw_input_error(path, 0, "", "the file is empty");
-  if (head.compare(0, 4, "ULog") == 0) return InputFileKind::px4_ulog;
-  if (is_dataflash(head)) return InputFileKind::ardupilot_dataflash;
-  if (is_cine(head) || ext == ".cine") return InputFileKind::phantom_cine;
-  switch (frame_file_kind(path)) {
-    case FrameFileKind::video:
-      return InputFileKind::video;
-    case FrameFileKind::image:
-      return InputFileKind::image;
-    default:
-      break;
-  }
+  if (head.compare(0, 4, "ULog") == 0) return {InputFileKind::px4_ulog};
+  if (is_dataflash(head)) return {InputFileKind::ardupilot_dataflash};
+  for (const FrameFormat& f : frame_formats())
+    if (f.magic && f.magic(head)) return {frame_input_kind(&f), &f};
+  if (named) return {frame_input_kind(named), named};
   if (has_control_bytes(head)) unknown_kind(path, "a binary file with no known magic bytes");
   const std::string line = first_text_line(head);
   if (line.empty()) unknown_kind(path, "a text file with no header line");
-  if (line[0] == '%') return InputFileKind::rtklib_pos;
+  if (line[0] == '%') return {InputFileKind::rtklib_pos};
   const std::vector<std::string> cols = split_trim(line, ',');
-  if (header_is(cols, {"frame", "file", "utc"})) return InputFileKind::frame_timestamps_csv;
-  if (header_is(cols, {"utc", "roll_deg", "pitch_deg", "yaw_deg"})) return InputFileKind::attitude_csv;
-  if (header_is(cols, {"utc", "E", "N", "U", "quality"})) return InputFileKind::lamp_track_csv;
-  if (header_is(cols, {"id", "role"})) return InputFileKind::pole_survey_csv;
-  if (header_is(cols, {"id", "u", "v"})) return InputFileKind::pole_picks_csv;
+  if (header_is(cols, {"frame", "file", "utc"})) return {InputFileKind::frame_timestamps_csv};
+  if (header_is(cols, {"utc", "roll_deg", "pitch_deg", "yaw_deg"})) return {InputFileKind::attitude_csv};
+  if (header_is(cols, {"utc", "E", "N", "U", "quality"})) return {InputFileKind::lamp_track_csv};
+  if (header_is(cols, {"id", "role"})) return {InputFileKind::pole_survey_csv};
+  if (header_is(cols, {"id", "u", "v"})) return {InputFileKind::pole_picks_csv};
   unknown_kind(path, "a text file whose first line '" + printable_text(line.substr(0, 80)) +
                          "' is no header rangecal knows");
 }
 
+}  // namespace
+
+InputFileKind input_file_kind(const std::string& path) {
+  return classify(path).kind;
+}
+
 FileFacts inspect_input_file(const std::string& path) {
-  switch (input_file_kind(path)) {
+  const Classified c = classify(path);
+  if (c.frame_format) return c.frame_format->facts(path);
+  switch (c.kind) {
     case InputFileKind::rtklib_pos:
       return pos_file_facts(path);
     case InputFileKind::px4_ulog:
       return ulog_file_facts(path);
     case InputFileKind::ardupilot_dataflash:
       return dataflash_file_facts(path);
-    case InputFileKind::phantom_cine:
-      return cine_file_facts(path);
-    case InputFileKind::photron_mraw:
-      return mraw_file_facts(path);
     case InputFileKind::frame_timestamps_csv:
       return frame_timestamps_file_facts(path);
     case InputFileKind::attitude_csv:
@@ -164,10 +170,12 @@ FileFacts inspect_input_file(const std::string& path) {
       return pole_survey_file_facts(path);
     case InputFileKind::pole_picks_csv:
       return pole_picks_file_facts(path);
+    case InputFileKind::phantom_cine:
+    case InputFileKind::photron_mraw:
     case InputFileKind::video:
-      return video_file_facts(path);
     case InputFileKind::image:
-      return image_file_facts(path);
+    case InputFileKind::other_frame_format:
+      break;  // read by their frame format, above
   }
   unknown_kind(path, "no reader");
 }
@@ -176,10 +184,11 @@ std::vector<std::string> distinct_recordings(const std::vector<std::string>& pat
   std::vector<std::string> out;
   std::set<std::string> seen;
   for (const std::string& p : paths) {
-    const std::string ext = lower_extension(p);
-    // A Photron recording is the .mraw with its header: one entry, whichever file names it.
+    // A recording of several files (a Photron .mraw with its header) is one entry, whichever file
+    // names it.
+    const FrameFormat* format = find_frame_format_or_companion(p);
     fs::path key(p);
-    if (ext == ".mraw" || ext == ".cih" || ext == ".cihx") key.replace_extension("");
+    if (format && format->companion_extensions[0] != '\0') key.replace_extension("");
     std::error_code ec;
     const fs::path canonical = fs::weakly_canonical(key, ec);
     if (seen.insert((ec ? key : canonical).string()).second) out.push_back(p);

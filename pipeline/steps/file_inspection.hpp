@@ -2,10 +2,12 @@
 // `rangecal inspect`: which kind of input a file is, its facts (FileFacts, gathered by the layer
 // that reads the format), and how the time spans of several files relate (docs/cli.md).
 //
-// The kind is chosen by content where the content says it — magic bytes (ULog, DataFlash, .cine),
-// the first line of a text file (a `%` RTKLIB header; the header row of each CSV format) — and by
-// extension where it cannot: a Photron .mraw has no header of its own (its .cihx/.cih is found
-// beside it, and either may be given), videos and images are recognised by extension and opened.
+// The kind is chosen by content where the content says it — magic bytes (ULog, DataFlash, and the
+// frame formats that have one, such as .cine), the first line of a text file (a `%` RTKLIB header;
+// the header row of each CSV format) — and by extension where it cannot: a Photron .mraw has no
+// header of its own (its .cihx/.cih is found beside it, and either may be given), videos and
+// images are recognised by extension and opened. What each frame format needs here is in its entry
+// of vision/frames/frame_formats.hpp.
 #include <string>
 #include <vector>
 
@@ -27,6 +29,7 @@ enum class InputFileKind {
   pole_picks_csv,
   video,
   image,
+  other_frame_format,  ///< a frame file of a registered format not named above (frame_formats.hpp)
 };
 const char* to_string(InputFileKind k);
 
