@@ -23,11 +23,11 @@
 #include <string>
 #include <vector>
 
+#include "gnss/track/ppk_error_model.hpp"
 #include "optim/bundle/bundle_observation.hpp"
 #include "optim/bundle/calibration_warning.hpp"
 #include "optim/bundle/whitening.hpp"
 #include "optim/estimation/robust_loss.hpp"
-#include "optim/network/ppk_error_model.hpp"
 #include "vision/camera/calibration_result.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
@@ -63,7 +63,7 @@ struct BundleOptions {
   /// Under a correlated ppk_error the factor checks the white part only (docs/optimisation.md "σ under
   /// correlated PPK errors"): scaling does not stand in for the model.
   bool scale_covariance = false;
-  /// The PPK fixes' error model (optim/network/ppk_error_model.hpp) under which the covariance is
+  /// The PPK fixes' error model (gnss/track/ppk_error_model.hpp) under which the covariance is
   /// stated. The estimate is always weighed white (each fix under its own Σ_X); any model other than
   /// that weighting (white scale 1, no Gauss–Markov part: the default) makes the covariance the
   /// sandwich of optim/bundle/correlated_ppk_covariance.hpp, over the observations' time_s.

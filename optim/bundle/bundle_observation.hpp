@@ -17,7 +17,7 @@ struct BundleObservation {
   /// zero for static points such as poles. Used only when the clock offset is free (or nonzero).
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   /// Time of the PPK fix the world point comes from (s, one continuous scale per camera): its place
-  /// in a correlated PPK error model's Gauss–Markov process (optim/network/ppk_error_model.hpp,
+  /// in a correlated PPK error model's Gauss–Markov process (gnss/track/ppk_error_model.hpp,
   /// optim/bundle/correlated_ppk_covariance.hpp). NaN: not a PPK fix (a control pole), its error
   /// independent of every other, as NetworkPoint::time_s.
   double time_s = std::numeric_limits<double>::quiet_NaN();

@@ -6,7 +6,7 @@
 //   Cov(θ̂) = N⁻¹·M·N⁻¹,   N = JᵀJ,   M = Jᵀ·Σ_ε·J,
 // J the whitened Jacobian (optim/bundle/bundle_covariance.hpp), ε = W_i·(n_i + J_X,i·e_i) the whitened
 // residual noise of observation i (pixel noise n_i, world-point error e_i), under the model of
-// optim/network/ppk_error_model.hpp:
+// gnss/track/ppk_error_model.hpp:
 //   Cov(ε_i, ε_j) = W_i·(δ_ij·(σ_px²·I + J_X,i·S·Σ_X,i·S·J_X,iᵀ) + J_X,i·D_ij·J_X,jᵀ)·W_jᵀ,
 //   D_ij = diag(σ_g,a²·exp(−|t_i − t_j|/τ_a)) per ENU axis a (the GM part, its variance σ_g² included
 //   at i = j), S = diag(s_h, s_h, s_v) the white scale.
@@ -22,9 +22,9 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "gnss/track/ppk_error_model.hpp"
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/bundle/bundle_observation.hpp"
-#include "optim/network/ppk_error_model.hpp"
 #include "vision/camera/calibration_result.hpp"
 #include "vision/camera/camera_model.hpp"
 

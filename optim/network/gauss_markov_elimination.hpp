@@ -4,7 +4,7 @@
 // the cameras (c) and the GM states (g, one 3-vector per chained epoch, in time order) are
 //   [ S_cc  Bᵀ ]      G block tridiagonal: each epoch's fix couples g_j with its point
 //   [ B     G  ]      (P − P·V⁻¹·P, P the white prior's information), the AR(1) chain couples g_j
-//                     with g_{j±1} (ppk_error_model.hpp); B = S_gc = −P·V⁻¹·Wᵀ per epoch,
+//                     with g_{j±1} (gnss/track/ppk_error_model.hpp); B = S_gc = −P·V⁻¹·Wᵀ per epoch,
 // and the cameras' Schur complement is S = S_cc − Bᵀ·G⁻¹·B. G = L·Lᵀ is factored block by block
 // (L block lower bidiagonal, O(epochs)); Y = L⁻¹·B gives S −= Yᵀ·Y, and Z = L⁻ᵀ·Y = G⁻¹·B with the
 // diagonal blocks of G⁻¹ (the backward recursion M_jj = L_jj⁻ᵀ·L_jj⁻¹ + C_jᵀ·M_{j+1,j+1}·C_j,

@@ -30,9 +30,9 @@
 #include <string>
 #include <vector>
 
+#include "gnss/track/ppk_error_model.hpp"
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/network/network_observation.hpp"
-#include "optim/network/ppk_error_model.hpp"
 
 namespace rangecal {
 
@@ -65,9 +65,8 @@ struct NetworkOptions {
   bool scale_covariance = false;
   /// The joint covariance's rank test (BundleOptions::rank_tolerance for the network).
   double rank_tolerance = 1e-14;
-  /// The PPK fixes' error model (ppk_error_model.hpp): the default is white, each fix under its own
-  /// .pos covariance; with a Gauss–Markov part the epochs with a time (NetworkPoint::time_s) are
-  /// chained.
+  /// The PPK fixes' error model (gnss/track/ppk_error_model.hpp): the default is white, each fix under its
+  /// own .pos covariance; with a Gauss–Markov part the epochs with a time (NetworkPoint::time_s) are chained.
   PpkErrorModel ppk_error;
   /// Estimate the model from the mission (ppk_error_estimation.hpp) instead: `ppk_error` then only
   /// weighs the robust solve and the outlier tests (white by default), the final solve and every σ
@@ -102,8 +101,8 @@ struct NetworkPointResult {
   bool ppk_outlier = false;  ///< flagged by the PPK outlier test (prior dropped)
   double ppk_test_d2 = 0;    ///< whitened d² of the test (0 when not tested)
   int ppk_test_dof = 0;      ///< its redundancy m (0 when not tested)
-  /// The estimated Gauss–Markov part of its fix's error, g (ENU m; ppk_error_model.hpp): zero for a
-  /// point outside the chain.
+  /// The estimated Gauss–Markov part of its fix's error, g (ENU m; gnss/track/ppk_error_model.hpp): zero for
+  /// a point outside the chain.
   Eigen::Vector3d ppk_gm = Eigen::Vector3d::Zero();
 };
 

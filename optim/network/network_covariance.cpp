@@ -101,8 +101,8 @@ struct EliminatedPoints {
   int count = 0;
 };
 
-/// The Gauss–Markov chain's own information (its AR(1) prior, ppk_error_model.hpp) into `gm`, sized
-/// for `n` camera columns.
+/// The Gauss–Markov chain's own information (its AR(1) prior, gnss/track/ppk_error_model.hpp) into `gm`,
+/// sized for `n` camera columns.
 GaussMarkovSystem gauss_markov_system(const NetworkLayout& l, const NetworkParameterBlocks& b, int n,
                                       double* chi2, int* rows) {
   const std::size_t states = l.gm_chain.size();
@@ -372,7 +372,7 @@ PointLinearisation linearise_point(const NetworkLayout& l, const NetworkParamete
     const Eigen::Matrix3d& Li = l.prior_whiten[k];
     pl.V += Li.transpose() * Li;
     Eigen::Vector3d X = Eigen::Map<const Eigen::Vector3d>(b.points[k].data());
-    if (l.gm_state[k] >= 0) {  // the fix is X + g + w (ppk_error_model.hpp)
+    if (l.gm_state[k] >= 0) {  // the fix is X + g + w (gnss/track/ppk_error_model.hpp)
       pl.P = Li.transpose() * Li;
       X += Eigen::Map<const Eigen::Vector3d>(b.gm[static_cast<std::size_t>(l.gm_state[k])].data());
     }

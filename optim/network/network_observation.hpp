@@ -25,7 +25,7 @@ struct NetworkPoint {
   bool control_pole = false;  ///< a pole never takes part in the PPK outlier test
   int quality = 1;            ///< RTKLIB Q of the epoch (1 fix, 2 float); 0 for poles
   /// The epoch's time (s, on one continuous scale for the whole mission): its place in the PPK
-  /// error's Gauss–Markov chain (ppk_error_model.hpp). NaN: not a PPK epoch (a pole, a lone pair),
+  /// error's Gauss–Markov chain (gnss/track/ppk_error_model.hpp). NaN: not a PPK epoch (a pole, a lone pair),
   /// outside the chain, its prior white.
   double time_s = std::numeric_limits<double>::quiet_NaN();
   std::string source;  ///< for messages: "epoch 2024-… (lamp_track.csv line 12)", "pole 'P3'"

@@ -5,9 +5,9 @@
 #include <array>
 #include <vector>
 
+#include "gnss/track/ppk_error_model.hpp"
 #include "optim/bundle/bundle_parameters.hpp"
 #include "optim/network/network_adjustment.hpp"
-#include "optim/network/ppk_error_model.hpp"
 
 namespace rangecal {
 
@@ -34,7 +34,7 @@ struct NetworkLayout {
   int n_camera_parameters = 0;
   std::vector<std::vector<std::size_t>> by_point;
   /// L⁻¹ per point, L·Lᵀ its prior's covariance: the survey's for a pole; the white part
-  /// S·Σ_pos·S of the error model for a PPK epoch (ppk_error_model.hpp).
+  /// S·Σ_pos·S of the error model for a PPK epoch (gnss/track/ppk_error_model.hpp).
   std::vector<Eigen::Matrix3d> prior_whiten;
   /// Per point, the whole covariance of its prior under the error model (white part + σ_g²): what
   /// the outlier tests weigh a fix by alone.

@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "config/number_format.hpp"
-#include "optim/network/ppk_error_model.hpp"
+#include "gnss/track/ppk_error_model.hpp"
 #include "optim/network/restricted_likelihood.hpp"
 
 namespace rangecal {

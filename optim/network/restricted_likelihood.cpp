@@ -72,7 +72,7 @@ void thin_chain(NetworkLayout* l, NetworkSelection* sel, std::size_t max_states)
   l->gm_chain = std::move(kept);
 }
 
-/// The AR(1) chain's residual weights (ppk_error_model.hpp) per state j and axis: φ_j and
+/// The AR(1) chain's residual weights (gnss/track/ppk_error_model.hpp) per state j and axis: φ_j and
 /// w_j² = 1/(σ_g²·(1 − φ_j²)) (w_0² = 1/σ_g²), and their derivatives in log τ.
 struct ChainStep {
   Vector3d phi = Vector3d::Zero(), w2 = Vector3d::Zero();
@@ -206,7 +206,7 @@ double factorise(const RemlMission& f, const LogParameters& x, bool chain, Facto
   for (std::size_t k = 0; k < np; ++k) {
     if (!f.in_solve[k]) continue;
     Matrix3d V = F->lin[k].V;
-    if (f.fix[k]) {  // the fix X + g + w, Cov(w) = S·Σ_pos·S (ppk_error_model.hpp)
+    if (f.fix[k]) {  // the fix X + g + w, Cov(w) = S·Σ_pos·S (gnss/track/ppk_error_model.hpp)
       const Matrix3d white = scale * (*l.points)[k].prior_cov * scale;
       F->P[k] = white.inverse();
       log_det += std::log(white.determinant());

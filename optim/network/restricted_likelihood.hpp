@@ -2,7 +2,7 @@
 // The restricted likelihood of the network's variance components, with its derivatives
 // (docs/optimisation.md "Correlated PPK errors — estimation" and "Image variance components";
 // Patterson & Thompson 1971, REML):
-// the PPK error model (ppk_error_model.hpp) and each camera's image scale s_c — the σ of its lamp
+// the PPK error model (gnss/track/ppk_error_model.hpp) and each camera's image scale s_c — the σ of its lamp
 // centroids as a multiple of the stated σ, so that their covariance is s_c²·σ_px²·I. With the states g
 // integrated out under their AR(1) prior Q and the cameras, points (x) under a flat prior, the
 // restricted deviance is

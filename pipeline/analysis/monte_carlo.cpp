@@ -65,7 +65,7 @@ CameraTruth make_truth(const MonteCarloCamera& c, bool shared, const PpkErrorMod
       throw_config_error("", name,
                          "camera " + c.problem.camera_id + " has " + std::to_string(size) + " entries for " +
                              std::to_string(n) + " observations");
-  // The white part of a fix is S·Σ_X·S (optim/network/ppk_error_model.hpp); S = 1 leaves L as it is.
+  // The white part of a fix is S·Σ_X·S (gnss/track/ppk_error_model.hpp); S = 1 leaves L as it is.
   const bool scaled = model.white_scale_h != 1 || model.white_scale_v != 1;
   const Eigen::Matrix3d S = model.white_scale().asDiagonal();
   CameraTruth t;

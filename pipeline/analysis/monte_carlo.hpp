@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "optim/network/ppk_error_model.hpp"
+#include "gnss/track/ppk_error_model.hpp"
 #include "pipeline/steps/calibration_methods.hpp"
 #include "vision/camera/calibration_result.hpp"
 #include "vision/triangulation/triangulation.hpp"
@@ -61,7 +61,7 @@ struct MonteCarloOptions {
   /// Use the cameras' world_noise_key (shared epochs and poles); false: every observation of every
   /// camera draws its own world noise (cameras independent, as the triangulation σ assumes).
   bool shared_world_noise = true;
-  /// The PPK error model of the world noise (optim/network/ppk_error_model.hpp): a PPK fix (an
+  /// The PPK error model of the world noise (gnss/track/ppk_error_model.hpp): a PPK fix (an
   /// observation with a finite epoch time) draws its white part by S·L·z (S the white scale, L·Lᵀ = Σ_X)
   /// and, when the model is correlated, the Gauss–Markov value of its epoch — one sequence per ENU axis
   /// over the epochs in time order by the exact discretisation (docs/simulator.md "PPK error model"),

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "optim/network/ppk_error_model.hpp"
+#include "gnss/track/ppk_error_model.hpp"
 #include "vision/camera/calibration_result.hpp"
 
 namespace rangecal {

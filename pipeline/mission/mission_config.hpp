@@ -10,7 +10,7 @@
 
 #include "gnss/geodesy/geodetic_origin.hpp"
 #include "gnss/time/utc_time.hpp"
-#include "optim/network/ppk_error_model.hpp"
+#include "gnss/track/ppk_error_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
 #include "vision/tracks/track_formats.hpp"
 

@@ -1,14 +1,14 @@
 #pragma once
 // The PPK corrections' autocorrelation against the error model's (docs/outputs.md "PPK error
 // model"). A correction is adjusted − PPK fix (gnss/lamp_track_adjusted.csv): where the cameras place
-// the lamp well it is minus the fix's error, e = w + g (optim/network/ppk_error_model.hpp), so its
+// the lamp well it is minus the fix's error, e = w + g (gnss/track/ppk_error_model.hpp), so its
 // autocorrelation at lag Δt > 0 should follow the model's
 //   ρ(Δt) = σ_g²·exp(−Δt/τ) / (σ_w² + σ_g²),   σ_w = s·(the .pos sd),
 // zero for a white model. Epochs are irregular and the flights are separated by gaps, so pairs are
 // binned by their time lag and taken only up to a largest lag.
 #include <vector>
 
-#include "optim/network/ppk_error_model.hpp"
+#include "gnss/track/ppk_error_model.hpp"
 
 namespace rangecal {
 

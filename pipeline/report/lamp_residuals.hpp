@@ -5,14 +5,14 @@
 //   C_i = σ_px²·I + J_X·Σ_X·J_Xᵀ,  J_X = ∂pixel/∂X,  Σ_X = S·diag(sdE², sdN², sdU²)·S + diag(σ_g²)
 // (kDefaultWorldSigmaM where correspondences.csv carries no sd), so σu = √C_i(0,0), σv = √C_i(1,1).
 // S and σ_g are those of the PPK error model the calibration weighed the fixes by
-// (optim/network/ppk_error_model.hpp: a fix's error is white S·Σ_pos·S plus a Gauss–Markov part of
+// (gnss/track/ppk_error_model.hpp: a fix's error is white S·Σ_pos·S plus a Gauss–Markov part of
 // stationary variance σ_g²): the residual against the fix carries both parts. Without a model,
 // S = I and σ_g = 0.
 #include <Eigen/Core>
 #include <limits>
 #include <vector>
 
-#include "optim/network/ppk_error_model.hpp"
+#include "gnss/track/ppk_error_model.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/io/residuals_csv.hpp"
 #include "vision/camera/calibration_result.hpp"

@@ -9,7 +9,7 @@
 
 #include <cstdint>
 #include <vector>
-#include "optim/network/ppk_error_model.hpp"
+#include "gnss/track/ppk_error_model.hpp"
 
 namespace rangecal {
 
@@ -49,7 +49,7 @@ std::vector<Eigen::Vector3d> draw_ppk_correlated_error(const PpkCorrelatedError&
 /// whole variance of an epoch, not its correlation, and knows nothing of a bias.
 Eigen::Vector3d reported_sd_m(const Eigen::Vector3d& white_sd_m, const PpkCorrelatedError& model);
 
-/// The network's error model of these errors (optim/network/ppk_error_model.hpp; docs/gnss.md "PPK
+/// The network's error model of these errors (gnss/track/ppk_error_model.hpp; docs/gnss.md "PPK
 /// error model"): the white part as a fraction of the reported sd, the GM sd and τ (E for
 /// horizontal, U for vertical). White (the default model) without a GM part on both axes; a
 /// per-flight bias is not in it.

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "gnss/formats/pole_survey_csv.hpp"
+#include "gnss/track/ppk_error_model.hpp"
 #include "optim/bundle/bundle_observation.hpp"
-#include "optim/network/ppk_error_model.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/mission/mission_config.hpp"
 #include "vision/camera/sensor_geometry.hpp"

@@ -8,7 +8,7 @@
 // the model (optim/bundle/correlated_ppk_covariance.hpp bundle_covariance_under). That is the
 // covariance of the white-weighted estimator at that camera; the method's estimate stays its own and
 // the method is not run again.
-#include "optim/network/ppk_error_model.hpp"
+#include "gnss/track/ppk_error_model.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 #include "vision/camera/calibration_result.hpp"
 

@@ -67,7 +67,7 @@ NetworkProblem make_network_problem(const std::vector<NetworkCameraInput>& cams,
                              : Eigen::Matrix3d(le.sd_enu.cwiseProduct(le.sd_enu).asDiagonal());
           pt.quality = le.quality;
           // Seconds from the track's first epoch: the epoch's place in a correlated PPK error model's
-          // Gauss–Markov chain (optim/network/ppk_error_model.hpp).
+          // Gauss–Markov chain (gnss/track/ppk_error_model.hpp).
           pt.time_s = 1e-9 * static_cast<double>(le.utc.ns - track.epochs.front().utc.ns);
           pt.source = "epoch " + format_iso8601_utc(le.utc);
           it = point_of_epoch.emplace(static_cast<std::size_t>(epoch), n.points.size()).first;

@@ -1,4 +1,4 @@
-// The network under a correlated PPK error model (optim/network/ppk_error_model.hpp: white part plus
+// The network under a correlated PPK error model (gnss/track/ppk_error_model.hpp: white part plus
 // a Gauss–Markov process carried as one state per epoch) against the independent correlated
 // Cramér–Rao bound of tests/support/correlated_crb.hpp, which holds Σ_PPK dense and shares only the
 // camera model with optim/network:

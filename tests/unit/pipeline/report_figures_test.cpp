@@ -174,7 +174,7 @@ TEST(ReportFigures, NoiseModelSigmaIsPixelNoisePlusProjectedPpkSd) {
 
 TEST(ReportFigures, NoiseModelTakesThePpkErrorModelTheCalibrationUsed) {
   // Under the model, a fix's error is white S·Σ_pos·S plus the Gauss–Markov part of variance σ_g²
-  // (optim/network/ppk_error_model.hpp): the residual's σ carries both.
+  // (gnss/track/ppk_error_model.hpp): the residual's σ carries both.
   const Camera cam = test::range_camera();
   CalibrationResult r;
   r.camera = cam;

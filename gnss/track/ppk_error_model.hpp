@@ -1,6 +1,6 @@
 #pragma once
-// The PPK error model of the network (docs/optimisation.md "Correlated PPK errors"): per ENU axis,
-// the error of a fix is
+// The PPK error model of the fixes (docs/gnss.md "PPK error model", docs/optimisation.md
+// "Correlated PPK errors"): per ENU axis, the error of a fix is
 //   e_k = w_k + g_k,    w_k white, Cov(w_k) = S·Σ_pos,k·S,   S = diag(s_h, s_h, s_v),
 //   g_k first-order Gauss–Markov: E[g_k g_j] = σ_g²·exp(−|t_k − t_j|/τ), axes uncorrelated,
 // Σ_pos,k the fix's own covariance from the .pos sd columns (which RTKLIB, and rangecal's simulator,
