@@ -46,12 +46,10 @@ TEST(FrameFormats, EachExtensionSelectsExactlyOneFormat) {
   for (const auto& [ext, formats] : owners) {
     ASSERT_EQ(formats.size(), 1u) << ext << " is claimed by " << formats.size() << " formats";
     EXPECT_EQ(ext[0], '.') << ext;
-    EXPECT_EQ(ext, [&] {
-      std::string lower = ext;
-      std::transform(lower.begin(), lower.end(), lower.begin(),
-                     [](unsigned char c) { return std::tolower(c); });
-      return lower;
-    }()) << "extensions are listed in lower case";
+    std::string lower = ext;  // (a structured binding cannot be captured in C++17)
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    EXPECT_EQ(ext, lower) << "extensions are listed in lower case";
   }
   // Lookup by extension, in any case, lands on the format that lists it; a companion file (a
   // recording's header) is no frame file of its own.
