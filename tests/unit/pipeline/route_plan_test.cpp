@@ -26,6 +26,7 @@
 #include "pipeline/analysis/network_plan.hpp"
 #include "pipeline/analysis/network_vs_per_camera.hpp"
 #include "support/ascent_routes.hpp"
+#include "support/expect_error.hpp"
 #include "support/paths.hpp"
 #include "support/sharper_images.hpp"
 #include "vision/triangulation/triangulation.hpp"
@@ -476,6 +477,25 @@ TEST(Plan, PerCameraIntersectionWithCrossCovarianceMatchesMonteCarlo) {
                 mc(i, p + i) / std::sqrt(mc(i, i) * mc(p + i, p + i)), std::sqrt(mc(i, i) / joint(i, i)));
   EXPECT_NEAR(rho_mc, rho_pred, 0.3);
   std::printf("  %.1f s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+TEST(Plan, FreeSetDefaultsToTheScenariosMissionAndRefusesABadOne) {
+  // `plan` predicts the calibration the scenario's mission would make: its mission_calibrate.free,
+  // else f, k1, pose; a free set that is not a list of parameter names is refused naming the
+  // scenario file and the field (exit 2), before any work.
+  Scenario s;
+  s.file = "routes.json";
+  EXPECT_EQ(scenario_free_parameters(s), (std::vector<std::string>{"f", "k1", "pose"}));
+  s.mission_calibrate = nlohmann::json::parse(R"({"free": ["f", "k1", "sx", "u0", "v0", "pose"]})");
+  EXPECT_EQ(scenario_free_parameters(s), (std::vector<std::string>{"f", "k1", "sx", "u0", "v0", "pose"}));
+  for (const char* bad :
+       {R"({"free": "f"})", R"({"free": []})", R"({"free": ["f", 3]})", R"({"free": ["f", "focal"]})"}) {
+    s.mission_calibrate = nlohmann::json::parse(bad);
+    const Error e = test::expect_error([&] { scenario_free_parameters(s); });
+    EXPECT_EQ(e.exit_code(), 2) << bad;
+    EXPECT_EQ(e.file(), "routes.json") << bad;
+    EXPECT_EQ(e.field(), "mission_calibrate.free") << bad;
+  }
 }
 
 }  // namespace
