@@ -106,6 +106,7 @@ nlohmann::json calibrate_record_json(const CalibrateRecord& r) {
   if (!r.network.is_null()) j["network"] = r.network;
   if (r.method_choice) write_fields(kMethodChoiceFields, *r.method_choice, &j["method_choice"]);
   if (!r.held_out.is_null()) j["held_out"] = r.held_out;
+  if (!r.lens_selection.is_null()) j["lens_selection"] = r.lens_selection;
   return j;
 }
 
@@ -118,6 +119,7 @@ CalibrateRecord parse_calibrate_record(const nlohmann::json& j, const std::strin
     r.cameras = parse_by_camera<CalibrateCameraRecord>(*cams, parse_camera);
   if (const auto n = v.find("network")) r.network = n->json();
   if (const auto h = v.find("held_out")) r.held_out = h->json();
+  if (const auto h = v.find("lens_selection")) r.lens_selection = h->json();
   if (const auto m = v.find("method_choice")) {
     m->require_object("an object {method, shared_epochs, why}");
     read_fields(kMethodChoiceFields, *m, &r.method_choice.emplace());

@@ -476,28 +476,35 @@ std::string method_name(const JsonView& v) {
   return m;
 }
 
+// An array of distinct free-parameter names (docs/config.md `calibrate.free`), at least `min_size`.
+std::vector<std::string> free_parameter_names(const JsonView& f, std::size_t min_size) {
+  const std::string form = std::string(min_size > 0 ? "a non-empty" : "an") +
+                           " array of distinct parameter names from " + join(kFreeNames);
+  const std::size_t n = f.require_array(form, min_size);
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < n; ++i) {
+    const JsonView e = f.element(i);
+    const std::string name = e.string("a parameter name, one of " + join(kFreeNames));
+    if (std::find(kFreeNames.begin(), kFreeNames.end(), name) == kFreeNames.end())
+      e.fail("unknown parameter '" + name + "'" + did_you_mean(name, kFreeNames) + "; expected one of " +
+             join(kFreeNames));
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      e.fail("parameter '" + name + "' is listed twice");
+    names.push_back(name);
+  }
+  return names;
+}
+
 CalibrateConfig parse_calibrate(const JsonView& c) {
   c.require_object(
       "an object {\"method\", \"free\", \"compare\", \"use_control_poles\", \"control_sigma_m\", \"seed\", "
-      "\"image_sigma\"}");
-  c.check_keys({"method", "free", "compare", "use_control_poles", "control_sigma_m", "seed", "image_sigma"});
+      "\"image_sigma\", \"free_candidates\"}");
+  c.check_keys({"method", "free", "compare", "use_control_poles", "control_sigma_m", "seed", "image_sigma",
+                "free_candidates"});
   CalibrateConfig cal;
   if (auto m = c.find("method")) cal.method = method_name(*m);
-  if (auto f = c.find("free")) {
-    const std::string form = "a non-empty array of distinct parameter names from " + join(kFreeNames);
-    const std::size_t n = f->require_array(form, 1);
-    cal.free.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-      const JsonView e = f->element(i);
-      const std::string name = e.string("a parameter name, one of " + join(kFreeNames));
-      if (std::find(kFreeNames.begin(), kFreeNames.end(), name) == kFreeNames.end())
-        e.fail("unknown parameter '" + name + "'" + did_you_mean(name, kFreeNames) + "; expected one of " +
-               join(kFreeNames));
-      if (std::find(cal.free.begin(), cal.free.end(), name) != cal.free.end())
-        e.fail("parameter '" + name + "' is listed twice");
-      cal.free.push_back(name);
-    }
-  }
+  if (auto f = c.find("free")) cal.free = free_parameter_names(*f, 1);
+  if (auto f = c.find("free_candidates")) cal.free_candidates = free_parameter_names(*f, 0);
   if (auto cmp = c.find("compare")) {
     const std::size_t n = cmp->require_array("an array of method names (" + join(kMethods) + ")");
     for (std::size_t i = 0; i < n; ++i) {

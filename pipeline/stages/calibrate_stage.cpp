@@ -25,6 +25,7 @@
 #include "pipeline/steps/covariance_under_model.hpp"
 #include "pipeline/steps/export_check.hpp"
 #include "pipeline/steps/held_out_prediction.hpp"
+#include "pipeline/steps/lens_selection.hpp"
 #include "pipeline/steps/network_problem.hpp"
 #include "vision/camera/dlt_export.hpp"
 #include "vision/camera/opencv_camera_export.hpp"
@@ -278,34 +279,56 @@ std::vector<std::string> inconsistent_cameras(const NetworkResult& r, const PerC
 
 /// The held-out check of a Gauss–Markov model the network estimated (docs/optimisation.md "Held-out
 /// blocks"): the estimated family and the white family each calibrate on alternate blocks and predict
-/// the others. The white family replaces the estimate when the estimate's σ fails on the held-out
-/// epochs (z rms above kHeldOutZ) and the white family predicts them clearly better: its held-out
-/// predictive density at least kHeldOutDensityRatio times the estimate's over the epochs (the score
-/// is −2 ln p per epoch, so n·Δscore ≥ 2 ln 10; Jeffreys' "strong" evidence). A score merely lower
-/// is no evidence: on one draw of the demo's 26.6-s record the white family scored 0.011 lower over
-/// 66 epochs (a density ratio of 1.4) with σ 1.4× too small (z rms 1.42), and switching to it
-/// stated check-pole σ of 0.37 cm for an error of 1.31 cm. Returns the reason to switch, or empty;
-/// `record` receives the scores.
-constexpr double kHeldOutZ = 1.25;
-constexpr double kHeldOutDensityRatio = 10;
+/// the others. The white family replaces the estimate when it predicts them clearly better: its
+/// held-out predictive density at least kHeldOutDensityRatio times the estimate's over the epochs
+/// (the score is −2 ln p per epoch, so n·Δscore ≥ 2 ln 10; Jeffreys' "strong" evidence), whether or
+/// not the estimate's σ holds there (a σ that holds around a larger error is still the worse
+/// prediction). A score merely lower is no evidence: on one draw of the demo's 26.6-s record the
+/// white family scored 0.011 lower over 66 epochs (a density ratio of 1.4) with σ 1.4× too small
+/// (z rms 1.42), and switching to it stated check-pole σ of 0.37 cm for an error of 1.31 cm.
+/// Returns the reason to switch, or empty; `record` receives the scores.
+
+/// The held-out blocks' options for a mission whose network solved to `r`: its PPK outliers not scored.
+HeldOutOptions held_out_options(const NetworkResult& r) {
+  HeldOutOptions o;
+  o.not_scored.resize(r.points.size());
+  for (std::size_t k = 0; k < r.points.size(); ++k) o.not_scored[k] = r.points[k].ppk_outlier;
+  return o;
+}
 
 std::string held_out_check(const NetworkProblem& n, const NetworkResult& r, const GnssConfig& gnss,
                            const CalibrateConfig& calibrate, nlohmann::json* record) {
   if (!r.ppk_estimate || !r.ppk_error.correlated()) return {};
   const std::vector<HeldOutScore> scores =
       score_held_out_blocks(n.cameras, n.points, n.observations,
-                            {{"estimated", network_options(gnss, calibrate, false)},
-                             {"white", network_options(gnss, calibrate, true)}});
+                            {{"estimated", network_options(gnss, calibrate, false), {}},
+                             {"white", network_options(gnss, calibrate, true), {}}},
+                            held_out_options(r));
   *record = held_out_scores_json(scores);
   const HeldOutScore &estimated = scores[0], &white = scores[1];
-  if (!estimated.scored || !white.scored || estimated.z_rms <= kHeldOutZ) return {};
-  const double epochs = static_cast<double>(std::min(estimated.epochs, white.epochs));
-  if (epochs * (estimated.score - white.score) < 2 * std::log(kHeldOutDensityRatio)) return {};
-  return "held-out blocks: the estimated model's σ does not hold (z rms " +
-         format_number("%.2f", estimated.z_rms) + ", rms " + format_number("%.1f", 100 * estimated.rms_m) +
-         " cm over " + std::to_string(estimated.epochs) +
-         " epochs) and the white model predicts them better (z rms " + format_number("%.2f", white.z_rms) +
-         ", rms " + format_number("%.1f", 100 * white.rms_m) + " cm)";
+  if (!clearly_better(white, estimated)) return {};
+  return "held-out blocks: the white model predicts them better (rms " +
+         format_number("%.1f", 100 * white.rms_m) + " cm, z rms " + format_number("%.2f", white.z_rms) +
+         ", against the estimated model's " + format_number("%.1f", 100 * estimated.rms_m) + " cm, z rms " +
+         format_number("%.2f", estimated.z_rms) + ", over " + std::to_string(estimated.epochs) + " epochs)";
+}
+
+/// Each camera's lens set chosen by the held-out blocks under the family the guard kept
+/// (pipeline/steps/lens_selection.hpp): the chosen free sets replace the problem's. True when a
+/// camera gained a parameter (the network is then to be solved again).
+bool select_lenses(const MissionConfig& cfg, bool white_only, const NetworkResult& r, NetworkProblem* n,
+                   PerCameraPass* pass) {
+  if (cfg.calibrate.free_candidates.empty()) return false;
+  std::vector<std::string> ids;
+  for (const auto& done : pass->done) ids.push_back(done.first);
+  CalibrateRecord* record = &pass->record;
+  const LensSelection s = select_lens_parameters(n->cameras, n->points, n->observations,
+                                                 network_options(cfg.gnss, cfg.calibrate, white_only),
+                                                 cfg.calibrate.free_candidates, ids, held_out_options(r));
+  record->lens_selection = lens_selection_json(s, cfg.calibrate.free_candidates, ids);
+  const bool changed = std::any_of(s.added.begin(), s.added.end(), [](const auto& a) { return !a.empty(); });
+  if (changed) n->cameras = s.cameras;
+  return changed;
 }
 
 /// Under a model the network estimated with a Gauss–Markov part, the per-camera bundle restates its
@@ -516,9 +539,12 @@ StageLog run_calibrate_stage(const MissionConfig& cfg) {
             held_out_check(n, solution->result, cfg.gnss, cfg.calibrate, &pass.record.held_out);
         if (!held_out.empty()) inconsistent.push_back(held_out);
       }
-      if (!inconsistent.empty()) {
-        // The guard's fallback: the white family, image σ still estimated; the reasons stay with it.
-        solution = solve_network(n, track, cfg.gnss, cfg.calibrate, /*white_only=*/true);
+      const bool white_only = !inconsistent.empty();
+      // The guard's fallback: the white family, image σ still estimated; the reasons stay with it.
+      if (white_only) solution = solve_network(n, track, cfg.gnss, cfg.calibrate, white_only);
+      if (select_lenses(cfg, white_only, solution->result, &n, &pass))
+        solution = solve_network(n, track, cfg.gnss, cfg.calibrate, white_only);
+      if (white_only) {
         std::vector<std::string>& why = solution->result.ppk_estimate->guard_reasons;
         why.insert(why.end(), inconsistent.begin(), inconsistent.end());
       }

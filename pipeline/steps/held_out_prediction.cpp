@@ -63,10 +63,13 @@ struct Residual {
 // The held-out epochs of the other parity, triangulated from the cameras `r` calibrated.
 std::vector<Residual> predict(const NetworkResult& r, const std::vector<NetworkPoint>& points,
                               const std::vector<NetworkObservation>& observations,
-                              const std::vector<long>& block, int parity) {
+                              const std::vector<long>& block, int parity,
+                              const std::vector<bool>& not_scored) {
   std::map<std::size_t, std::vector<const NetworkObservation*>> seen;
   for (const NetworkObservation& o : observations)
-    if (block[o.point] >= 0 && block[o.point] % 2 != parity) seen[o.point].push_back(&o);
+    if (block[o.point] >= 0 && block[o.point] % 2 != parity &&
+        !(o.point < not_scored.size() && not_scored[o.point]))
+      seen[o.point].push_back(&o);
   // Cross-covariances of the cameras' calibrations, from the joint covariance.
   const std::size_t n_cam = r.cameras.size();
   std::vector<Residual> out;
@@ -135,8 +138,9 @@ std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>
     for (int parity = 0; parity < 2 && s.why.empty(); ++parity) {
       const Split half = calibration_half(points, observations, block, parity);
       try {
-        const NetworkResult r = network_adjust(cameras, half.points, half.observations, c.options);
-        const std::vector<Residual> e = predict(r, points, observations, block, parity);
+        const NetworkResult r = network_adjust(c.cameras.empty() ? cameras : c.cameras, half.points,
+                                               half.observations, c.options);
+        const std::vector<Residual> e = predict(r, points, observations, block, parity, options.not_scored);
         if (e.size() < options.min_epochs)
           s.why = "split " + std::to_string(parity) + ": " + std::to_string(e.size()) +
                   " held-out epochs seen by two cameras (fewer than " + std::to_string(options.min_epochs) +
@@ -169,6 +173,12 @@ std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>
     scores.push_back(s);
   }
   return scores;
+}
+
+bool clearly_better(const HeldOutScore& b, const HeldOutScore& a) {
+  if (!a.scored || !b.scored) return false;
+  const double epochs = static_cast<double>(std::min(a.epochs, b.epochs));
+  return epochs * (a.score - b.score) >= 2 * std::log(kHeldOutDensityRatio);
 }
 
 nlohmann::json held_out_scores_json(const std::vector<HeldOutScore>& scores) {

@@ -26,12 +26,17 @@ namespace rangecal {
 struct HeldOutOptions {
   double block_s = 15;          ///< block length (s)
   std::size_t min_epochs = 20;  ///< held-out epochs (≥ 2 cameras) needed in each split
+  /// Per point (empty: none): not scored as a held-out epoch. The calibrate stage gives the fixes
+  /// the whole mission's network rejected as PPK outliers: a fix known wrong tests no prediction.
+  std::vector<bool> not_scored;
 };
 
-/// One candidate: a name for the record and the network's options it calibrates with.
+/// One candidate: a name for the record, the network's options it calibrates with and, when not
+/// empty, its own cameras (a free set of its own; else the cameras given to the scoring).
 struct HeldOutCandidate {
   std::string name;
   NetworkOptions options;
+  std::vector<NetworkCamera> cameras;
 };
 
 /// A candidate's prediction of the held-out epochs, pooled over both splits.
@@ -55,6 +60,13 @@ std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>
                                                 const std::vector<NetworkObservation>& observations,
                                                 const std::vector<HeldOutCandidate>& candidates,
                                                 const HeldOutOptions& options = {});
+
+/// The evidence a choice between candidates asks for: `b`'s held-out predictive density at least
+/// kHeldOutDensityRatio times `a`'s over their epochs. The score is −2 ln p per epoch up to a
+/// constant, so the test is n·(score_a − score_b) ≥ 2 ln 10 (Jeffreys' "strong" evidence). A score
+/// merely lower is no evidence.
+inline constexpr double kHeldOutDensityRatio = 10;
+bool clearly_better(const HeldOutScore& b, const HeldOutScore& a);
 
 /// run.json `stages.calibrate.counts.held_out`: one object per candidate, {candidate, scored, why |
 /// epochs, rms_m, median_m, sigma_rms_m, z_rms, score}.

@@ -122,6 +122,7 @@ TEST(MissionConfig, DefaultsOfOptionalKeys) {
   // The principal point free under its prior by default (docs/config.md "The principal point").
   EXPECT_EQ(c.calibrate.free, (std::vector<std::string>{"f", "k1", "u0", "v0", "pose"}));
   EXPECT_TRUE(c.calibrate.compare.empty());
+  EXPECT_TRUE(c.calibrate.free_candidates.empty());  // every camera keeps `free`
   EXPECT_FALSE(c.calibrate.use_control_poles);
   EXPECT_EQ(c.calibrate.seed, 1u);
   EXPECT_EQ(c.output_dir, "/missions/m1/out");
@@ -358,6 +359,21 @@ TEST(MissionConfigErrors, UnknownFreeParameterSuggests) {
   expect_error(j, "calibrate.free[1]", "did you mean 'k1'?");
   j["calibrate"] = {{"free", {"f", "clock_ofset"}}};
   expect_error(j, "calibrate.free[1]", "did you mean 'clock_offset'?");
+}
+
+TEST(MissionConfigErrors, FreeCandidatesAreFreeParameterNames) {
+  auto j = minimal();
+  j["calibrate"] = {{"free_candidates", {"k2", "k4"}}};
+  expect_error(j, "calibrate.free_candidates[1]", "unknown parameter 'k4'");
+  j["calibrate"] = {{"free_candidates", {"k2", "k2"}}};
+  expect_error(j, "calibrate.free_candidates[1]", "listed twice");
+  j["calibrate"] = {{"free_candidates", "k2"}};
+  expect_error(j, "calibrate.free_candidates", "array of distinct parameter names");
+  j["calibrate"] = {{"free_candidates", {"k2", "p1", "p2"}}};
+  const MissionConfig cfg = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_EQ(cfg.calibrate.free_candidates, (std::vector<std::string>{"k2", "p1", "p2"}));
+  j["calibrate"] = {{"free_candidates", nlohmann::json::array()}};
+  EXPECT_TRUE(parse_mission_config(j.dump(), kPath, false).calibrate.free_candidates.empty());
 }
 
 TEST(MissionConfig, ClockOffsetIsAFreeParameter) {
