@@ -146,7 +146,7 @@ struct CalibrateConfig {
   /// calibrate.free_candidates: parameters each camera of the network may add to `free` when the
   /// held-out blocks show it predicts clearly better (pipeline/steps/lens_selection.hpp); empty:
   /// every camera keeps `free`.
-  std::vector<std::string> free_candidates;
+  std::vector<std::string> free_candidates = {"k2"};
 };
 
 struct IntersectConfig {

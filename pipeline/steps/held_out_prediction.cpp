@@ -130,12 +130,13 @@ std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>
   for (std::size_t k = 0; k < points.size(); ++k)
     if (std::isfinite(points[k].time_s))
       block[k] = static_cast<long>(std::floor((points[k].time_s - t0) / options.block_s));
+  if (!options.blocks.empty()) block = options.blocks;
   std::vector<HeldOutScore> scores;
   for (const HeldOutCandidate& c : candidates) {
     HeldOutScore s;
     s.candidate = c.name;
     std::vector<Residual> all;
-    for (int parity = 0; parity < 2 && s.why.empty(); ++parity) {
+    for (int parity = 0; parity < (options.both_splits ? 2 : 1) && s.why.empty(); ++parity) {
       const Split half = calibration_half(points, observations, block, parity);
       try {
         const NetworkResult r = network_adjust(c.cameras.empty() ? cameras : c.cameras, half.points,
@@ -173,6 +174,29 @@ std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>
     scores.push_back(s);
   }
   return scores;
+}
+
+std::vector<long> outer_ring_blocks(const std::vector<NetworkCamera>& cameras,
+                                    const std::vector<NetworkPoint>& points,
+                                    const std::vector<NetworkObservation>& observations, std::size_t camera,
+                                    double outer_share) {
+  const CameraIntrinsics& in = cameras[camera].initial.intr;
+  std::vector<double> radius(points.size(), -1);
+  for (const NetworkObservation& o : observations)
+    if (o.camera == camera && std::isfinite(points[o.point].time_s))
+      radius[o.point] = (o.pixel - Eigen::Vector2d(in.u0_px, in.v0_px)).norm();
+  std::vector<double> seen;
+  for (double r : radius)
+    if (r >= 0) seen.push_back(r);
+  std::vector<long> block(points.size(), -1);
+  if (seen.empty()) return block;
+  const auto rank =
+      static_cast<std::ptrdiff_t>(std::floor((1 - outer_share) * static_cast<double>(seen.size() - 1)));
+  std::nth_element(seen.begin(), seen.begin() + rank, seen.end());
+  const double rim = seen[static_cast<std::size_t>(rank)];
+  for (std::size_t k = 0; k < points.size(); ++k)
+    if (std::isfinite(points[k].time_s)) block[k] = radius[k] > rim ? 1 : 0;
+  return block;
 }
 
 bool clearly_better(const HeldOutScore& b, const HeldOutScore& a) {

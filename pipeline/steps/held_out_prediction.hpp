@@ -29,6 +29,11 @@ struct HeldOutOptions {
   /// Per point (empty: none): not scored as a held-out epoch. The calibrate stage gives the fixes
   /// the whole mission's network rejected as PPK outliers: a fix known wrong tests no prediction.
   std::vector<bool> not_scored;
+  /// Per point (empty: the time blocks above): its block, given. Points of even blocks (and of a
+  /// negative one: always calibrating) calibrate split 0, odd ones are predicted; with
+  /// `both_splits` the reverse is split 1.
+  std::vector<long> blocks;
+  bool both_splits = true;
 };
 
 /// One candidate: a name for the record, the network's options it calibrates with and, when not
@@ -60,6 +65,17 @@ std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>
                                                 const std::vector<NetworkObservation>& observations,
                                                 const std::vector<HeldOutCandidate>& candidates,
                                                 const HeldOutOptions& options = {});
+
+/// The blocks of an extrapolation test for camera `camera` (HeldOutOptions::blocks): 1 for each point
+/// whose observation in that camera lies farther from its starting principal point than the
+/// (1 − outer_share) quantile of its lamp observations' distances, 0 for the other points with a
+/// time, −1 for the rest. Calibrated on
+/// block 0 and predicting block 1 (both_splits false), a lens model is asked for the image's rim
+/// from the rest of the image: its extrapolation.
+std::vector<long> outer_ring_blocks(const std::vector<NetworkCamera>& cameras,
+                                    const std::vector<NetworkPoint>& points,
+                                    const std::vector<NetworkObservation>& observations, std::size_t camera,
+                                    double outer_share = 0.2);
 
 /// The evidence a choice between candidates asks for: `b`'s held-out predictive density at least
 /// kHeldOutDensityRatio times `a`'s over their epochs. The score is −2 ln p per epoch up to a

@@ -34,9 +34,20 @@ LensSelection select_lens_parameters(const std::vector<NetworkCamera>& cameras,
     const std::vector<HeldOutScore> scores =
         score_held_out_blocks(cameras, points, observations, trials, held_out);
     s.scores.insert(s.scores.end(), scores.begin(), scores.end());
+    // The same candidates asked for the rim of this camera's image from the rest of it.
+    HeldOutOptions rim_options = held_out;
+    rim_options.blocks = outer_ring_blocks(cameras, points, observations, c);
+    rim_options.both_splits = false;
+    std::vector<HeldOutCandidate> rim_trials = trials;
+    rim_trials.insert(rim_trials.begin(), {camera_ids[c] + " as chosen", options, s.cameras});
+    for (HeldOutCandidate& t : rim_trials) t.name += ", its rim";
+    const std::vector<HeldOutScore> rim =
+        score_held_out_blocks(cameras, points, observations, rim_trials, rim_options);
+    s.scores.insert(s.scores.end(), rim.begin(), rim.end());
     std::size_t pick = scores.size();
     for (std::size_t i = 0; i < scores.size(); ++i)
-      if (clearly_better(scores[i], best) && (pick == scores.size() || scores[i].score < scores[pick].score))
+      if (clearly_better(scores[i], best) && !clearly_better(rim[0], rim[i + 1]) &&
+          (pick == scores.size() || scores[i].score < scores[pick].score))
         pick = i;
     if (pick == scores.size()) continue;
     s.cameras[c] = trials[pick].cameras[c];

@@ -4,10 +4,12 @@
 // the calibration blocks can fit but not pin (k2 on a wide lens seen over part of its image) can
 // make the prediction there better or worse, and only a prediction of data the fit has not seen
 // tells which. Greedy, one camera at a time in input order: each candidate parameter not already
-// free is added to that camera's free set alone and scored by the held-out blocks
-// (pipeline/steps/held_out_prediction.hpp); the best is kept when it predicts clearly better than
-// the set before it (clearly_better: 10× the held-out predictive density), and the next camera is
-// tried against the set with it.
+// free is added to that camera's free set alone and scored twice (pipeline/steps/held_out_prediction.hpp):
+// on the time blocks, where it must predict clearly better than the set before it (clearly_better:
+// 10× the held-out predictive density), and on the camera's rim (outer_ring_blocks: calibrated
+// without the epochs it sees farthest from its principal point, predicting them), where it must
+// not predict clearly worse — a polynomial term is most wrong where it is extrapolated. The best
+// candidate that passes both is kept, and the next camera is tried against the set with it.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -20,7 +22,9 @@ namespace rangecal {
 struct LensSelection {
   std::vector<NetworkCamera> cameras;           ///< the problem's cameras, each with its chosen free set
   std::vector<std::vector<std::string>> added;  ///< per camera, the parameters added (in order)
-  std::vector<HeldOutScore> scores;             ///< every candidate scored, the starting set first
+  /// Every scoring: the starting set's on the time blocks first, then per camera its candidates' on
+  /// the time blocks, its chosen set's on its rim and its candidates' on its rim.
+  std::vector<HeldOutScore> scores;
   bool scored = false;  ///< false: the starting set could not be scored (its `why`); nothing added
 };
 

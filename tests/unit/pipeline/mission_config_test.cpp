@@ -122,7 +122,7 @@ TEST(MissionConfig, DefaultsOfOptionalKeys) {
   // The principal point free under its prior by default (docs/config.md "The principal point").
   EXPECT_EQ(c.calibrate.free, (std::vector<std::string>{"f", "k1", "u0", "v0", "pose"}));
   EXPECT_TRUE(c.calibrate.compare.empty());
-  EXPECT_TRUE(c.calibrate.free_candidates.empty());  // every camera keeps `free`
+  EXPECT_EQ(c.calibrate.free_candidates, (std::vector<std::string>{"k2"}));
   EXPECT_FALSE(c.calibrate.use_control_poles);
   EXPECT_EQ(c.calibrate.seed, 1u);
   EXPECT_EQ(c.output_dir, "/missions/m1/out");
