@@ -72,6 +72,7 @@ std::vector<TimedLabel> timed_labels(const CameraConfig& cam, const CameraTrackI
     const TrackedPoint& p = in.track.points[i];
     TimedLabel l;
     l.uv_px = p.uv;
+    l.sigma_px = p.sigma_px.value_or(0);
     l.line = p.line;
     double shift_s = readout * (p.uv.y() / height - 0.5);
     double sd = tc.timing_sigma_s;
@@ -160,6 +161,8 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
     pc["labels"] = tc.labels.size();
     pc["outside_image"] = in.track.outside_image_lines.size();
     pc["label_sigma_px"] = tc.label_sigma_px;
+    pc["labels_with_own_sigma"] =
+        std::count_if(tc.labels.begin(), tc.labels.end(), [](const TimedLabel& l) { return l.sigma_px > 0; });
     pc["label_sigma_source"] =
         estimated ? "network image variance component" : "pixel_sigma_px.track (stated)";
     pc["timing_sigma_s_median"] = median(timing);

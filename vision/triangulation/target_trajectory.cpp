@@ -34,6 +34,10 @@ double median_interval_s(const std::vector<TimedLabel>& labels) {
 void check_camera(const TrajectoryCamera& c) {
   if (!(std::isfinite(c.label_sigma_px) && c.label_sigma_px > 0))
     throw_input_error("", 0, "label_sigma_px", "camera " + c.id + ": the labels' σ must be positive");
+  for (const TimedLabel& l : c.labels)
+    if (!(std::isfinite(l.sigma_px) && l.sigma_px >= 0))
+      throw_input_error("", l.line, "sigma_px",
+                        "camera " + c.id + ": a label's σ must be positive (or 0: the camera's)");
   for (std::size_t i = 1; i < c.labels.size(); ++i)
     if (!(c.labels[i - 1].t < c.labels[i].t))
       throw_input_error("", c.labels[i].line, "frame",
@@ -71,7 +75,10 @@ std::optional<TriangulationView> view_at(const TrajectoryCamera& c, double max_g
   v.camera = c.camera;
   v.calibration = c.calibration;
   v.uv_px = (1 - w) * a.uv_px + w * b.uv_px;
-  v.pick_sigma_px = c.label_sigma_px;
+  // Interpolated like the timing σ: neighbouring labels' errors taken as one (a tracker's error
+  // moves slowly from frame to frame), which never understates it.
+  const auto sigma = [&](const TimedLabel& l) { return l.sigma_px > 0 ? l.sigma_px : c.label_sigma_px; };
+  v.pick_sigma_px = (1 - w) * sigma(a) + w * sigma(b);
   v.image_velocity_px_s = (b.uv_px - a.uv_px) / span;
   v.timing_sigma_s = (1 - w) * a.timing_sigma_s + w * b.timing_sigma_s;
   return v;

@@ -30,7 +30,9 @@ struct TimedLabel {
   UtcTime t;                                        ///< the label's true time (clock applied), UTC
   Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();  ///< px, docs/conventions.md
   double timing_sigma_s = 0;                        ///< 1σ of t (s)
-  long line = 0;                                    ///< its line in the track file, for messages
+  double sigma_px =
+      0;          ///< the label's own 1σ per axis (px, the track file's); 0: the camera's label_sigma_px
+  long line = 0;  ///< its line in the track file, for messages
 };
 
 /// One calibrated camera and its track of the target.
@@ -38,7 +40,7 @@ struct TrajectoryCamera {
   std::string id;
   Camera camera;
   CameraCovariance calibration;    ///< empty: taken as exact
-  double label_sigma_px = 1;       ///< a label's 1σ per axis (px, > 0)
+  double label_sigma_px = 1;       ///< a label's 1σ per axis (px, > 0) where it gives none of its own
   std::vector<TimedLabel> labels;  ///< strictly increasing t
   ImageCoverage coverage;          ///< where its calibration saw the lamp (empty: unknown)
 };

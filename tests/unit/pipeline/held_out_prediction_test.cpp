@@ -43,9 +43,9 @@ TEST(HeldOutPrediction, EstimatedModelHoldsAndUnderstatedFixesFail) {
   int estimated_better = 0;
   for (int d = 0; d < kMissions; ++d) {
     const NetworkInput in = network_input(stated, ppk, draw_network_noise(truth, ppk, &rng));
-    const std::vector<HeldOutScore> s =
-        score_held_out_blocks(in.cameras, in.points, in.observations,
-                              {{"estimated", estimated}, {"stated", held}, {"understated", understated}});
+    const std::vector<HeldOutScore> s = score_held_out_blocks(
+        in.cameras, in.points, in.observations,
+        {{"estimated", estimated, {}}, {"stated", held, {}}, {"understated", understated, {}}});
     for (const HeldOutScore& x : s) ASSERT_TRUE(x.scored) << x.candidate << ": " << x.why;
     std::printf(
         "mission %d: estimated z %.2f rms %.1f mm score %.2f | stated z %.2f rms %.1f mm score %.2f (%zu "

@@ -169,6 +169,43 @@ TEST(TargetTrajectory, GapsVelocityAndExtrapolation) {
   EXPECT_EQ(tr.single_camera, 0u);
 }
 
+// A label's own σ (the track file's sigma_px) replaces the camera's for that label: the label part
+// of an instant's covariance scales as σ² when every label gives its own, and an instant between a
+// label with σ and one without takes the σ between them.
+TEST(TargetTrajectory, ALabelsOwnSigmaReplacesTheCameras) {
+  std::mt19937_64 rng(3);
+  Simulated s = simulate(&rng, 0, 0, true, 2);
+  const std::vector<UtcTime> t = trajectory_instants(s.cameras, 5);
+  const Trajectory base = estimate_trajectory(s.cameras, t, nullptr);
+  for (TrajectoryCamera& c : s.cameras)
+    for (TimedLabel& l : c.labels) l.sigma_px = 2 * c.label_sigma_px;
+  const Trajectory own = estimate_trajectory(s.cameras, t, nullptr);
+  ASSERT_EQ(base.points.size(), own.points.size());
+  ASSERT_FALSE(base.points.empty());
+  for (std::size_t k = 0; k < base.points.size(); ++k)
+    EXPECT_NEAR(own.points[k].fix.cov_pick_m2.trace() / base.points[k].fix.cov_pick_m2.trace(), 4, 1e-6);
+  // One camera's labels alternate between 4× the camera's σ and none of their own: every instant
+  // lies between one of each, at weights w and 1 − w; its σ there is (1 − w)·σ_a + w·σ_b.
+  for (TrajectoryCamera& c : s.cameras)
+    for (std::size_t i = 0; i < c.labels.size(); ++i)
+      c.labels[i].sigma_px = i % 2 == 0 ? 4 * c.label_sigma_px : 0;
+  const Trajectory mixed = estimate_trajectory(s.cameras, t, nullptr);
+  for (std::size_t k = 0; k < base.points.size(); ++k) {
+    const double ratio = mixed.points[k].fix.cov_pick_m2.trace() / base.points[k].fix.cov_pick_m2.trace();
+    EXPECT_GT(ratio, 1 - 1e-9);
+    EXPECT_LT(ratio, 16 + 1e-9);
+  }
+  s.cameras[1].labels[3].sigma_px = -1;
+  s.cameras[1].labels[3].line = 5;
+  try {
+    estimate_trajectory(s.cameras, t, nullptr);
+    ADD_FAILURE() << "a negative label σ was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.line(), 5);
+    EXPECT_EQ(e.field(), "sigma_px");
+  }
+}
+
 TEST(TargetTrajectory, LabelsOutOfOrderAreAnInputError) {
   std::mt19937_64 rng(3);
   Simulated s = simulate(&rng, 0, 0, true, 1);
