@@ -12,6 +12,7 @@
 #include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
 #include "config/text_encoding.hpp"
+#include "config/utf8_check.hpp"
 
 namespace rangecal {
 

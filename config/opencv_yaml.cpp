@@ -11,6 +11,7 @@
 #include "config/error.hpp"
 #include "config/number_format.hpp"
 #include "config/text_encoding.hpp"
+#include "config/utf8_check.hpp"
 #include "config/xml_tree.hpp"
 
 namespace rangecal {

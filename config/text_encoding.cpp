@@ -1,6 +1,5 @@
 #include "config/text_encoding.hpp"
 
-#include "config/error.hpp"
 #include "config/number_format.hpp"
 
 namespace rangecal {
@@ -65,15 +64,6 @@ std::string printable_text(std::string_view text) {
     }
   }
   return out;
-}
-
-void require_utf8(std::string_view text, const std::string& file, long line, const std::string& field) {
-  const auto bad = first_invalid_utf8(text);
-  if (!bad) return;
-  throw_input_error(file, line, field,
-                    fmt::format("byte 0x{:02X}", static_cast<unsigned char>(text[*bad])) + " at column " +
-                        std::to_string(*bad + 1) +
-                        " is not UTF-8 text (is this a binary file, or text in another encoding?)");
 }
 
 }  // namespace rangecal

@@ -20,8 +20,4 @@ std::optional<std::size_t> first_invalid_utf8(std::string_view text);
 /// outside well-formed UTF-8 become `\xNN`.
 std::string printable_text(std::string_view text);
 
-/// Throws rangecal::Error (input) naming `file`, `line` and the column of the first byte of
-/// `text` that is not well-formed UTF-8; `what` names the field ("" for a whole line).
-void require_utf8(std::string_view text, const std::string& file, long line, const std::string& field);
-
 }  // namespace rangecal

@@ -6,7 +6,9 @@
 // without velocity).
 #include <vector>
 
-#include "optim/network/network_adjustment.hpp"
+#include "optim/bundle/bundle_observation.hpp"
+#include "optim/network/network_observation.hpp"
+#include "optim/network/network_options.hpp"
 
 namespace rangecal {
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "optim/network/network_parameters.hpp"
+#include "optim/network/network_result.hpp"
 
 namespace rangecal {
 

@@ -7,7 +7,8 @@
 
 #include "gnss/track/ppk_error_model.hpp"
 #include "optim/bundle/bundle_parameters.hpp"
-#include "optim/network/network_adjustment.hpp"
+#include "optim/network/network_observation.hpp"
+#include "optim/network/network_options.hpp"
 
 namespace rangecal {
 
@@ -45,7 +46,7 @@ struct NetworkLayout {
   std::vector<std::size_t> gm_chain;
   std::vector<int> gm_state;
   /// Multiplies every observation's σ_px: 1 for the network itself, 1/kDatumFloorImageFactor for
-  /// its datum floor (network_adjustment.hpp).
+  /// its datum floor (network_options.hpp).
   double pixel_sigma_scale = 1;
 
   /// σ_px of observation i: its own, else its camera's default, times pixel_sigma_scale.

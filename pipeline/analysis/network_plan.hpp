@@ -8,7 +8,8 @@
 // evaluated here.
 #include <vector>
 
-#include "optim/network/network_adjustment.hpp"
+#include "optim/network/network_observation.hpp"
+#include "optim/network/network_options.hpp"
 #include "pipeline/analysis/route_plan.hpp"
 #include "pipeline/simulate/mission_simulator.hpp"
 #include "pipeline/simulate/scenario.hpp"

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "optim/bundle/bundle_adjustment.hpp"
-#include "optim/network/network_adjustment.hpp"  // kDatumFloorImageFactor
+#include "optim/network/network_options.hpp"  // kDatumFloorImageFactor
 #include "pipeline/simulate/scenario.hpp"
 
 namespace rangecal {

@@ -10,7 +10,7 @@
 
 #include "gnss/time/utc_time.hpp"
 #include "gnss/track/lamp_track.hpp"
-#include "optim/network/network_adjustment.hpp"
+#include "optim/network/network_result.hpp"
 
 namespace rangecal {
 

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "optim/network/network_adjustment.hpp"
+#include "optim/network/network_result.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
@@ -110,7 +110,7 @@ std::optional<PpkErrorModelRecord> read_network_ppk_error_model(const std::strin
 nlohmann::json network_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 void write_network_json(const std::string& path, const nlohmann::json& j);
 
-/// network.json's `datum_floor` (optim/network/network_adjustment.hpp kDatumFloorImageFactor): the
+/// network.json's `datum_floor` (optim/network/network_options.hpp kDatumFloorImageFactor): the
 /// joint covariance with every image σ divided by `image_factor`, as camera-pair blocks.
 struct NetworkDatumFloor {
   double image_factor = 0;

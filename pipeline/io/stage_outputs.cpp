@@ -5,7 +5,7 @@
 
 #include "config/error.hpp"
 #include "pipeline/io/output_paths.hpp"
-#include "pipeline/steps/calibration_method_names.hpp"
+#include "pipeline/mission/calibration_method_names.hpp"
 
 namespace rangecal {
 namespace {

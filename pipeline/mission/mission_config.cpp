@@ -14,7 +14,7 @@
 #include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
 #include "config/sha256.hpp"
-#include "pipeline/steps/calibration_method_names.hpp"
+#include "pipeline/mission/calibration_method_names.hpp"
 #include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {

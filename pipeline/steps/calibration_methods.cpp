@@ -206,7 +206,7 @@ void require_depth_beyond_noise(const std::string& method, const CalibrationProb
 /// A method's function; nullptr: known, but not a method for a lamp track.
 using MethodFunction = CalibrationRun (*)(const CalibrationProblem&);
 
-/// The method table: row i runs kCalibrationMethodNames[i] (pipeline/steps/calibration_method_names.hpp).
+/// The method table: row i runs kCalibrationMethodNames[i] (pipeline/mission/calibration_method_names.hpp).
 constexpr std::array<MethodFunction, kCalibrationMethodNames.size()> kMethodFunctions = {
     run_tsai, run_tsai_sassa, run_dlt_lmqn, run_bundle, run_network_one_camera, nullptr /* planar */,
 };

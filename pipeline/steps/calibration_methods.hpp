@@ -17,7 +17,7 @@
 
 #include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/bundle/calibration_warning.hpp"
-#include "pipeline/steps/calibration_method_names.hpp"
+#include "pipeline/mission/calibration_method_names.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 #include "vision/camera/calibration_result.hpp"
 

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "config/error.hpp"
+#include "optim/network/network_adjustment.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {

@@ -19,7 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "optim/network/network_adjustment.hpp"
+#include "optim/network/network_observation.hpp"
+#include "optim/network/network_options.hpp"
 
 namespace rangecal {
 

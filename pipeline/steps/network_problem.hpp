@@ -12,7 +12,8 @@
 #include <vector>
 
 #include "gnss/track/lamp_track.hpp"
-#include "optim/network/network_adjustment.hpp"
+#include "optim/network/network_observation.hpp"
+#include "optim/network/network_options.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
 

@@ -19,6 +19,7 @@
 
 #include "config/error.hpp"
 #include "gnss/formats/lamp_track_csv.hpp"
+#include "optim/network/network_options.hpp"
 #include "pipeline/io/calibrate_record.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"

@@ -1,8 +1,8 @@
 #pragma once
 // The names of the calibrate stage's methods (docs/optimisation.md), in the order of the method
-// table of pipeline/steps/calibration_methods.cpp, which runs them. Header-only: the mission config
-// (pipeline/mission, a library below the steps) checks calibrate.method and compare against it
-// without linking the methods.
+// table of pipeline/steps/calibration_methods.cpp, which runs them. Header-only, beside the mission
+// config that checks calibrate.method and compare against it (pipeline/mission, below the steps and
+// the stage table of pipeline/io, which name the methods too) without linking the methods.
 #include <array>
 #include <string>
 #include <vector>
