@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "optim/network/network_adjustment.hpp"
+#include "optim/network/network_options.hpp"
 #include "pipeline/steps/held_out_prediction.hpp"
 
 namespace rangecal {
