@@ -324,11 +324,10 @@ bool select_lenses(const MissionConfig& cfg, bool white_only, const NetworkResul
   if (cfg.calibrate.free_candidates.empty()) return false;
   std::vector<std::string> ids;
   for (const auto& done : pass->done) ids.push_back(done.first);
-  CalibrateRecord* record = &pass->record;
   const LensSelection s = select_lens_parameters(n->cameras, n->points, n->observations,
                                                  network_options(cfg.gnss, cfg.calibrate, white_only),
                                                  cfg.calibrate.free_candidates, ids, held_out_options(r));
-  record->lens_selection = lens_selection_json(s, cfg.calibrate.free_candidates, ids);
+  pass->record.lens_selection = lens_selection_json(s, cfg.calibrate.free_candidates, ids);
   const bool changed = std::any_of(s.added.begin(), s.added.end(), [](const auto& a) { return !a.empty(); });
   if (changed) n->cameras = s.cameras;
   return changed;

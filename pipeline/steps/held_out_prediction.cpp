@@ -117,6 +117,18 @@ std::vector<Residual> predict(const NetworkResult& r, const std::vector<NetworkP
   return out;
 }
 
+// Each point's block of `block_s` of time from the first point with a time; −1 for a point without.
+std::vector<long> time_blocks(const std::vector<NetworkPoint>& points, double block_s) {
+  double t0 = std::numeric_limits<double>::infinity();
+  for (const NetworkPoint& p : points)
+    if (std::isfinite(p.time_s)) t0 = std::min(t0, p.time_s);
+  std::vector<long> block(points.size(), -1);
+  for (std::size_t k = 0; k < points.size(); ++k)
+    if (std::isfinite(points[k].time_s))
+      block[k] = static_cast<long>(std::floor((points[k].time_s - t0) / block_s));
+  return block;
+}
+
 }  // namespace
 
 std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>& cameras,
@@ -124,14 +136,8 @@ std::vector<HeldOutScore> score_held_out_blocks(const std::vector<NetworkCamera>
                                                 const std::vector<NetworkObservation>& observations,
                                                 const std::vector<HeldOutCandidate>& candidates,
                                                 const HeldOutOptions& options) {
-  double t0 = std::numeric_limits<double>::infinity();
-  for (const NetworkPoint& p : points)
-    if (std::isfinite(p.time_s)) t0 = std::min(t0, p.time_s);
-  std::vector<long> block(points.size(), -1);
-  for (std::size_t k = 0; k < points.size(); ++k)
-    if (std::isfinite(points[k].time_s))
-      block[k] = static_cast<long>(std::floor((points[k].time_s - t0) / options.block_s));
-  if (!options.blocks.empty()) block = options.blocks;
+  const std::vector<long> block =
+      options.blocks.empty() ? time_blocks(points, options.block_s) : options.blocks;
   std::vector<HeldOutScore> scores;
   for (const HeldOutCandidate& c : candidates) {
     HeldOutScore s;
