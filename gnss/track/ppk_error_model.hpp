@@ -98,6 +98,10 @@ struct PpkErrorEstimate {
   /// Per camera: its image scale went to the box's lower bound — its centroids hidden by the fixes'
   /// own error — and was held at 1, the stated σ (ppk_error_estimation.cpp hold_hidden_images).
   std::vector<char> image_scale_held;
+  /// Per camera: F, the variance inflation of its image residuals correlated in time; the network
+  /// weighed its centroids by the scale's σ·√F (optim/network/image_time_correlation.hpp). Empty or 1: not
+  /// measured or not correlated.
+  std::vector<double> image_time_factor;
   /// Why the Gauss–Markov fit was refused and the white fit kept (ppk_error_estimation.hpp, the
   /// guard); empty when it was accepted or the likelihood-ratio test kept the white model.
   std::vector<std::string> guard_reasons;

@@ -10,6 +10,7 @@
 #include "config/number_format.hpp"
 #include "optim/estimation/center_covariance.hpp"
 #include "optim/estimation/reprojection_stats.hpp"
+#include "optim/network/image_time_correlation.hpp"
 #include "optim/network/network_ceres_problem.hpp"
 #include "optim/network/network_covariance.hpp"
 #include "optim/network/network_gauss_newton.hpp"
@@ -453,13 +454,11 @@ NetworkResult adjust(const std::vector<NetworkCamera>& cameras, const std::vecto
 /// weighed the rays wrongly: the adjustment runs again at the estimated σ.
 constexpr double kImageScaleRetest = 1.5;
 
-}  // namespace
-
-NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
-                             const std::vector<NetworkPoint>& points,
-                             const std::vector<NetworkObservation>& observations,
-                             const NetworkOptions& options) {
-  check_network_input(cameras, points, observations);
+/// The adjustment, and once more at the estimated image σ when it is far from the stated one.
+NetworkResult estimate_image_scales(const std::vector<NetworkCamera>& cameras,
+                                    const std::vector<NetworkPoint>& points,
+                                    const std::vector<NetworkObservation>& observations,
+                                    const NetworkOptions& options) {
   NetworkResult first = adjust(cameras, points, observations, options);
   if (!first.ppk_estimate || !options.estimate_image_sigma) return first;
   const std::vector<double>& scale = first.ppk_estimate->image_scale;
@@ -483,6 +482,47 @@ NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
     e.image_scale[c] *= applied[c], e.image_scale_sd[c] *= applied[c];
   e.evaluations += first.ppk_estimate->evaluations;
   return again;
+}
+
+/// The network once more with each camera whose residuals repeat themselves in time weighed by
+/// σ·√F (image_time_correlation.hpp), its σ then held and the PPK model estimated again; the image
+/// scales reported stay the centroids' own scatter (the estimate before).
+NetworkResult weigh_correlated_images(const std::vector<NetworkCamera>& cameras,
+                                      const std::vector<NetworkPoint>& points,
+                                      const std::vector<NetworkObservation>& observations,
+                                      const NetworkOptions& options, NetworkResult estimated) {
+  const std::vector<double> factor = image_time_correlation(estimated, points, observations);
+  if (std::all_of(factor.begin(), factor.end(), [](double f) { return f == 1; })) {
+    estimated.ppk_estimate->image_time_factor = factor;
+    return estimated;
+  }
+  const PpkErrorEstimate& e = *estimated.ppk_estimate;
+  std::vector<NetworkCamera> weighed = cameras;
+  for (std::size_t c = 0; c < cameras.size(); ++c)
+    weighed[c].options.pixel_sigma_px *= e.image_scale[c] * std::sqrt(factor[c]);
+  NetworkOptions held = options;
+  held.estimate_image_sigma = false;
+  NetworkResult out = adjust(weighed, points, observations, held);
+  PpkErrorEstimate& w = *out.ppk_estimate;
+  w.image_scale = e.image_scale;
+  w.image_scale_sd = e.image_scale_sd;
+  w.image_scale_held = e.image_scale_held;
+  w.image_time_factor = factor;
+  w.evaluations += e.evaluations;
+  return out;
+}
+
+}  // namespace
+
+NetworkResult network_adjust(const std::vector<NetworkCamera>& cameras,
+                             const std::vector<NetworkPoint>& points,
+                             const std::vector<NetworkObservation>& observations,
+                             const NetworkOptions& options) {
+  check_network_input(cameras, points, observations);
+  NetworkResult estimated = estimate_image_scales(cameras, points, observations, options);
+  if (!estimated.ppk_estimate || !options.estimate_image_sigma || !options.image_time_correlation)
+    return estimated;
+  return weigh_correlated_images(cameras, points, observations, options, std::move(estimated));
 }
 
 }  // namespace rangecal

@@ -53,6 +53,10 @@ struct NetworkOptions {
   /// check outside the network has refused the correlated model (docs/optimisation.md "The guarded
   /// model").
   bool estimate_white_only = false;
+  /// With estimate_image_sigma: a camera whose residuals repeat themselves in time (their variance
+  /// inflation F measured above 1, image_time_correlation.hpp) is weighed by its estimated
+  /// σ·√F in a last solve, the PPK model estimated again with the image σ held.
+  bool image_time_correlation = true;
 };
 
 /// The network's datum floor (docs/accuracy_analysis.md, "Datum floor"): its joint covariance with

@@ -122,10 +122,15 @@ nlohmann::json image_sigma_json(const NetworkResult& r) {
   const PpkErrorEstimate& e = *r.ppk_estimate;
   nlohmann::json j = nlohmann::json::object();
   for (std::size_t c = 0; c < r.cameras.size() && c < e.image_scale.size(); ++c) {
+    // The σ the network weighed by is the centroids' own scatter × √F when they repeat in time.
+    const double factor = c < e.image_time_factor.size() ? e.image_time_factor[c] : 1.0;
     const double used = r.cameras[c].details.pixel_sigma_px;
-    j[r.cameras[c].calibration.camera_id] = {{"stated_px", used / e.image_scale[c]},
-                                             {"estimated_px", used},
-                                             {"sd_px", used / e.image_scale[c] * e.image_scale_sd[c]}};
+    const double own = used / std::sqrt(factor);
+    j[r.cameras[c].calibration.camera_id] = {{"stated_px", own / e.image_scale[c]},
+                                             {"estimated_px", own},
+                                             {"sd_px", own / e.image_scale[c] * e.image_scale_sd[c]},
+                                             {"time_correlation_factor", factor},
+                                             {"weighed_px", used}};
   }
   return j;
 }

@@ -520,10 +520,11 @@ CalibrateConfig parse_calibrate(const JsonView& c) {
     cal.control_sigma_m = Loader::positive(*v, "a positive standard deviation in metres");
   if (auto s = c.find("seed")) cal.seed = s->unsigned_integer("a non-negative integer seed");
   if (auto v = c.find("image_sigma")) {
-    const std::string form = "\"estimate\" or \"stated\"";
+    const std::string form = "\"estimate\", \"estimate_independent\" or \"stated\"";
     const std::string w = v->string(form);
-    if (w != "estimate" && w != "stated") v->fail_expected(form);
-    cal.estimate_image_sigma = w == "estimate";
+    if (w != "estimate" && w != "estimate_independent" && w != "stated") v->fail_expected(form);
+    cal.estimate_image_sigma = w != "stated";
+    cal.image_time_correlation = w == "estimate";
   }
   return cal;
 }

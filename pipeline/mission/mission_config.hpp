@@ -143,6 +143,10 @@ struct CalibrateConfig {
   /// calibrate.image_sigma "estimate" (the default): the network estimates each camera's lamp-centroid
   /// σ with the PPK model (when it estimates that); "stated": the cameras' pixel_sigma_px as given.
   bool estimate_image_sigma = true;
+  /// With "estimate": a camera whose residuals repeat themselves in time is weighed by σ·√F
+  /// (optim/network/image_time_correlation.hpp); "estimate_independent" counts every centroid as an
+  /// independent look.
+  bool image_time_correlation = true;
   /// calibrate.free_candidates: parameters each camera of the network may add to `free` when the
   /// held-out blocks show it predicts clearly better (pipeline/steps/lens_selection.hpp); empty:
   /// every camera keeps `free`.

@@ -222,6 +222,7 @@ NetworkOptions network_options(const GnssConfig& gnss, const CalibrateConfig& ca
   options.ppk_error = gnss.error_model;
   options.estimate_ppk_error = gnss.estimate_error_model;
   options.estimate_image_sigma = calibrate.estimate_image_sigma;
+  options.image_time_correlation = calibrate.image_time_correlation;
   options.estimate_white_only = white_only;
   return options;
 }

@@ -14,6 +14,15 @@ namespace rangecal {
 
 namespace {
 
+/// A lamp centroid's own σ (px) in camera c: the σ the network weighed it by, without the factor
+/// √F it added for residuals that repeat in time (optim/network/image_time_correlation.hpp) — one
+/// held-out epoch's pixel scatters by the centroid's own σ.
+double centroid_sigma_px(const NetworkResult& r, std::size_t c) {
+  const double used = r.cameras[c].details.pixel_sigma_px;
+  if (!r.ppk_estimate || c >= r.ppk_estimate->image_time_factor.size()) return used;
+  return used / std::sqrt(r.ppk_estimate->image_time_factor[c]);
+}
+
 // The marginal covariance of a fix's error under `m` (m²): the white part S·Σ_pos·S and the
 // Gauss–Markov part's stationary variance σ_g² per axis.
 Eigen::Matrix3d fix_covariance(const NetworkPoint& p, const PpkErrorModel& m) {
@@ -84,7 +93,7 @@ std::vector<Residual> predict(const NetworkResult& r, const std::vector<NetworkP
       v.camera = camera_seeing_epoch(b.calibration.camera, *o, b.calibration.clock_offset_s);
       v.calibration = {b.calibration.parameters, b.calibration.covariance};
       v.uv_px = o->pixel;
-      v.pick_sigma_px = o->pixel_sigma_px > 0 ? o->pixel_sigma_px : b.details.pixel_sigma_px;
+      v.pick_sigma_px = o->pixel_sigma_px > 0 ? o->pixel_sigma_px : centroid_sigma_px(r, o->camera);
       views.push_back(v);
       cams.push_back(o->camera);
     }

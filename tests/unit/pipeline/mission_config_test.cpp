@@ -330,6 +330,11 @@ TEST(MissionConfig, PixelSigmaPerCameraAndSource) {
   EXPECT_DOUBLE_EQ(d.cameras[0].pixel_sigma.centroid_px, 0.1);
   EXPECT_DOUBLE_EQ(d.cameras[0].pixel_sigma.pick_px, 0.3);
   EXPECT_TRUE(d.calibrate.estimate_image_sigma);
+  EXPECT_TRUE(d.calibrate.image_time_correlation);
+  j["calibrate"] = {{"image_sigma", "estimate_independent"}};
+  const MissionConfig e = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_TRUE(e.calibrate.estimate_image_sigma);
+  EXPECT_FALSE(e.calibrate.image_time_correlation);
   j["cameras"][0]["pixel_sigma_px"] = {{"centroid", 1.5}};
   j["calibrate"] = {{"image_sigma", "stated"}};
   const MissionConfig c = parse_mission_config(j.dump(), kPath, false);
@@ -344,7 +349,7 @@ TEST(MissionConfig, PixelSigmaPerCameraAndSource) {
   expect_error(j, "cameras[0].pixel_sigma_px.centriod", "did you mean 'centroid'");
   j["cameras"][0].erase("pixel_sigma_px");
   j["calibrate"] = {{"image_sigma", "estimated"}};
-  expect_error(j, "calibrate.image_sigma", "\"estimate\" or \"stated\"");
+  expect_error(j, "calibrate.image_sigma", "\"estimate\", \"estimate_independent\" or \"stated\"");
 }
 
 TEST(MissionConfigErrors, UnknownCompareMethod) {
