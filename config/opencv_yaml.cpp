@@ -91,9 +91,9 @@ struct Line {
   bool blank_or_comment() const { return body.empty() || body.front() == '#'; }
 };
 
-class Parser {
+class YamlParser {
  public:
-  Parser(std::string_view text, const std::string& file) : t_(strip_utf8_bom(text)), file_(file) {}
+  YamlParser(std::string_view text, const std::string& file) : t_(strip_utf8_bom(text)), file_(file) {}
 
   OpenCvYamlDocument document() {
     check_text();
@@ -533,7 +533,7 @@ class Parser {
 }  // namespace
 
 OpenCvYamlDocument parse_opencv_yaml(std::string_view text, const std::string& file) {
-  return Parser(text, file).document();
+  return YamlParser(text, file).document();
 }
 
 OpenCvYamlDocument read_opencv_yaml_file(const std::string& path) {

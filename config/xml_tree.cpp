@@ -33,7 +33,7 @@ bool is_name_start(unsigned char c) {
 bool is_name_char(unsigned char c) {
   return is_name_start(c) || (c >= '0' && c <= '9') || c == '-' || c == '.';
 }
-bool is_space(char c) {
+bool is_xml_space(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n';
 }
 
@@ -62,9 +62,9 @@ bool is_xml_char(std::uint32_t cp) {
          (cp >= 0xE000 && cp <= 0xFFFD) || (cp >= 0x10000 && cp <= 0x10FFFF);
 }
 
-class Parser {
+class XmlParser {
  public:
-  Parser(std::string_view text, std::size_t offset, const std::string& file)
+  XmlParser(std::string_view text, std::size_t offset, const std::string& file)
       : t_(text), pos_(std::min(offset, text.size())), file_(file) {
     line_ =
         1 + static_cast<long>(std::count(t_.begin(), t_.begin() + static_cast<std::ptrdiff_t>(pos_), '\n'));
@@ -156,7 +156,7 @@ class Parser {
       if (t_[pos_] == '\n') ++line_;
   }
   void skip_space() {
-    while (!at_end() && is_space(t_[pos_])) advance(1);
+    while (!at_end() && is_xml_space(t_[pos_])) advance(1);
   }
   // Bytes below 0x20 other than tab, CR and LF are not XML characters: a binary file, or a
   // header damaged in transfer.
@@ -282,7 +282,7 @@ class Parser {
 
 XmlElement parse_xml_document(std::string_view text, std::size_t offset, const std::string& file,
                               std::size_t* end) {
-  return Parser(text, offset, file).document(end);
+  return XmlParser(text, offset, file).document(end);
 }
 
 }  // namespace rangecal

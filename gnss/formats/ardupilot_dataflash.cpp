@@ -50,7 +50,7 @@ const Char* find_char(char c) {
   return nullptr;
 }
 
-std::string at_byte(std::size_t offset) {
+std::string dataflash_at_byte(std::size_t offset) {
   return "at byte " + std::to_string(offset) + ": ";
 }
 
@@ -122,7 +122,7 @@ class Walker {
 
  private:
   [[noreturn]] void fail(const std::string& field, std::size_t offset, const std::string& why) const {
-    throw_input_error(s_.path, 0, field, at_byte(offset) + why);
+    throw_input_error(s_.path, 0, field, dataflash_at_byte(offset) + why);
   }
 
   void define(std::string_view m, std::size_t at) {
@@ -201,12 +201,12 @@ Columns need_columns(const DataflashFormat& f, const std::vector<std::string>& n
     const std::string field = "FMT " + f.name + "." + n;
     if (!i)
       throw_input_error(path, 0, field,
-                        at_byte(f.byte_offset) + "type " + f.name + " has no column '" + n +
+                        dataflash_at_byte(f.byte_offset) + "type " + f.name + " has no column '" + n +
                             "', needed to put the attitude on UTC");
     const Kind k = find_char(f.format[*i])->kind;
     if (k == Kind::text || (integers && k == Kind::real) || (integers && find_char(f.format[*i])->scale != 1))
       throw_input_error(path, 0, field,
-                        at_byte(f.byte_offset) + "column is of format character '" +
+                        dataflash_at_byte(f.byte_offset) + "column is of format character '" +
                             quote_log_text(std::string_view(&f.format[*i], 1)) + "', expected " +
                             (integers ? "an integer" : "a number"));
     c.index.push_back(*i);

@@ -25,7 +25,7 @@ constexpr int kMaxNesting = 32;
 // "Flag Bits Message": the only incompatible flag defined, bit 0 of incompat_flags[0].
 constexpr std::uint8_t kDataAppendedBit = 1;
 // Beyond this, a boot or UTC time in µs is garbage (127 years), and ns products would overflow.
-constexpr std::uint64_t kMaxPlausibleUs = 4'000'000'000'000'000;
+constexpr std::uint64_t kMaxPlausibleUlogUs = 4'000'000'000'000'000;
 
 struct TypeInfo {
   UlogType type;
@@ -52,7 +52,7 @@ const char* type_name(UlogType t) {
   return "nested format";
 }
 
-std::string at_byte(std::size_t offset) {
+std::string ulog_at_byte(std::size_t offset) {
   return "at byte " + std::to_string(offset) + ": ";
 }
 
@@ -161,9 +161,9 @@ struct RawFormat {
   std::size_t byte_offset = 0;
 };
 
-class Parser {
+class UlogParser {
  public:
-  Parser(std::string bytes, const std::string& path) {
+  UlogParser(std::string bytes, const std::string& path) {
     log_.bytes = std::move(bytes);
     log_.summary.path = path;
     log_.summary.file_bytes = log_.bytes.size();
@@ -205,7 +205,7 @@ class Parser {
   const std::string& path() const { return log_.summary.path; }
   const char* ptr(std::size_t offset) const { return log_.bytes.data() + offset; }
   [[noreturn]] void fail(const std::string& field, std::size_t offset, const std::string& why) const {
-    throw_input_error(path(), 0, field, at_byte(offset) + why);
+    throw_input_error(path(), 0, field, ulog_at_byte(offset) + why);
   }
 
   void read_header() {
@@ -570,19 +570,19 @@ std::optional<UlogFieldRef> typed_field(const UlogLog& log, std::size_t format, 
   const auto r = find_ulog_field(log, format, name);
   if (!r) {
     if (!required) return std::nullopt;
-    throw_input_error(
-        log.summary.path, 0, field,
-        at_byte(f.byte_offset) + "the format has no field '" + name + "', needed to put the attitude on UTC");
+    throw_input_error(log.summary.path, 0, field,
+                      ulog_at_byte(f.byte_offset) + "the format has no field '" + name +
+                          "', needed to put the attitude on UTC");
   }
   if (r->type != type || r->count != count)
     throw_input_error(log.summary.path, 0, field,
-                      at_byte(f.byte_offset) + "field is " + type_name(r->type) +
+                      ulog_at_byte(f.byte_offset) + "field is " + type_name(r->type) +
                           (r->count != 1 ? "[" + std::to_string(r->count) + "]" : "") + ", expected " +
                           type_name(type) + (count != 1 ? "[" + std::to_string(count) + "]" : ""));
   if (r->offset + ulog_type_size(type) * count > f.logged_size)
     throw_input_error(
         log.summary.path, 0, field,
-        at_byte(f.byte_offset) + "field lies in the format's trailing padding, which is not logged");
+        ulog_at_byte(f.byte_offset) + "field lies in the format's trailing padding, which is not logged");
   return r;
 }
 
@@ -605,7 +605,7 @@ bool is_ulog(std::string_view head) {
 }
 
 UlogLog parse_ulog(std::string bytes, const std::string& path) {
-  return Parser(std::move(bytes), path).run();
+  return UlogParser(std::move(bytes), path).run();
 }
 
 UlogLog read_ulog(const std::string& path) {
@@ -640,7 +640,7 @@ double ulog_number(const UlogLog& log, const UlogDataMessage& m, const UlogField
   const std::size_t offset = f.offset + static_cast<std::size_t>(index) * element;
   if (element == 0 || index >= f.count || offset + element > m.size)
     throw_input_error(log.summary.path, 0, "D " + quote_log_text(log.subscriptions[m.subscription].topic),
-                      at_byte(m.offset) + "a field element at data offset " + std::to_string(offset) +
+                      ulog_at_byte(m.offset) + "a field element at data offset " + std::to_string(offset) +
                           " lies outside the message's " + std::to_string(m.size) + " data bytes");
   const char* p = log.bytes.data() + m.offset + offset;
   switch (f.type) {
@@ -704,7 +704,7 @@ AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report
     const char* p = log.bytes.data() + m.offset;
     const std::uint64_t utc = load_u64(p + g_utc.offset), ts = load_u64(p + g_ts.offset);
     const std::int64_t rel = g_rel ? load_i32(p + g_rel->offset) : 0;
-    if (load_u8(p + g_fix.offset) < 3 || utc == 0 || utc > kMaxPlausibleUs || ts > kMaxPlausibleUs) {
+    if (load_u8(p + g_fix.offset) < 3 || utc == 0 || utc > kMaxPlausibleUlogUs || ts > kMaxPlausibleUlogUs) {
       ++rep.gps_skipped;
       continue;
     }
@@ -739,7 +739,7 @@ AttitudeSeries ulog_attitude(const UlogLog& log, AutopilotAttitudeReport* report
     const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     // A logged unit quaternion is unit to float precision (~1e-7); 1e-3 leaves margin and still
     // rejects the zero quaternion an estimator publishes before it is initialised.
-    if (t == 0 || t > kMaxPlausibleUs || !(std::abs(norm - 1) <= 1e-3)) {
+    if (t == 0 || t > kMaxPlausibleUlogUs || !(std::abs(norm - 1) <= 1e-3)) {
       ++rep.attitude_invalid;
       continue;
     }

@@ -167,9 +167,9 @@ struct Layout {
   std::vector<std::string> field_names;  // one per data token, for messages
 };
 
-class Parser {
+class PosParser {
  public:
-  Parser(std::string_view text, const std::string& path) : text_(text), path_(path) {}
+  PosParser(std::string_view text, const std::string& path) : text_(text), path_(path) {}
 
   PosFile run() {
     PosFile f;
@@ -626,7 +626,7 @@ class Parser {
 }  // namespace
 
 PosFile parse_rtklib_pos(std::string_view text, const std::string& path) {
-  return Parser(strip_utf8_bom(text), path).run();
+  return PosParser(strip_utf8_bom(text), path).run();
 }
 
 PosFile read_rtklib_pos(const std::string& path) {

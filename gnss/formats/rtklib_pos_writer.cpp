@@ -11,14 +11,14 @@ namespace {
 constexpr std::int64_t kGpsEpochUnixNs = 315964800LL * kNsPerSecond;  // 1980-01-06 on the Unix scale
 constexpr std::int64_t kNsPerWeek = 604800LL * kNsPerSecond;
 
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+std::int64_t floor_div_pos(std::int64_t a, std::int64_t b) {
   const std::int64_t q = a / b;
   return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
 }
 
 // `(weekNNNN TOW s)` part of the obs start/end lines: always GPST, %8.1f seconds of week.
 std::string week_tow_text(GpsTime t) {
-  const std::int64_t week = floor_div(t.ns, kNsPerWeek);
+  const std::int64_t week = floor_div_pos(t.ns, kNsPerWeek);
   const double tow = static_cast<double>(t.ns - week * kNsPerWeek) * 1e-9;
   return fmt::format("(week{:04} {:>8.1f}s)", static_cast<int>(week), tow);
 }
@@ -30,7 +30,7 @@ std::string format_gpst_calendar(GpsTime t, int decimals) {
   std::int64_t unit = 1;
   for (int i = decimals; i < 9; ++i) unit *= 10;
   // Round to the last printed digit (RTKLIB's time2str rounds, it does not truncate).
-  const std::int64_t rounded = floor_div(t.ns + unit / 2, unit) * unit;
+  const std::int64_t rounded = floor_div_pos(t.ns + unit / 2, unit) * unit;
   // The GPST calendar reading is the calendar of GPS seconds counted from 1980-01-06 without
   // leap seconds, i.e. a UTC-formatter applied to the shifted count.
   const std::string iso = format_iso8601_utc(UtcTime{rounded + kGpsEpochUnixNs}, decimals);

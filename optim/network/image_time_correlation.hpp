@@ -29,7 +29,7 @@ inline constexpr int kCorrelationLags = 20;
 /// A camera needs this many used lamp residuals with a time for its F to be measured; fewer: F = 1.
 inline constexpr std::size_t kCorrelationMinResiduals = 60;
 /// F is taken as 1 unless it exceeds 1 by this many of the sd the window's estimate has for white
-/// residuals, √(2K/(3n)) over n residuals (Bartlett 1946; Priestley 1981 §6.2.3).
+/// residuals, √(2K/(3n)) over n residuals (Priestley 1981 §6.2.3).
 inline constexpr double kCorrelationFloorSds = 3;
 /// Two residuals are k lags apart only when their times are within (k + 1/2) median steps: a gap in
 /// the track (the camera's held-out blocks, a dropped stretch) does not join distant epochs.

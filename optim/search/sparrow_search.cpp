@@ -14,7 +14,7 @@ namespace {
 
 using Eigen::VectorXd;
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNoFitness = std::numeric_limits<double>::infinity();
 
 VectorXd clip(VectorXd x, const VectorXd& lb, const VectorXd& ub) {
   // SSA.md: out-of-bounds coordinates are clipped (the author's Bounds()).
@@ -61,7 +61,7 @@ struct Search {
   double eval(const VectorXd& x) const {
     ++res->evaluations;
     const double v = f(x);
-    return std::isnan(v) ? kInf : v;
+    return std::isnan(v) ? kNoFitness : v;
   }
 };
 
@@ -71,7 +71,7 @@ struct Flock {
   std::vector<VectorXd> x, pX;
   std::vector<double> fit, pFit;
   VectorXd bestX;
-  double fMin = kInf;
+  double fMin = kNoFitness;
 };
 
 /// An iteration's ranking by memory, and X_worst: the current position of the sparrow with the

@@ -17,8 +17,8 @@
 namespace rangecal {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 /// Frames of one camera with their epochs: what the align stage keeps (docs/alignment.md: for every
 /// lamp-track epoch the nearest frame, kept within max_frame_offset_s), lamp in view.
@@ -132,8 +132,8 @@ void fill_parameter_bounds(const Camera& truth, const Eigen::MatrixXd* F, double
     p.parameter = b->free_parameters[i];
     p.value = parameter_value(truth, p.parameter, truth);
     if (b->singular) {
-      p.sigma = kInf;
-      p.max_abs_correlation = kNaN;
+      p.sigma = kUnbounded;
+      p.max_abs_correlation = kNoValue;
       p.poorly_determined = true;
     } else {
       const Eigen::MatrixXd& cov = b->covariance;
@@ -144,7 +144,7 @@ void fill_parameter_bounds(const Camera& truth, const Eigen::MatrixXd* F, double
         if (r > p.max_abs_correlation)
           p.max_abs_correlation = r, p.correlated_with = parameter_name(b->free_parameters[j]);
       }
-      p.sigma_inflation = F ? std::sqrt((*F)(i, i) * cov(i, i)) : kNaN;
+      p.sigma_inflation = F ? std::sqrt((*F)(i, i) * cov(i, i)) : kNoValue;
       const bool principal_point = p.parameter == CameraParameter::u0 || p.parameter == CameraParameter::v0;
       p.poorly_determined =
           p.max_abs_correlation > o.correlation_limit ||

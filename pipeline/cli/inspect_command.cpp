@@ -22,7 +22,7 @@ namespace {
 
 constexpr int kTimelineColumns = 60;
 
-std::string row(const std::string& label, const std::string& value) {
+std::string inspect_row(const std::string& label, const std::string& value) {
   return fmt::format("  {:<36} {}\n", label, value);
 }
 
@@ -46,20 +46,20 @@ std::string dimensions(const FileFacts& f) {
 
 std::string file_text(const FileFacts& f) {
   std::string s = f.path + "\n";
-  s += row("kind", f.kind);
-  s += row("size", grouped(f.size_bytes) + " bytes");
-  if (const std::string d = dimensions(f); !d.empty()) s += row("dimensions", d);
-  if (f.rate_hz) s += row("rate", format_number("%.6g", *f.rate_hz) + " Hz, " + f.rate_source);
-  if (!f.time_system.empty()) s += row("time system", f.time_system);
+  s += inspect_row("kind", f.kind);
+  s += inspect_row("size", grouped(f.size_bytes) + " bytes");
+  if (const std::string d = dimensions(f); !d.empty()) s += inspect_row("dimensions", d);
+  if (f.rate_hz) s += inspect_row("rate", format_number("%.6g", *f.rate_hz) + " Hz, " + f.rate_source);
+  if (!f.time_system.empty()) s += inspect_row("time system", f.time_system);
   if (f.utc) {
-    s += row("UTC first", format_iso8601_utc(f.utc->first, 6));
-    s += row("UTC last", format_iso8601_utc(f.utc->last, 6));
-    s += row("duration", format_number("%.6f", f.utc->duration_s()) + " s");
+    s += inspect_row("UTC first", format_iso8601_utc(f.utc->first, 6));
+    s += inspect_row("UTC last", format_iso8601_utc(f.utc->last, 6));
+    s += inspect_row("duration", format_number("%.6f", f.utc->duration_s()) + " s");
   } else {
-    s += row("UTC span", "none");
+    s += inspect_row("UTC span", "none");
   }
-  for (const auto& [what, n] : f.counts) s += row(what, grouped(n));
-  for (const auto& [label, value] : f.details) s += row(label, value);
+  for (const auto& [what, n] : f.counts) s += inspect_row(what, grouped(n));
+  for (const auto& [label, value] : f.details) s += inspect_row(label, value);
   for (const std::string& n : f.notes) s += "  note: " + n + "\n";
   return s;
 }

@@ -46,7 +46,7 @@ const RecordField<ClockRecord> kClockFields[] = {
     {"readout_sd_s", &ClockRecord::readout_sd_s},
 };
 
-nlohmann::json camera_json(const AlignCameraRecord& c) {
+nlohmann::json align_camera_json(const AlignCameraRecord& c) {
   nlohmann::json j;
   write_fields(kReportFields, c.report, &j);
   j["time_source"] = c.time_source;
@@ -59,7 +59,7 @@ nlohmann::json camera_json(const AlignCameraRecord& c) {
   return j;
 }
 
-AlignCameraRecord parse_camera(const JsonView& v) {
+AlignCameraRecord parse_align_camera(const JsonView& v) {
   v.require_object("an object {epochs, frames, frames_aligned, ...}");
   AlignCameraRecord c;
   read_fields(kReportFields, v, &c.report);
@@ -77,11 +77,11 @@ AlignCameraRecord parse_camera(const JsonView& v) {
 }  // namespace
 
 nlohmann::json align_record_json(const AlignRecord& r) {
-  return by_camera_json(r.cameras, camera_json);
+  return by_camera_json(r.cameras, align_camera_json);
 }
 
 AlignRecord parse_align_record(const nlohmann::json& j, const std::string& path, const std::string& field) {
-  return {parse_by_camera<AlignCameraRecord>(JsonView(j, path, field, ErrorKind::input), parse_camera)};
+  return {parse_by_camera<AlignCameraRecord>(JsonView(j, path, field, ErrorKind::input), parse_align_camera)};
 }
 
 }  // namespace rangecal

@@ -30,7 +30,7 @@ const RecordField<MethodChoiceRecord> kMethodChoiceFields[] = {
     {"why", &MethodChoiceRecord::why},
 };
 
-nlohmann::json camera_json(const CalibrateCameraRecord& c) {
+nlohmann::json calibrate_camera_json(const CalibrateCameraRecord& c) {
   nlohmann::json j;
   write_fields(kInputFields, c, &j);
   if (!c.failed.empty()) {
@@ -69,7 +69,7 @@ WarningCodeRecord parse_warning_code(const JsonView& v) {
   return w;
 }
 
-CalibrateCameraRecord parse_camera(const JsonView& v) {
+CalibrateCameraRecord parse_calibrate_camera(const JsonView& v) {
   v.require_object("an object {pairs, control_poles, ...}");
   CalibrateCameraRecord c;
   read_fields(kInputFields, v, &c);
@@ -102,7 +102,7 @@ std::vector<WarningCodeRecord> warning_codes(const std::vector<CalibrationWarnin
 
 nlohmann::json calibrate_record_json(const CalibrateRecord& r) {
   nlohmann::json j = nlohmann::json::object();
-  j["cameras"] = by_camera_json(r.cameras, camera_json);
+  j["cameras"] = by_camera_json(r.cameras, calibrate_camera_json);
   if (!r.network.is_null()) j["network"] = r.network;
   if (r.method_choice) write_fields(kMethodChoiceFields, *r.method_choice, &j["method_choice"]);
   if (!r.held_out.is_null()) j["held_out"] = r.held_out;
@@ -116,7 +116,7 @@ CalibrateRecord parse_calibrate_record(const nlohmann::json& j, const std::strin
   v.require_object("an object {cameras, network, method_choice}");
   CalibrateRecord r;
   if (const auto cams = v.find("cameras"))
-    r.cameras = parse_by_camera<CalibrateCameraRecord>(*cams, parse_camera);
+    r.cameras = parse_by_camera<CalibrateCameraRecord>(*cams, parse_calibrate_camera);
   if (const auto n = v.find("network")) r.network = n->json();
   if (const auto h = v.find("held_out")) r.held_out = h->json();
   if (const auto h = v.find("lens_selection")) r.lens_selection = h->json();

@@ -21,7 +21,7 @@ const RecordField<TimestampCheckRecord> kTimestampCheckFields[] = {
     {"rms_at_best_px", &TimestampCheckRecord::rms_at_best_px},
 };
 
-nlohmann::json camera_json(const DetectCameraRecord& c) {
+nlohmann::json detect_camera_json(const DetectCameraRecord& c) {
   nlohmann::json j;
   write_fields(kFramesFields, c, &j);
   j["by_status"] = c.by_status;
@@ -30,7 +30,7 @@ nlohmann::json camera_json(const DetectCameraRecord& c) {
   return j;
 }
 
-DetectCameraRecord parse_camera(const JsonView& v) {
+DetectCameraRecord parse_detect_camera(const JsonView& v) {
   v.require_object("an object {time_source, frames_examined, by_status, correspondences}");
   DetectCameraRecord c;
   read_fields(kFramesFields, v, &c);
@@ -44,11 +44,12 @@ DetectCameraRecord parse_camera(const JsonView& v) {
 }  // namespace
 
 nlohmann::json detect_record_json(const DetectRecord& r) {
-  return by_camera_json(r.cameras, camera_json);
+  return by_camera_json(r.cameras, detect_camera_json);
 }
 
 DetectRecord parse_detect_record(const nlohmann::json& j, const std::string& path, const std::string& field) {
-  return {parse_by_camera<DetectCameraRecord>(JsonView(j, path, field, ErrorKind::input), parse_camera)};
+  return {
+      parse_by_camera<DetectCameraRecord>(JsonView(j, path, field, ErrorKind::input), parse_detect_camera)};
 }
 
 }  // namespace rangecal

@@ -10,7 +10,7 @@ namespace rangecal {
 
 namespace {
 
-constexpr const char* kHeader =
+constexpr const char* kTrajectoryHeader =
     "utc,E,N,U,lat,lon,h,sigma_E,sigma_N,sigma_U,cov_EN,cov_EU,cov_NU,sigma_m,sigma_labels_m,sigma_timing_m,"
     "sigma_calibration_m,vE,vN,vU,sigma_vE,sigma_vN,sigma_vU,cameras,rms_px,chi2,dof,inflated,extrapolated";
 
@@ -30,7 +30,7 @@ double root_trace(const Eigen::Matrix3d& c) {
 }  // namespace
 
 std::string format_trajectory_csv(const Trajectory& trajectory, const LocalEnu& site) {
-  std::string s = std::string(kHeader) + "\n";
+  std::string s = std::string(kTrajectoryHeader) + "\n";
   for (const TrajectoryPoint& p : trajectory.points) {
     const TriangulationResult& f = p.fix;
     s += format_iso8601_utc(p.t);

@@ -31,10 +31,10 @@ std::string fmt(const char* f, double x) {
   return std::isfinite(x) ? format_number(f, x) : std::string(kDash);
 }
 
-std::string td(const std::string& html, const char* cls = "num") {
+std::string report_td(const std::string& html, const char* cls = "num") {
   return std::string("<td class=\"") + cls + "\">" + html + "</td>";
 }
-std::string th(const std::string& html) {
+std::string report_th(const std::string& html) {
   return "<th>" + html + "</th>";
 }
 
@@ -54,7 +54,7 @@ const char* kStyle =
 std::string mission_section(const ReportData& d) {
   std::string s = "<section id=\"mission\">\n<h2>Mission</h2>\n<table class=\"kv\">\n";
   auto row = [&](const std::string& k, const std::string& v) {
-    s += "<tr>" + th(k) + td(v, "txt") + "</tr>\n";
+    s += "<tr>" + report_th(k) + report_td(v, "txt") + "</tr>\n";
   };
   row("Mission", html_escape(d.mission.empty() ? std::string("(no description)") : d.mission));
   row("Program",
@@ -89,16 +89,16 @@ std::string status_of(const CameraReportData& c) {
 
 std::string overview_section(const ReportData& d) {
   std::string s = "<section id=\"overview\">\n<h2>Overview</h2>\n<table class=\"overview\">\n<tr>" +
-                  th("Camera") + th("Status") + th("Method") + th("RMS /px") + th("n used") +
-                  th("n rejected") + "</tr>\n";
+                  report_th("Camera") + report_th("Status") + report_th("Method") + report_th("RMS /px") +
+                  report_th("n used") + report_th("n rejected") + "</tr>\n";
   for (const CameraReportData& c : d.cameras) {
-    s += "<tr>" + td(html_escape(c.id), "txt") + td(html_escape(status_of(c)), "txt");
+    s += "<tr>" + report_td(html_escape(c.id), "txt") + report_td(html_escape(status_of(c)), "txt");
     if (c.calibration) {
       const ReprojectionStats& r = c.calibration->reprojection;
-      s += td(html_escape(c.calibration->method), "txt") + td(fmt("%.3f", r.rms_px)) +
-           td(std::to_string(r.n_used)) + td(std::to_string(r.n_rejected));
+      s += report_td(html_escape(c.calibration->method), "txt") + report_td(fmt("%.3f", r.rms_px)) +
+           report_td(std::to_string(r.n_used)) + report_td(std::to_string(r.n_rejected));
     } else {
-      s += td(kDash, "txt") + td(kDash) + td(kDash) + td(kDash);
+      s += report_td(kDash, "txt") + report_td(kDash) + report_td(kDash) + report_td(kDash);
     }
     s += "</tr>\n";
   }
@@ -109,10 +109,12 @@ std::string overview_section(const ReportData& d) {
 std::string parameters_table(const CalibrationResult& r) {
   const CameraIntrinsics& in = r.camera.intr;
   std::string s = "<h3>Parameters (" + html_escape(r.method) + ")</h3>\n<table class=\"parameters\">\n<tr>" +
-                  th("Parameter") + th("Value") + th("1&#963;") + th("Unit") + "</tr>\n";
+                  report_th("Parameter") + report_th("Value") + report_th("1&#963;") + report_th("Unit") +
+                  "</tr>\n";
   auto row = [&](const std::string& name, const char* vf, double v, const char* sf, double sg,
                  const std::string& unit) {
-    s += "<tr>" + td(name, "txt") + td(fmt(vf, v)) + td(fmt(sf, sg)) + td(unit, "txt") + "</tr>\n";
+    s += "<tr>" + report_td(name, "txt") + report_td(fmt(vf, v)) + report_td(fmt(sf, sg)) +
+         report_td(unit, "txt") + "</tr>\n";
   };
   using P = CameraParameter;
   row(parameter_name(P::f), "%.4f", in.f_mm, "%.4f", r.sigma(P::f), "mm");
@@ -140,7 +142,7 @@ std::string parameters_table(const CalibrationResult& r) {
   s += "</table>\n<p>R (world ENU &#8594; camera):</p>\n<table class=\"matrix\">\n";
   for (int i = 0; i < 3; ++i) {
     s += "<tr>";
-    for (int j = 0; j < 3; ++j) s += td(fmt("%.6f", r.camera.pose.R(i, j)));
+    for (int j = 0; j < 3; ++j) s += report_td(fmt("%.6f", r.camera.pose.R(i, j)));
     s += "</tr>\n";
   }
   s += "</table>\n<p>&#8212; : not estimated (held fixed by the method).</p>\n";
@@ -159,22 +161,24 @@ std::string reprojection_tables(const CameraReportData& c, const std::vector<Pai
   const ReprojectionStats& st = c.calibration->reprojection;
   std::string s =
       "<h3>Reprojection error (seed 002 Tables 2&#8211;3)</h3>\n<table class=\"reprojection\">\n<tr>" +
-      th("RMS /px") + th("mean /px") + th("max /px") + th("n used") + th("n rejected") + "</tr>\n<tr>" +
-      td(fmt("%.3f", st.rms_px)) + td(fmt("%.3f", st.mean_px)) + td(fmt("%.3f", st.max_px)) +
-      td(std::to_string(st.n_used)) + td(std::to_string(st.n_rejected)) + "</tr>\n</table>\n";
+      report_th("RMS /px") + report_th("mean /px") + report_th("max /px") + report_th("n used") +
+      report_th("n rejected") + "</tr>\n<tr>" + report_td(fmt("%.3f", st.rms_px)) +
+      report_td(fmt("%.3f", st.mean_px)) + report_td(fmt("%.3f", st.max_px)) +
+      report_td(std::to_string(st.n_used)) + report_td(std::to_string(st.n_rejected)) + "</tr>\n</table>\n";
   if (res.empty()) return s;
   s += "<details><summary>Per lamp point (" + std::to_string(res.size()) +
-       ")</summary>\n<table class=\"points\">\n<tr>" + th("No.") + th("u /px") + th("v /px") +
-       th("&#916;u /px") + th("&#916;v /px") + th("&#916;R /px") + th("used") + "</tr>\n";
+       ")</summary>\n<table class=\"points\">\n<tr>" + report_th("No.") + report_th("u /px") +
+       report_th("v /px") + report_th("&#916;u /px") + report_th("&#916;v /px") + report_th("&#916;R /px") +
+       report_th("used") + "</tr>\n";
   double su = 0, sv = 0, sr = 0;
   int n = 0;
   for (std::size_t i = 0; i < res.size(); ++i) {
     const PairResidual& p = res[i];
     const Eigen::Vector2d d = p.observed - p.reprojected;
-    s += "<tr>" + td(std::to_string(i + 1)) + td(fmt("%.2f", p.observed.x())) +
-         td(fmt("%.2f", p.observed.y()));
+    s += "<tr>" + report_td(std::to_string(i + 1)) + report_td(fmt("%.2f", p.observed.x())) +
+         report_td(fmt("%.2f", p.observed.y()));
     if (p.projected) {
-      s += td(fmt("%.2f", d.x())) + td(fmt("%.2f", d.y())) + td(fmt("%.2f", d.norm()));
+      s += report_td(fmt("%.2f", d.x())) + report_td(fmt("%.2f", d.y())) + report_td(fmt("%.2f", d.norm()));
       if (p.used) {
         su += std::abs(d.x());
         sv += std::abs(d.y());
@@ -182,14 +186,14 @@ std::string reprojection_tables(const CameraReportData& c, const std::vector<Pai
         ++n;
       }
     } else {
-      s += td(kDash) + td(kDash) + td(kDash);
+      s += report_td(kDash) + report_td(kDash) + report_td(kDash);
     }
-    s += td(p.used ? "yes" : "no", "txt") + "</tr>\n";
+    s += report_td(p.used ? "yes" : "no", "txt") + "</tr>\n";
   }
   if (n > 0)
-    s += "<tr class=\"mean\">" + td("mean", "txt") + td("") + td("") + td(fmt("%.2f", su / n)) +
-         td(fmt("%.2f", sv / n)) + td(fmt("%.2f", sr / n)) + td(std::to_string(n) + " used", "txt") +
-         "</tr>\n";
+    s += "<tr class=\"mean\">" + report_td("mean", "txt") + report_td("") + report_td("") +
+         report_td(fmt("%.2f", su / n)) + report_td(fmt("%.2f", sv / n)) + report_td(fmt("%.2f", sr / n)) +
+         report_td(std::to_string(n) + " used", "txt") + "</tr>\n";
   return s +
          "</table>\n<p>&#916; = observed &#8722; reprojected; the mean row averages |&#916;u|, |&#916;v| and "
          "&#916;R over used points, as the paper's tables do.</p>\n</details>\n";
@@ -251,13 +255,13 @@ std::string methods_table(const CameraReportData& c) {
   } else {
     return "";
   }
-  std::string s =
-      "<h3>Methods (seed 002 Table 1)</h3>\n" + note + "<table class=\"methods\">\n<tr>" + th("Parameter");
-  for (const MethodRow& m : rows) s += th(html_escape(m.method));
+  std::string s = "<h3>Methods (seed 002 Table 1)</h3>\n" + note + "<table class=\"methods\">\n<tr>" +
+                  report_th("Parameter");
+  for (const MethodRow& m : rows) s += report_th(html_escape(m.method));
   s += "</tr>\n";
   auto row = [&](const std::string& name, auto value) {
-    s += "<tr>" + td(name, "txt");
-    for (const MethodRow& m : rows) s += td(value(m));
+    s += "<tr>" + report_td(name, "txt");
+    for (const MethodRow& m : rows) s += report_td(value(m));
     s += "</tr>\n";
   };
   row("u<sub>0</sub> /px", [](const MethodRow& m) { return fmt("%.2f", m.u0_px); });
@@ -434,22 +438,23 @@ std::string intersection_section(const ReportData& d, const std::string& plots) 
     return s +
            "<p class=\"missing\">intersection.csv missing: the intersect stage has not run or found no pole "
            "seen by two calibrated cameras.</p>\n</section>\n";
-  s += "<table class=\"intersection\">\n<tr>" + th("Pole") + th("E /m") + th("N /m") + th("U /m") +
-       th("&#916;E /cm") + th("&#916;N /cm") + th("&#916;U /cm") + th("&#916;R /cm") + th("&#963; /cm") +
-       "</tr>\n";
+  s += "<table class=\"intersection\">\n<tr>" + report_th("Pole") + report_th("E /m") + report_th("N /m") +
+       report_th("U /m") + report_th("&#916;E /cm") + report_th("&#916;N /cm") + report_th("&#916;U /cm") +
+       report_th("&#916;R /cm") + report_th("&#963; /cm") + "</tr>\n";
   for (const IntersectionRow& r : *d.intersection) {
-    s += "<tr>" + td(html_escape(r.id), "txt") + td(fmt("%.4f", r.enu.x())) + td(fmt("%.4f", r.enu.y())) +
-         td(fmt("%.4f", r.enu.z()));
-    for (int i = 0; i < 3; ++i) s += td(cm(r.d_enu[i]));
-    s += td(cm(r.dR)) + td(cm(r.sigma_m)) + "</tr>\n";
+    s += "<tr>" + report_td(html_escape(r.id), "txt") + report_td(fmt("%.4f", r.enu.x())) +
+         report_td(fmt("%.4f", r.enu.y())) + report_td(fmt("%.4f", r.enu.z()));
+    for (int i = 0; i < 3; ++i) s += report_td(cm(r.d_enu[i]));
+    s += report_td(cm(r.dR)) + report_td(cm(r.sigma_m)) + "</tr>\n";
   }
   const IntersectionMeans m = intersection_means(*d.intersection);
   auto mean_cell = [&](double v) { return m.n > 0 ? fmt("%.2f", v * 100.0) : std::string(kDash); };
-  s += "<tr class=\"mean\">" + td("mean", "txt") + td("") + td("") + td("");
-  for (int i = 0; i < 3; ++i) s += td(mean_cell(m.mean_abs_d[i]));
-  s += td(mean_cell(m.mean_dR)) + td(mean_cell(m.mean_sigma_m)) + "</tr>\n";
-  s += "<tr class=\"mean\">" + td("max", "txt") + td("") + td("") + td("") + td("") + td("") + td("") +
-       td(mean_cell(m.max_dR)) + td("") + "</tr>\n</table>\n";
+  s += "<tr class=\"mean\">" + report_td("mean", "txt") + report_td("") + report_td("") + report_td("");
+  for (int i = 0; i < 3; ++i) s += report_td(mean_cell(m.mean_abs_d[i]));
+  s += report_td(mean_cell(m.mean_dR)) + report_td(mean_cell(m.mean_sigma_m)) + "</tr>\n";
+  s += "<tr class=\"mean\">" + report_td("max", "txt") + report_td("") + report_td("") + report_td("") +
+       report_td("") + report_td("") + report_td("") + report_td(mean_cell(m.max_dR)) + report_td("") +
+       "</tr>\n</table>\n";
   s +=
       "<p>&#916; = intersected &#8722; surveyed; mean row: mean |&#916;E|, |&#916;N|, |&#916;U|, &#916;R and "
       "&#963; over surveyed poles; &#963; = predicted 1&#963; of &#916;R (calibration covariance and pick "
@@ -583,21 +588,23 @@ std::string reading_cell(const CameraVerdict& v) {
 
 std::string verdict_table(const ReportData& d, const std::vector<CameraFigures>& figs,
                           const std::vector<CameraVerdict>& verdicts) {
-  std::string s = "<table class=\"verdict\">\n<tr>" + th("Camera") + th("Method") + th("RMS /px") +
-                  th("RMS expected /px") + th("ratio") + th("projection &#963; at centre /px") +
-                  th("reading") + "</tr>\n";
+  std::string s = "<table class=\"verdict\">\n<tr>" + report_th("Camera") + report_th("Method") +
+                  report_th("RMS /px") + report_th("RMS expected /px") + report_th("ratio") +
+                  report_th("projection &#963; at centre /px") + report_th("reading") + "</tr>\n";
   for (std::size_t i = 0; i < d.cameras.size(); ++i) {
     const CameraReportData& c = d.cameras[i];
     const CameraFigures& f = figs[i];
-    s += "<tr>" + td(html_escape(c.id), "txt");
+    s += "<tr>" + report_td(html_escape(c.id), "txt");
     if (!c.calibration) {
-      s += td(kDash, "txt") + td(kDash) + td(kDash) + td(kDash) + td(kDash) +
-           td("<span class=\"missing\">" + html_escape(status_of(c)) + "</span>", "txt") + "</tr>\n";
+      s += report_td(kDash, "txt") + report_td(kDash) + report_td(kDash) + report_td(kDash) +
+           report_td(kDash) +
+           report_td("<span class=\"missing\">" + html_escape(status_of(c)) + "</span>", "txt") + "</tr>\n";
       continue;
     }
-    s += td(html_escape(c.calibration->method), "txt") + td(fmt("%.3f", f.consistency.rms_px)) +
-         td(fmt("%.3f", f.consistency.expected_rms_px)) + td(fmt("%.2f", verdicts[i].residual_ratio)) +
-         td(fmt("%.3f", f.centre_sigma_px)) + td(reading_cell(verdicts[i]), "txt") + "</tr>\n";
+    s += report_td(html_escape(c.calibration->method), "txt") + report_td(fmt("%.3f", f.consistency.rms_px)) +
+         report_td(fmt("%.3f", f.consistency.expected_rms_px)) +
+         report_td(fmt("%.2f", verdicts[i].residual_ratio)) + report_td(fmt("%.3f", f.centre_sigma_px)) +
+         report_td(reading_cell(verdicts[i]), "txt") + "</tr>\n";
   }
   return s + "</table>\n";
 }
@@ -748,16 +755,17 @@ std::string funnel_section(const ReportData& d) {
   const std::vector<FunnelRow> rows = data_funnel(d.run_stages, ids);
   std::string s = "<section id=\"funnel\">\n<h2>Data funnel</h2>\n";
   if (rows.empty()) return s + "<p class=\"missing\">run.json has no stage counts.</p>\n</section>\n";
-  s += "<table class=\"funnel\">\n<tr>" + th("Stage") + th("Camera") + th("Counted") + th("In") + th("Kept") +
-       th("Dropped") + th("Why") + "</tr>\n";
+  s += "<table class=\"funnel\">\n<tr>" + report_th("Stage") + report_th("Camera") + report_th("Counted") +
+       report_th("In") + report_th("Kept") + report_th("Dropped") + report_th("Why") + "</tr>\n";
   for (const FunnelRow& r : rows) {
     std::string why;
     for (const FunnelDrop& x : r.dropped)
       why += (why.empty() ? "" : "; ") + html_escape(x.reason) + ": " + std::to_string(x.count);
-    s += "<tr>" + td(html_escape(r.stage), "txt") +
-         td(r.camera.empty() ? kDash : html_escape(r.camera), "txt") + td(html_escape(r.unit), "txt") +
-         td(std::to_string(r.in)) + td(std::to_string(r.kept)) + td(std::to_string(r.in - r.kept)) +
-         td(why.empty() ? kDash : why, "txt") + "</tr>\n";
+    s += "<tr>" + report_td(html_escape(r.stage), "txt") +
+         report_td(r.camera.empty() ? kDash : html_escape(r.camera), "txt") +
+         report_td(html_escape(r.unit), "txt") + report_td(std::to_string(r.in)) +
+         report_td(std::to_string(r.kept)) + report_td(std::to_string(r.in - r.kept)) +
+         report_td(why.empty() ? kDash : why, "txt") + "</tr>\n";
   }
   s += "</table>\n";
   s += figure(svg_funnel(rows, "funnel-bars"),
@@ -842,7 +850,7 @@ std::string variance_factor_reading(const NetworkStatisticsRecord& st) {
 std::string network_statistics_table(const NetworkStatisticsRecord& st, std::size_t rows) {
   std::string s = "<table class=\"network-stats\">\n";
   auto row = [&](const std::string& k, const std::string& v, const std::string& note) {
-    s += "<tr>" + th(k) + td(v) + td(note, "txt") + "</tr>\n";
+    s += "<tr>" + report_th(k) + report_td(v) + report_td(note, "txt") + "</tr>\n";
   };
   row("variance factor &#967;&#178;/dof", fmt("%.3f", st.variance_factor),
       "should be &#8776; 1 (&#967;&#178; " + fmt("%.1f", st.chi2) + ", dof " + std::to_string(st.dof) + ")");
@@ -891,15 +899,16 @@ std::string float_epochs_table(const FloatEpochsRecord& f) {
       "enter with their own, larger &#963;. Below, each camera's 1&#963; with them and without them "
       "(the covariance at the same solution with their fixes and image observations left out): a "
       "ratio near 1 says they add little.</p>\n<table class=\"float-epochs\">\n<tr>" +
-      th("Camera") + th("Parameter") + th("1&#963; with") + th("1&#963; without") + th("without / with") +
-      th("Unit") + "</tr>\n";
+      report_th("Camera") + report_th("Parameter") + report_th("1&#963; with") +
+      report_th("1&#963; without") + report_th("without / with") + report_th("Unit") + "</tr>\n";
   for (const FloatEpochsRecord::Camera& c : f.cameras)
     for (std::size_t i = 0; i < c.parameters.size() && i < c.sigma_with.size(); ++i) {
       const bool has = i < c.sigma_without.size();
-      s += "<tr>" + td(html_escape(c.id), "txt") + td(parameter_name(c.parameters[i]), "txt") +
-           td(fmt("%.4g", c.sigma_with[i])) + td(has ? fmt("%.4g", c.sigma_without[i]) : "undetermined") +
-           td(has && c.sigma_with[i] > 0 ? fmt("%.3f", c.sigma_without[i] / c.sigma_with[i]) : kDash) +
-           td(parameter_unit(c.parameters[i]), "txt") + "</tr>\n";
+      s += "<tr>" + report_td(html_escape(c.id), "txt") + report_td(parameter_name(c.parameters[i]), "txt") +
+           report_td(fmt("%.4g", c.sigma_with[i])) +
+           report_td(has ? fmt("%.4g", c.sigma_without[i]) : "undetermined") +
+           report_td(has && c.sigma_with[i] > 0 ? fmt("%.3f", c.sigma_without[i] / c.sigma_with[i]) : kDash) +
+           report_td(parameter_unit(c.parameters[i]), "txt") + "</tr>\n";
     }
   return s + "</table>\n";
 }
@@ -968,14 +977,14 @@ std::string network_section(const ReportData& d) {
   for (const LampTrackAdjustedRow& r : rows) n_flagged += r.flagged;
   s += "<h3>Flagged PPK epochs (" + std::to_string(n_flagged) + ")</h3>\n";
   if (n_flagged == 0) return s + "<p>None.</p>\n</section>\n";
-  s += "<table class=\"flagged\">\n<tr>" + th("UTC") + th("t /s") + th("&#916;E /cm") + th("&#916;N /cm") +
-       th("&#916;U /cm") + th("|&#916;| /cm") + "</tr>\n";
+  s += "<table class=\"flagged\">\n<tr>" + report_th("UTC") + report_th("t /s") + report_th("&#916;E /cm") +
+       report_th("&#916;N /cm") + report_th("&#916;U /cm") + report_th("|&#916;| /cm") + "</tr>\n";
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const LampTrackAdjustedRow& r = rows[k];
     if (!r.flagged) continue;
-    s += "<tr>" + td(format_iso8601_utc(r.utc, 3), "txt") + td(fmt("%.3f", t[k]));
-    for (int i = 0; i < 3; ++i) s += td(fmt("%.2f", r.correction[i] * 100));
-    s += td(fmt("%.2f", r.correction.norm() * 100)) + "</tr>\n";
+    s += "<tr>" + report_td(format_iso8601_utc(r.utc, 3), "txt") + report_td(fmt("%.3f", t[k]));
+    for (int i = 0; i < 3; ++i) s += report_td(fmt("%.2f", r.correction[i] * 100));
+    s += report_td(fmt("%.2f", r.correction.norm() * 100)) + "</tr>\n";
   }
   return s +
          "</table>\n<p>The correction of a flagged epoch is how far its PPK fix lay from where the "

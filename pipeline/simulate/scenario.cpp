@@ -173,7 +173,7 @@ Eigen::Matrix3d matrix3(const JsonView& v) {
   return R;
 }
 
-ScenarioCamera parse_camera(const JsonView& v) {
+ScenarioCamera parse_scenario_camera(const JsonView& v) {
   v.require_object("a camera object {\"id\", \"center_enu_m\", \"look_at_enu_m\", \"f_mm\", …}");
   // Keys: the pose and sensor, then the camera-model parameters by their names
   // (vision/camera/camera_parameters.hpp: sx and the distortion terms), then the recording.
@@ -469,7 +469,7 @@ Scenario parse_scenario(const std::string& json_text, const std::string& path) {
   const std::size_t nc = cams.require_array("a non-empty array of camera objects", 1);
   std::set<std::string> ids;
   for (std::size_t i = 0; i < nc; ++i) {
-    s.cameras.push_back(parse_camera(cams.element(i)));
+    s.cameras.push_back(parse_scenario_camera(cams.element(i)));
     if (!ids.insert(s.cameras.back().id).second)
       cams.element(i).at("id", "").fail("duplicate camera id '" + s.cameras.back().id + "'");
   }

@@ -99,7 +99,7 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-double um(double v) {
+double to_um(double v) {
   return std::isfinite(v) ? std::round(v * 1e6) / 1e6 : v;
 }
 
@@ -219,10 +219,10 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
                            " instants rest on a camera's label outside the image region its calibration saw "
                            "(trajectory.csv column extrapolated): the lens model is extrapolated there and "
                            "their σ may not hold");
-  counts["median_sigma_m"] = um(median(sig));
-  counts["median_sigma_labels_m"] = um(median(lab));
-  counts["median_sigma_timing_m"] = um(median(tim));
-  counts["median_sigma_calibration_m"] = um(median(calp));
+  counts["median_sigma_m"] = to_um(median(sig));
+  counts["median_sigma_labels_m"] = to_um(median(lab));
+  counts["median_sigma_timing_m"] = to_um(median(tim));
+  counts["median_sigma_calibration_m"] = to_um(median(calp));
   log.counts = counts;
   if (trajectory.points.empty())
     log.shortfalls.push_back(

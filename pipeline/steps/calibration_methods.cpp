@@ -23,7 +23,7 @@
 namespace rangecal {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNotMeasured = std::numeric_limits<double>::quiet_NaN();
 
 std::vector<PointCorrespondence> to_points(const std::vector<BundleObservation>& obs) {
   std::vector<PointCorrespondence> pts;
@@ -240,8 +240,9 @@ std::vector<Eigen::Vector2d> reprojection_residuals(const Camera& cam,
   out.reserve(obs.size());
   for (const auto& o : obs) {
     Eigen::Vector2d uv;
-    out.push_back(project(cam, observed_world_point(o, clock_offset_s), &uv) ? Eigen::Vector2d(uv - o.pixel)
-                                                                             : Eigen::Vector2d(kNaN, kNaN));
+    out.push_back(project(cam, observed_world_point(o, clock_offset_s), &uv)
+                      ? Eigen::Vector2d(uv - o.pixel)
+                      : Eigen::Vector2d(kNotMeasured, kNotMeasured));
   }
   return out;
 }

@@ -13,7 +13,7 @@
 namespace rangecal {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 
 std::string mm(double m) {
   return format_number("%.1f", m * 1e3) + " mm";
@@ -114,9 +114,9 @@ LampTrackResult compute_lamp_track(const LampTrackInputs& in) {
         if (err > rep.vertical_form_max_error_m) {
           rep.vertical_form_max_error_m = err;
           // The body z axis tilts from the vertical by acos(cos roll · cos pitch).
-          max_tilt_deg =
-              std::acos(std::min(1.0, std::cos(att->roll_deg * kDeg) * std::cos(att->pitch_deg * kDeg))) /
-              kDeg;
+          max_tilt_deg = std::acos(std::min(1.0, std::cos(att->roll_deg * kRadPerDeg) *
+                                                     std::cos(att->pitch_deg * kRadPerDeg))) /
+                         kRadPerDeg;
         }
         if (err > kVerticalFormWarnM) ++rep.vertical_form_epochs_over_5mm;
       }

@@ -15,7 +15,7 @@
 namespace rangecal {
 namespace {
 
-const char* const kMethod = "planar";
+const char* const kPlanarMethod = "planar";
 
 // NOTES.md's V_ij of seed 001, without the B12 column (no skew): b = [B11, B22, B13, B23, B33].
 Eigen::Matrix<double, 1, 5> v_row(const Eigen::Matrix3d& H, int i, int j) {
@@ -80,7 +80,7 @@ ClosedForm closed_form_intrinsics(const std::vector<Eigen::Matrix3d>& homographi
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(V, Eigen::ComputeFullV);
   const auto& sv = svd.singularValues();
   if (!sv.allFinite() || sv(3) < 1e-9 * sv(0))
-    throw_calibration_error(kMethod,
+    throw_calibration_error(kPlanarMethod,
                             "singular system in V·b = 0 (seed 001 eq. 8): the views do not constrain "
                             "the intrinsics (e.g. all target planes parallel)");
   Eigen::Matrix<double, 5, 1> b = svd.matrixV().col(4);
@@ -90,7 +90,7 @@ ClosedForm closed_form_intrinsics(const std::vector<Eigen::Matrix3d>& homographi
   const double u0n = -B13 / B11, v0n = -B23 / B22;
   const double lam = B33 - B13 * B13 / B11 - B23 * B23 / B22;
   if (!(B11 > 0) || !(B22 > 0) || !(lam / B11 > 0) || !(lam / B22 > 0))
-    throw_calibration_error(kMethod,
+    throw_calibration_error(kPlanarMethod,
                             "B = C⁻ᵀC⁻¹ is not positive definite (noise or degenerate views): no real "
                             "focal length");
   Eigen::Matrix3d Kn;
@@ -169,7 +169,7 @@ void refine_planar(const std::vector<std::vector<PointCorrespondence>>& views, c
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   if (!summary.IsSolutionUsable() || !(intr[0] > 0))
-    throw_calibration_error(kMethod, "nonlinear refinement failed: " + summary.message);
+    throw_calibration_error(kPlanarMethod, "nonlinear refinement failed: " + summary.message);
   res.iterations = static_cast<int>(summary.iterations.size()) - 1;
   res.intrinsics.f_mm = intr[0];
   res.intrinsics.sx = intr[1];
@@ -191,9 +191,9 @@ PlanarResult planar_calibrate(const std::vector<std::vector<PointCorrespondence>
                               const SensorGeometry& sensor, const PlanarOptions& opt) {
   if (!(sensor.dx_mm > 0) || !(sensor.dy_mm > 0) || !std::isfinite(sensor.dx_mm) ||
       !std::isfinite(sensor.dy_mm))
-    throw_calibration_error(kMethod, "pixel pitch dx, dy must be finite and > 0 mm");
+    throw_calibration_error(kPlanarMethod, "pixel pitch dx, dy must be finite and > 0 mm");
   if (views.size() < 2)
-    throw_calibration_error(kMethod,
+    throw_calibration_error(kPlanarMethod,
                             "too few views: " + std::to_string(views.size()) +
                                 " given, at least 2 needed (4 unknowns of B up to scale, 2 equations "
                                 "per view)");

@@ -16,7 +16,7 @@
 namespace rangecal {
 namespace {
 
-const char* const kMethod = "tsai";
+const char* const kTsaiMethod = "tsai";
 
 struct SensorPoint {
   double xdp;  // Xd' = (u − u0)·dx = sx·xd (mm)
@@ -25,12 +25,12 @@ struct SensorPoint {
 
 void resolve_principal_point(const TsaiSensor& s, double* u0, double* v0) {
   if (!(s.dx_mm > 0) || !(s.dy_mm > 0) || !std::isfinite(s.dx_mm) || !std::isfinite(s.dy_mm))
-    throw_calibration_error(kMethod, "pixel pitch dx, dy must be finite and > 0 mm");
+    throw_calibration_error(kTsaiMethod, "pixel pitch dx, dy must be finite and > 0 mm");
   *u0 = std::isnan(s.u0_px) ? 0.5 * (s.width_px - 1) : s.u0_px;
   *v0 = std::isnan(s.v0_px) ? 0.5 * (s.height_px - 1) : s.v0_px;
   if (!std::isfinite(*u0) || !std::isfinite(*v0) || (std::isnan(s.u0_px) && s.width_px <= 0) ||
       (std::isnan(s.v0_px) && s.height_px <= 0))
-    throw_calibration_error(kMethod, "principal point unknown: give (u0, v0) or the image size");
+    throw_calibration_error(kTsaiMethod, "principal point unknown: give (u0, v0) or the image size");
 }
 
 std::vector<SensorPoint> to_sensor(const std::vector<PointCorrespondence>& pts, const TsaiSensor& s,
@@ -53,9 +53,9 @@ Eigen::VectorXd solve_least_squares(const Eigen::MatrixXd& A, const Eigen::Vecto
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(As, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const auto& sv = svd.singularValues();
   if (!(sv(0) > 0) || sv(sv.size() - 1) < 1e-11 * sv(0) || !sv.allFinite())
-    throw_calibration_error(kMethod, "singular system in " + what + " (condition number " +
-                                         std::to_string(sv(0) / std::max(sv(sv.size() - 1), 1e-300)) +
-                                         "): the points do not determine the unknowns");
+    throw_calibration_error(kTsaiMethod, "singular system in " + what + " (condition number " +
+                                             std::to_string(sv(0) / std::max(sv(sv.size() - 1), 1e-300)) +
+                                             "): the points do not determine the unknowns");
   return scale.asDiagonal() * svd.solve(b);
 }
 
@@ -147,7 +147,7 @@ void recover_pose(const std::vector<PointCorrespondence>& pts, const std::vector
   // 1/|Ty| (with v8 = 1) from the unit norm of row 2 of R (Tsai 1987 eq. 17, with sx unknown).
   const double n2 = v.segment<3>(4).norm();
   if (!(n2 > 0) || !std::isfinite(n2))
-    throw_calibration_error(kMethod, "singular system: r4..r6/Ty vanished (Ty cannot be determined)");
+    throw_calibration_error(kTsaiMethod, "singular system: r4..r6/Ty vanished (Ty cannot be determined)");
   double t = 1.0 / n2;  // the scale of v, signed below
 
   // Sign: with t > 0, the predicted (sx·xc, yc) of the point farthest from the image centre must
@@ -168,7 +168,7 @@ void recover_pose(const std::vector<PointCorrespondence>& pts, const std::vector
   // sx from the unit norm of row 1 (Tsai 1987 eq. 18); then rows 1–2 of R and Tx.
   s1->sx = v.head<3>().norm() * std::abs(t);
   if (!(s1->sx > 0) || !std::isfinite(s1->sx))
-    throw_calibration_error(kMethod, "singular system: sx·r1..r3/Ty vanished (sx cannot be determined)");
+    throw_calibration_error(kTsaiMethod, "singular system: sx·r1..r3/Ty vanished (sx cannot be determined)");
   const Eigen::Vector3d row1 = v.head<3>() * t / s1->sx;
   const Eigen::Vector3d row2 = v.segment<3>(4) * t;
   // Tsai: L4 = sx·Tx/Ty. Willson's program keeps Tx = L4·Ty (no 1/sx), reproduced in its mode.
@@ -187,9 +187,9 @@ void recover_pose(const std::vector<PointCorrespondence>& pts, const std::vector
 
 TsaiStep1 tsai_step1(const std::vector<PointCorrespondence>& pts, const TsaiSensor& sensor,
                      TsaiOrthonormalisation orthonormalisation) {
-  require_finite(pts, kMethod);
-  require_min_points(pts, 7, kMethod, "7 unknowns in the linear system of seed 002 eq. 12");
-  require_world_geometry(pts, /*need_non_coplanar=*/true, kMethod);
+  require_finite(pts, kTsaiMethod);
+  require_min_points(pts, 7, kTsaiMethod, "7 unknowns in the linear system of seed 002 eq. 12");
+  require_world_geometry(pts, /*need_non_coplanar=*/true, kTsaiMethod);
   TsaiStep1 s1;
   resolve_principal_point(sensor, &s1.u0_px, &s1.v0_px);
   const auto sp = to_sensor(pts, sensor, s1.u0_px, s1.v0_px);
@@ -353,15 +353,16 @@ std::pair<double, double> tsai_linear_f_tz(const std::vector<PointCorrespondence
   const auto q = step_two_points(pts, sensor, *s1);
   double f = 0, Tz = 0, rel = 0;
   if (!linear_f_tz(q, &f, &Tz, &rel))
-    throw_calibration_error(kMethod,
+    throw_calibration_error(kTsaiMethod,
                             "singular system in the linear f, Tz solve (Tsai 1987 eq. 15): the points do not "
                             "determine the unknowns");
   if (f < 0) turn_about_axis(s1), f = -f;
   for (std::size_t i = 0; i < q.size(); ++i)
     if (!(q[i].wz + Tz > 0))
-      throw_calibration_error(kMethod, "point " + std::to_string(i) +
-                                           " lies behind the camera in the linear solution (inconsistent or "
-                                           "mirrored correspondences)");
+      throw_calibration_error(kTsaiMethod,
+                              "point " + std::to_string(i) +
+                                  " lies behind the camera in the linear solution (inconsistent or "
+                                  "mirrored correspondences)");
   return {f, Tz};
 }
 
@@ -388,8 +389,8 @@ TsaiStart tsai_f_tz_start(const std::vector<PointCorrespondence>& pts, const Tsa
   for (const auto& p : pts) extent = std::max(extent, (p.world - c).norm());
   st.Tz = profile_tz(q, extent, 0.0, &st.f_mm);
   if (!(std::isfinite(st.f_mm) && st.f_mm != 0))
-    throw_calibration_error(kMethod, "no focal length fits the points in front of the camera (f = " +
-                                         std::to_string(st.f_mm) + " mm): inconsistent correspondences");
+    throw_calibration_error(kTsaiMethod, "no focal length fits the points in front of the camera (f = " +
+                                             std::to_string(st.f_mm) + " mm): inconsistent correspondences");
   if (st.f_mm < 0) turn_about_axis(s1), st.f_mm = -st.f_mm;
   st.source = TsaiStartSource::depth_profile;
   if (nominal_f_mm > 0 && std::isfinite(nominal_f_mm)) {
@@ -522,9 +523,10 @@ TsaiResult tsai_step2(const std::vector<PointCorrespondence>& pts, const TsaiSen
                       const TsaiOptions& options) {
   TsaiResult res;
   res.step1 = step1;
-  require_finite(pts, kMethod);
+  require_finite(pts, kTsaiMethod);
   if (options.estimate_k1)
-    require_min_points(pts, 8, kMethod, "step 1 uses 7 unknowns; f, Tz, k1 need an 8th independent point");
+    require_min_points(pts, 8, kTsaiMethod,
+                       "step 1 uses 7 unknowns; f, Tz, k1 need an 8th independent point");
   res.start = tsai_f_tz_start(pts, sensor, &res.step1, options.nominal_f_mm);
   res.f_linear_mm = res.start.f_linear_mm;
   res.Tz_linear = res.start.Tz_linear;
@@ -563,7 +565,7 @@ TsaiResult tsai_step2(const std::vector<PointCorrespondence>& pts, const TsaiSen
       cost = tsai_eq13_cost(pts, sensor, s1, p(0), p(1), 0.0, nullptr);
       res.converged = false;
       if (!projected_sum_of_squares(pts, tsai_camera(sensor, s1, p(0), p(1), 0), &ss))
-        throw_calibration_error(kMethod, "a point does not project with the solved camera (behind it)");
+        throw_calibration_error(kTsaiMethod, "a point does not project with the solved camera (behind it)");
     }
   }
   res.camera = tsai_camera(sensor, s1, p(0), p(1), p(2));
@@ -596,9 +598,9 @@ struct TsaiFullResidual {
 
 TsaiResult tsai_full_refinement(const std::vector<PointCorrespondence>& pts, const Camera& start,
                                 int max_iterations) {
-  require_finite(pts, kMethod);
-  require_min_points(pts, 11, kMethod, "11 unknowns in the full refinement");
-  require_world_geometry(pts, /*need_non_coplanar=*/true, kMethod);
+  require_finite(pts, kTsaiMethod);
+  require_min_points(pts, 11, kTsaiMethod, "11 unknowns in the full refinement");
+  require_world_geometry(pts, /*need_non_coplanar=*/true, kTsaiMethod);
   const auto& in = start.intr;
   double intr[5] = {in.f_mm, in.sx, in.u0_px, in.v0_px, in.dist.k1};
   const Eigen::AngleAxisd aa(start.pose.R);
@@ -621,7 +623,7 @@ TsaiResult tsai_full_refinement(const std::vector<PointCorrespondence>& pts, con
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   if (!summary.IsSolutionUsable() || !(intr[0] > 0) || !(intr[1] > 0))
-    throw_calibration_error(kMethod, "full refinement failed: " + summary.message);
+    throw_calibration_error(kTsaiMethod, "full refinement failed: " + summary.message);
   TsaiResult res;
   res.camera = start;
   res.camera.intr.f_mm = intr[0];
@@ -646,7 +648,7 @@ TsaiResult tsai_full_refinement(const std::vector<PointCorrespondence>& pts, con
   for (const auto& pt : pts) {
     Eigen::Vector2d uv;
     if (!project(res.camera, pt.world, &uv))
-      throw_calibration_error(kMethod, "a point does not project with the refined camera (behind it)");
+      throw_calibration_error(kTsaiMethod, "a point does not project with the refined camera (behind it)");
     ss += (uv - pt.pixel).squaredNorm();
   }
   res.rms_px = std::sqrt(ss / pts.size());

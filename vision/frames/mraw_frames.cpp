@@ -51,7 +51,7 @@ class MrawFrames : public FrameContainer {
   PhotronMrawReader mraw_;
 };
 
-std::string lower_extension(const std::string& path) {
+std::string mraw_lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   return ext;
@@ -82,7 +82,7 @@ std::unique_ptr<FrameContainer> open_mraw_frames(const std::string& path) {
 }
 
 FileFacts mraw_file_facts(const std::string& path) {
-  const std::string ext = lower_extension(path);
+  const std::string ext = mraw_lower_extension(path);
   const bool given_header = ext == ".cih" || ext == ".cihx";
   const std::string mraw = given_header ? find_photron_mraw(path) : path;
   const std::string header_path = given_header ? path : find_photron_header(path);

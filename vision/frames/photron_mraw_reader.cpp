@@ -15,7 +15,7 @@ namespace rangecal {
 namespace {
 
 // Packed 12-bit (Photron MRaw 12 bit): two pixels in three bytes, most significant bit first.
-void unpack12(const std::uint8_t* src, std::uint16_t* dst, std::size_t n_pixels) {
+void mraw_unpack12(const std::uint8_t* src, std::uint16_t* dst, std::size_t n_pixels) {
   for (std::size_t i = 0; i + 2 <= n_pixels; i += 2, src += 3) {
     dst[i] = static_cast<std::uint16_t>((src[0] << 4) | (src[1] >> 4));
     dst[i + 1] = static_cast<std::uint16_t>(((src[1] & 0x0F) << 8) | src[2]);
@@ -94,7 +94,7 @@ ImageFrame PhotronMrawReader::read_frame(std::int64_t index) const {
     ok = pread_all(fd_, raw.data(), bytes, offset);
     if (ok) {
       f.image.create(h.height, h.width, CV_16UC1);
-      unpack12(raw.data(), f.image.ptr<std::uint16_t>(), n);
+      mraw_unpack12(raw.data(), f.image.ptr<std::uint16_t>(), n);
     }
   }
   if (!ok)
