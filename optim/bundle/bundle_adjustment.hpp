@@ -91,8 +91,11 @@ struct BundleDetails {
   double variance_factor = 0;      ///< χ²/dof (≈ 1 when the noise model is right)
   bool covariance_scaled = false;  ///< BundleOptions::scale_covariance
   bool rank_deficient = false;
-  double outlier_threshold_sigma = 0;    ///< the threshold applied (whitened units)
-  double pixel_sigma_px = 0;             ///< the default pixel σ used
+  double outlier_threshold_sigma = 0;  ///< the threshold applied (whitened units)
+  double pixel_sigma_px = 0;           ///< the default pixel σ used
+  /// F by which the network weighed the camera's centroids for residuals that repeat in time:
+  /// pixel_sigma_px = the centroids' own σ × √F (optim/network/image_time_correlation.hpp); 1 else.
+  double time_correlation_factor = 1;
   std::optional<double> clock_offset_s;  ///< when the clock offset was free
   /// 1σ of each free parameter from the a-priori noise model and scaled by √variance_factor;
   /// empty when the covariance is rank-deficient.

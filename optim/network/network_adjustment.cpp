@@ -509,6 +509,7 @@ NetworkResult weigh_correlated_images(const std::vector<NetworkCamera>& cameras,
   w.image_scale_held = e.image_scale_held;
   w.image_time_factor = factor;
   w.evaluations += e.evaluations;
+  for (std::size_t c = 0; c < cameras.size(); ++c) out.cameras[c].details.time_correlation_factor = factor[c];
   return out;
 }
 

@@ -119,6 +119,7 @@ nlohmann::json bundle_details_json(const BundleDetails& b) {
   d["rank_deficient"] = b.rank_deficient;
   d["outlier_threshold_sigma"] = b.outlier_threshold_sigma;
   d["pixel_sigma_px"] = b.pixel_sigma_px;
+  d["time_correlation_factor"] = b.time_correlation_factor;
   if (b.clock_offset_s) d["clock_offset_s"] = *b.clock_offset_s;
   if (b.sigma_unscaled.size() == static_cast<Eigen::Index>(b.free.size()) && !b.free.empty()) {
     nlohmann::json su, ss;

@@ -300,12 +300,17 @@ struct CameraFigures {
   double centre_sigma_px = std::nan("");  ///< projection σ at the image centre (px)
 };
 
-/// The lamp centroids' σ the calibration used: calibration.json's `details.pixel_sigma_px` (the
-/// network's estimate of the camera's image variance component, or the stated σ), else `fallback`.
+/// The lamp centroids' own σ: calibration.json's `details.pixel_sigma_px` (the network's estimate of
+/// the camera's image variance component, or the stated σ) over √`details.time_correlation_factor`
+/// (what the network weighed it by beyond its scatter), else `fallback`.
 double calibration_pixel_sigma_px(const CalibrationResult* cal, double fallback) {
   if (!cal || !cal->details.is_object() || !cal->details.contains("pixel_sigma_px")) return fallback;
   const nlohmann::json& v = cal->details["pixel_sigma_px"];
-  return v.is_number() && v.get<double>() > 0 ? v.get<double>() : fallback;
+  if (!v.is_number() || !(v.get<double>() > 0)) return fallback;
+  const nlohmann::json* f =
+      cal->details.contains("time_correlation_factor") ? &cal->details["time_correlation_factor"] : nullptr;
+  const double factor = f && f->is_number() && f->get<double>() >= 1 ? f->get<double>() : 1.0;
+  return v.get<double>() / std::sqrt(factor);
 }
 
 CameraFigures camera_figures(const CameraReportData& c, double pixel_sigma_px) {

@@ -18,9 +18,8 @@ namespace {
 /// √F it added for residuals that repeat in time (optim/network/image_time_correlation.hpp) — one
 /// held-out epoch's pixel scatters by the centroid's own σ.
 double centroid_sigma_px(const NetworkResult& r, std::size_t c) {
-  const double used = r.cameras[c].details.pixel_sigma_px;
-  if (!r.ppk_estimate || c >= r.ppk_estimate->image_time_factor.size()) return used;
-  return used / std::sqrt(r.ppk_estimate->image_time_factor[c]);
+  const BundleDetails& d = r.cameras[c].details;
+  return d.pixel_sigma_px / std::sqrt(d.time_correlation_factor);
 }
 
 // The marginal covariance of a fix's error under `m` (m²): the white part S·Σ_pos·S and the

@@ -54,6 +54,7 @@ struct Outcome {
   std::vector<double> gm_h, gm_v;             ///< slow sd per mission (0 when white)
   int white = 0;
   int undetermined_warnings = 0;  ///< missions whose network warned that camera 0's σ is undetermined
+  int time_correlated = 0;        ///< cameras × missions weighed by σ·√F
 };
 
 /// kMissions missions whose centroids scatter by `true_px` and PPK errors follow `ppk`, calibrated by
@@ -80,7 +81,10 @@ Outcome run(const std::vector<double>& true_px, const GaussMarkovPpk& ppk, bool 
     add_mission(truth, r, bound, volume, &out.figures);
     const PpkErrorEstimate& e = *r.ppk_estimate;
     for (std::size_t c = 0; c < true_px.size(); ++c) {
-      out.sigma_px[c].push_back(r.cameras[c].details.pixel_sigma_px);
+      // The centroids' own σ: the network weighs by it ×√F where residuals repeat in time
+      // (image_time_correlation.hpp), which white centroids should rarely show.
+      out.sigma_px[c].push_back(kStatedSigmaPx * e.image_scale[c]);
+      if (c < e.image_time_factor.size() && e.image_time_factor[c] > 1) ++out.time_correlated;
       out.sigma_sd[c].push_back(kStatedSigmaPx * e.image_scale_sd[c]);
     }
     out.white += e.white ? 1 : 0;
@@ -95,13 +99,15 @@ Outcome run(const std::vector<double>& true_px, const GaussMarkovPpk& ppk, bool 
     std::printf(
         "  %2d: image σ %.3f %.3f px (±%.3f %.3f), %s (LR %.1f), gm %.2f %.2f cm, tau %.0f %.0f s, %d "
         "evals\n",
-        d, r.cameras[0].details.pixel_sigma_px, r.cameras[1].details.pixel_sigma_px,
+        d, kStatedSigmaPx * e.image_scale[0], kStatedSigmaPx * e.image_scale[1],
         kStatedSigmaPx * e.image_scale_sd[0], kStatedSigmaPx * e.image_scale_sd[1],
         e.white ? "white" : "correlated", e.likelihood_ratio, 100 * e.model.gm_sd_h_m,
         100 * e.model.gm_sd_v_m, e.model.tau_h_s, e.model.tau_v_s, e.evaluations);
   }
   finish(truth, bound, volume, &out.figures);
   print(image_sigma ? "estimated" : "stated", out.figures);
+  std::printf("  cameras × missions weighed for residuals correlated in time: %d of %zu\n",
+              out.time_correlated, true_px.size() * kMissions);
   return out;
 }
 

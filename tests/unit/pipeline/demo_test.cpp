@@ -165,7 +165,10 @@ TEST(Demo, PlanPredictsTheCheckPoleSigmaTheRunStates) {
   // `plan` on the demo's own scenario, before any flight, against the σ the demo's network states
   // after it: the plan takes the scenario's PPK model as known, the run estimates it from a 26.6-s
   // record (σ_g held at the .pos sd); both state the scenario's survey and pick σ. Each check pole
-  // within 25 %, the rms over them within 15 % (measured: 0.42–0.63 cm planned, 0.44–0.71 cm stated).
+  // within 25 %, the rms over them 0.8–1.05 of the stated: the run weighs the rendered lamp's
+  // centroids by √F for their errors that repeat in time (optim/network/image_time_correlation.hpp),
+  // which a plan made before flying cannot know — measured 0.42–0.63 cm planned, 0.45–0.75 cm
+  // stated, rms ratio 0.85; the stated σ hold (error / stated 1.00 over 16 draws, docs/optimisation.md).
   const DemoRun& run = demo().run;
   const Scenario s = parse_scenario(demo_scenario_json(), "<built-in demo scenario>");
   PlanOptions o;
@@ -186,7 +189,8 @@ TEST(Demo, PlanPredictsTheCheckPoleSigmaTheRunStates) {
     planned2 += planned * planned, stated2 += stated * stated, ++n;
   }
   ASSERT_EQ(n, 11);
-  EXPECT_NEAR(std::sqrt(planned2 / stated2), 1, 0.15);
+  EXPECT_GT(std::sqrt(planned2 / stated2), 0.8);
+  EXPECT_LT(std::sqrt(planned2 / stated2), 1.05);
 }
 
 TEST(Demo, ComparedMethodsStateTheirSigmaUnderTheEstimatedModel) {
