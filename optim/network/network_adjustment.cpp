@@ -510,6 +510,15 @@ NetworkResult weigh_correlated_images(const std::vector<NetworkCamera>& cameras,
   w.image_time_factor = factor;
   w.evaluations += e.evaluations;
   for (std::size_t c = 0; c < cameras.size(); ++c) out.cameras[c].details.time_correlation_factor = factor[c];
+  // This solve held the image σ (its scales 1, their σ NaN), so it says nothing of how well the
+  // mission determined them: the estimate's warnings on that replace its own.
+  const auto on_centroid_sigma = [](const std::string& w) {
+    return w.find(": its centroid σ is") != std::string::npos;
+  };
+  out.warnings.erase(std::remove_if(out.warnings.begin(), out.warnings.end(), on_centroid_sigma),
+                     out.warnings.end());
+  for (const std::string& warning : estimated.warnings)
+    if (on_centroid_sigma(warning)) out.warnings.push_back(warning);
   return out;
 }
 
