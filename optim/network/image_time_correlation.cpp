@@ -74,7 +74,7 @@ bool point_jacobian(const Camera& cam, const Eigen::Vector3d& X_seen, Eigen::Mat
 }
 
 /// Each camera's series: at every timed point seen by ≥ 2 cameras, the whitened residuals with the
-/// point's directions projected out, back in pixels of the camera's σ.
+/// point's directions projected out (in units of the camera's σ).
 std::vector<std::vector<TimedResidual>> residuals_off_the_point(
     const NetworkResult& result, const std::vector<NetworkPoint>& points,
     const std::vector<NetworkObservation>& observations) {
