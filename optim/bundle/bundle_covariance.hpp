@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/bundle/bundle_observation.hpp"
+#include "optim/bundle/bundle_options.hpp"
 #include "optim/bundle/bundle_parameters.hpp"
 #include "optim/estimation/rank_tested_inverse.hpp"
 

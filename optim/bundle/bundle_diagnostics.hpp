@@ -6,8 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/bundle/bundle_details.hpp"
 #include "optim/bundle/calibration_warning.hpp"
+#include "vision/camera/calibration_result.hpp"
 
 namespace rangecal {
 

@@ -5,7 +5,8 @@
 // behind the starting camera, a free clock offset with no lamp velocity, priors without a finite value or σ.
 #include <vector>
 
-#include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/bundle/bundle_observation.hpp"
+#include "optim/bundle/bundle_options.hpp"
 #include "optim/bundle/bundle_parameters.hpp"
 
 namespace rangecal {

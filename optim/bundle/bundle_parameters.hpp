@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "optim/bundle/bundle_adjustment.hpp"
+#include "optim/bundle/bundle_options.hpp"
 #include "optim/bundle/reprojection_cost.hpp"
 #include "vision/camera/camera_model.hpp"
 #include "vision/camera/camera_parameters.hpp"

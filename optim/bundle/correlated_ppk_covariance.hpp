@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "gnss/track/ppk_error_model.hpp"
-#include "optim/bundle/bundle_adjustment.hpp"
 #include "optim/bundle/bundle_observation.hpp"
+#include "optim/bundle/bundle_options.hpp"
 #include "vision/camera/calibration_result.hpp"
 #include "vision/camera/camera_model.hpp"
 

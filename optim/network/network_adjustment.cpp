@@ -293,6 +293,32 @@ BundleResult camera_result(const NetworkLayout& layout, const NetworkParameterBl
   return out;
 }
 
+/// `from`'s PPK outliers, their priors dropped from `selection` and their test figures copied to
+/// `points`; returns their indices.
+std::vector<std::size_t> carry_ppk_outliers(const NetworkResult& from, NetworkSelection* selection,
+                                            std::vector<NetworkPointResult>* points) {
+  std::vector<std::size_t> flagged;
+  for (std::size_t k = 0; k < from.points.size(); ++k) {
+    const NetworkPointResult& was = from.points[k];
+    NetworkPointResult& p = (*points)[k];
+    p.ppk_test_d2 = was.ppk_test_d2, p.ppk_test_dof = was.ppk_test_dof;
+    if (!was.ppk_outlier) continue;
+    p.ppk_outlier = true;
+    selection->prior[k] = 0;
+    flagged.push_back(k);
+  }
+  return flagged;
+}
+
+/// Per observation (`n` of them): flagged as an image outlier in `from`.
+std::vector<bool> image_outliers_of(const NetworkResult& from, std::size_t n) {
+  std::vector<bool> flagged(n, false);
+  for (std::size_t c = 0; c < from.cameras.size(); ++c)
+    for (std::size_t j = 0; j < from.cameras[c].outlier.size(); ++j)
+      if (from.cameras[c].outlier[j]) flagged[from.camera_observations[c][j]] = true;
+  return flagged;
+}
+
 /// The independent looks at the PPK error of the chained fixes in the final solve.
 void count_ppk_looks(const NetworkLayout& layout, const NetworkSelection& selection,
                      NetworkStatistics* stats) {
@@ -356,7 +382,8 @@ void add_network_warnings(const NetworkLayout& layout, const NetworkStatistics& 
 
 /// The whole adjustment with the cameras' centroids at the σ `cameras` state (network_adjust).
 NetworkResult adjust(const std::vector<NetworkCamera>& cameras, const std::vector<NetworkPoint>& points,
-                     const std::vector<NetworkObservation>& observations, const NetworkOptions& options) {
+                     const std::vector<NetworkObservation>& observations, const NetworkOptions& options,
+                     const NetworkResult* outliers_of = nullptr) {
   const NetworkLayout layout = make_network_layout(cameras, points, observations, options.ppk_error);
   // Under a correlated model the robust solve and the outlier tests run on its white approximation
   // (each fix under its whole covariance), the final solve on the model (network_gauss_newton.hpp).
@@ -382,9 +409,12 @@ NetworkResult adjust(const std::vector<NetworkCamera>& cameras, const std::vecto
 
   // 2. PPK outliers (multi-ray epochs), then image outliers (the bundle's rule, per camera); the
   // image outliers of the robust solution are the ones listed (and dropped).
-  stats.ppk_outliers =
-      flag_ppk_outliers(separating, blocks, options.ppk_outlier_probability, &selection, &out.points);
+  // With `outliers_of`, its outliers instead: tested at the σ it weighed by.
+  stats.ppk_outliers = outliers_of ? carry_ppk_outliers(*outliers_of, &selection, &out.points)
+                                   : flag_ppk_outliers(separating, blocks, options.ppk_outlier_probability,
+                                                       &selection, &out.points);
   ImageOutlierTest test = test_image_observations(separating, blocks, selection, options.outlier_threshold);
+  if (outliers_of) test.outlier = image_outliers_of(*outliers_of, observations.size());
   const std::vector<bool> dropped = test.outlier;
   for (bool flagged : dropped) stats.image_outliers += flagged ? 1 : 0;
 
@@ -502,14 +532,21 @@ NetworkResult weigh_correlated_images(const std::vector<NetworkCamera>& cameras,
     weighed[c].options.pixel_sigma_px *= e.image_scale[c] * std::sqrt(factor[c]);
   NetworkOptions held = options;
   held.estimate_image_sigma = false;
-  NetworkResult out = adjust(weighed, points, observations, held);
+  // The outliers stay the estimate's: they were tested against the centroids' own σ, which is the
+  // scatter of one residual however its errors repeat in time; at σ·√F the tests would pass
+  // residuals √F times larger.
+  NetworkResult out = adjust(weighed, points, observations, held, &estimated);
   PpkErrorEstimate& w = *out.ppk_estimate;
   w.image_scale = e.image_scale;
   w.image_scale_sd = e.image_scale_sd;
   w.image_scale_held = e.image_scale_held;
   w.image_time_factor = factor;
   w.evaluations += e.evaluations;
-  for (std::size_t c = 0; c < cameras.size(); ++c) out.cameras[c].details.time_correlation_factor = factor[c];
+  // The outliers are the estimate's tests at σ̂: the cut-off they met is the estimate's (σ̂ units).
+  for (std::size_t c = 0; c < cameras.size(); ++c) {
+    out.cameras[c].details.time_correlation_factor = factor[c];
+    out.cameras[c].details.outlier_threshold_sigma = estimated.cameras[c].details.outlier_threshold_sigma;
+  }
   // This solve held the image σ (its scales 1, their σ NaN), so it says nothing of how well the
   // mission determined them: the estimate's warnings on that replace its own.
   const auto on_centroid_sigma = [](const std::string& w) {

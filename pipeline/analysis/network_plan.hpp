@@ -10,7 +10,7 @@
 
 #include "optim/network/network_observation.hpp"
 #include "optim/network/network_options.hpp"
-#include "pipeline/analysis/route_plan.hpp"
+#include "pipeline/analysis/camera_bound.hpp"
 #include "pipeline/simulate/mission_simulator.hpp"
 #include "pipeline/simulate/scenario.hpp"
 

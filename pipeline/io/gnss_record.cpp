@@ -152,7 +152,7 @@ GapRecord parse_gap(const JsonView& v) {
   return g;
 }
 
-LeverArmRecord parse_lever_arm(const JsonView& v) {
+LeverArmRecord parse_lever_arm_record(const JsonView& v) {
   LeverArmRecord l;
   read_fields(kLeverSourceFields, v, &l);
   if (const auto b = v.find("body_frd_m")) {
@@ -166,7 +166,7 @@ LeverArmRecord parse_lever_arm(const JsonView& v) {
   return l;
 }
 
-AttitudeRecord parse_attitude(const JsonView& v) {
+AttitudeRecord parse_attitude_record(const JsonView& v) {
   AttitudeRecord r;
   read_fields(kAttitudeFields, v, &r);
   if (v.has("gnss_lag_ms")) read_fields(kLogFields, v, &r.log.emplace());
@@ -212,9 +212,9 @@ GnssRecord parse_gnss_record(const nlohmann::json& j, const std::string& path, c
   }
   read_fields(kTrackFields, v, &r);
   if (const auto l = object_field(v, "lever_arm", "an object {source, ...}"))
-    r.lever_arm = parse_lever_arm(*l);
+    r.lever_arm = parse_lever_arm_record(*l);
   if (const auto a = object_field(v, "attitude", "an object {path, format, samples, ...}"))
-    r.attitude = parse_attitude(*a);
+    r.attitude = parse_attitude_record(*a);
   return r;
 }
 

@@ -87,17 +87,6 @@ CrossCovariances camera_blocks(const nlohmann::json& j, const nlohmann::json& ro
 
 }  // namespace
 
-nlohmann::json ppk_error_model_json(const PpkErrorModel& m, int states) {
-  const auto hv = [](double h, double v) { return nlohmann::json{{"horizontal", h}, {"vertical", v}}; };
-  nlohmann::json j;
-  j["white_scale"] = hv(m.white_scale_h, m.white_scale_v);
-  j["gauss_markov"] = m.correlated() ? nlohmann::json{{"sd_m", hv(m.gm_sd_h_m, m.gm_sd_v_m)},
-                                                      {"tau_s", hv(m.tau_h_s, m.tau_v_s)},
-                                                      {"states", states}}
-                                     : nlohmann::json();
-  return j;
-}
-
 nlohmann::json ppk_error_estimate_json(const PpkErrorEstimate& e) {
   const auto hv = [](double h, double v) {
     const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
@@ -203,40 +192,43 @@ void read_ppk_error_estimate(const nlohmann::json& e, const std::string& path, c
 PpkErrorModelRecord parse_ppk_error_model_json(const nlohmann::json& j, const std::string& path,
                                                const std::string& field) {
   if (!j.is_object()) throw_input_error(path, 0, field, "expected an object (the PPK error model)");
-  // One {horizontal, vertical} pair, with its optional {horizontal, vertical} σ.
-  auto pair = [&](const nlohmann::json& o, const std::string& key, double* h, double* v, double* sh,
-                  double* sv) {
-    const std::string name = field + "." + key;
-    if (!o.contains(key) || !o[key].is_object()) throw_input_error(path, 0, name, "expected an object");
-    const nlohmann::json& x = o[key];
-    auto number = [&](const nlohmann::json& y, const char* k, const std::string& where) {
-      if (!y.contains(k) || !y[k].is_number())
-        throw_input_error(path, 0, where + "." + k, "expected a number");
-      return y[k].get<double>();
-    };
-    *h = number(x, "horizontal", name);
-    *v = number(x, "vertical", name);
-    if (!x.contains("sigma")) return;
-    if (!x["sigma"].is_object()) throw_input_error(path, 0, name + ".sigma", "expected an object");
-    *sh = number(x["sigma"], "horizontal", name + ".sigma");
-    *sv = number(x["sigma"], "vertical", name + ".sigma");
-  };
   PpkErrorModelRecord r;
-  PpkErrorModel &m = r.model, &s = r.sigma;
-  pair(j, "white_scale", &m.white_scale_h, &m.white_scale_v, &s.white_scale_h, &s.white_scale_v);
+  // The values by the model's one reader (gnss/track/ppk_error_model_json.hpp), what a run wrote
+  // beside them here.
+  r.model = read_ppk_error_model(JsonView(j, path, field, ErrorKind::input));
+  // A value's optional σ: {horizontal, vertical} beside it.
+  auto sigma = [&](const nlohmann::json& o, const std::string& key, const std::string& name, double* sh,
+                   double* sv) {
+    if (!o.contains(key) || !o[key].is_object() || !o[key].contains("sigma")) return;
+    const nlohmann::json& x = o[key]["sigma"];
+    const std::string where = name + "." + key + ".sigma";
+    if (!x.is_object()) throw_input_error(path, 0, where, "expected an object");
+    for (const auto& [axis, out] : {std::pair<const char*, double*>{"horizontal", sh}, {"vertical", sv}}) {
+      if (!x.contains(axis) || !x[axis].is_number())
+        throw_input_error(path, 0, where + "." + axis, "expected a number");
+      *out = x[axis].get<double>();
+    }
+  };
+  PpkErrorModel& s = r.sigma;
+  sigma(j, "white_scale", field, &s.white_scale_h, &s.white_scale_v);
   if (j.contains("estimate")) read_ppk_error_estimate(j["estimate"], path, field + ".estimate", &r);
   if (!j.contains("gauss_markov")) throw_input_error(path, 0, field + ".gauss_markov", "missing");
   const nlohmann::json& gm = j["gauss_markov"];
   if (gm.is_null()) return r;
-  if (!gm.is_object()) throw_input_error(path, 0, field + ".gauss_markov", "expected an object or null");
-  pair(gm, "sd_m", &m.gm_sd_h_m, &m.gm_sd_v_m, &s.gm_sd_h_m, &s.gm_sd_v_m);
-  pair(gm, "tau_s", &m.tau_h_s, &m.tau_v_s, &s.tau_h_s, &s.tau_v_s);
+  const std::string gm_field = field + ".gauss_markov";
+  sigma(gm, "sd_m", gm_field, &s.gm_sd_h_m, &s.gm_sd_v_m);
+  sigma(gm, "tau_s", gm_field, &s.tau_h_s, &s.tau_v_s);
   if (!gm.contains("states") || !gm["states"].is_number_integer() || gm["states"].get<long>() < 0)
-    throw_input_error(path, 0, field + ".gauss_markov.states", "expected a non-negative integer");
+    throw_input_error(path, 0, gm_field + ".states", "expected a non-negative integer");
   r.states = gm["states"].get<long>();
   if (gm.contains("independent_looks")) {
-    double unused_h = 0, unused_v = 0;
-    pair(gm, "independent_looks", &r.looks_h, &r.looks_v, &unused_h, &unused_v);
+    const nlohmann::json& looks = gm["independent_looks"];
+    for (const auto& [axis, out] :
+         {std::pair<const char*, double*>{"horizontal", &r.looks_h}, {"vertical", &r.looks_v}}) {
+      if (!looks.is_object() || !looks.contains(axis) || !looks[axis].is_number())
+        throw_input_error(path, 0, gm_field + ".independent_looks." + axis, "expected a number");
+      *out = looks[axis].get<double>();
+    }
   }
   return r;
 }

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "gnss/track/ppk_error_model_json.hpp"
 #include "optim/network/network_result.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
@@ -22,10 +23,6 @@ namespace rangecal {
 
 /// The statistics object (also run.json's `network` counts). `epoch_utc` names each point's epoch
 /// ("" for poles).
-/// The PPK error model the network weighed the fixes by (docs/outputs.md "network"): white scale and,
-/// for a correlated model, the Gauss–Markov sd, τ and the number of chained epochs (null when white).
-nlohmann::json ppk_error_model_json(const PpkErrorModel& model, int gauss_markov_states);
-
 /// The estimate of the model from the mission (PpkErrorEstimate; docs/outputs.md): each parameter's
 /// σ (null where held), whether the white model was kept, the likelihood ratio, the record length
 /// and which τ were held at the fallback (optim/network/ppk_error_estimation.hpp).

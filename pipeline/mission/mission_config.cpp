@@ -5,15 +5,14 @@
 #include <cmath>
 #include <filesystem>
 #include <set>
-#include <tuple>
 #include <utility>
 
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/json_view.hpp"
-#include "config/number_format.hpp"
 #include "config/physical_ranges.hpp"
 #include "config/sha256.hpp"
+#include "gnss/track/ppk_error_model_json.hpp"
 #include "pipeline/mission/calibration_method_names.hpp"
 #include "vision/camera/camera_parameters.hpp"
 
@@ -88,52 +87,6 @@ GeodeticOrigin parse_site(const JsonView& site) {
   return g;
 }
 
-/// A horizontal / vertical pair: one number for both, or {"horizontal": h, "vertical": v}; each in
-/// [lo, hi] (excluding lo when `open_low`).
-std::pair<double, double> horizontal_vertical(const JsonView& v, double lo, double hi, bool open_low,
-                                              const std::string& unit) {
-  const std::string range = std::string(open_low ? "(" : "[") + format_number("%g", lo) + ", " +
-                            format_number("%g", hi) + "] " + unit;
-  const std::string form = "a number in " + range + " or {\"horizontal\": h, \"vertical\": v}";
-  const auto one = [&](const JsonView& x) {
-    const double d = x.number("a number in " + range);
-    if (!(open_low ? d > lo : d >= lo) || !(d <= hi)) x.fail_expected("a number in " + range);
-    return d;
-  };
-  if (!v.json().is_object()) {
-    if (!v.json().is_number()) v.fail_expected(form);
-    const double d = one(v);
-    return {d, d};
-  }
-  v.check_keys({"horizontal", "vertical"});
-  return {one(v.at("horizontal", "a number in " + range)), one(v.at("vertical", "a number in " + range))};
-}
-
-/// gnss.error_model (docs/gnss.md "PPK error model"). Limits: a white scale in (0, 10] (the .pos sd
-/// is the whole error: a scale above 1 says RTKLIB is optimistic); a Gauss–Markov sd in [0, 1] m and
-/// τ in (0, 86400] s, on both axes or on neither.
-PpkErrorModel parse_error_model(const JsonView& v) {
-  v.require_object("an object {\"white_scale\", \"gauss_markov\": {\"sd_m\", \"tau_s\"}}");
-  v.check_keys({"white_scale", "gauss_markov"});
-  PpkErrorModel m;
-  if (auto w = v.find("white_scale"))
-    std::tie(m.white_scale_h, m.white_scale_v) =
-        horizontal_vertical(*w, 0, 10, true, "(fraction of the .pos sd)");
-  if (auto g = v.find("gauss_markov")) {
-    g->require_object("an object {\"sd_m\", \"tau_s\"}");
-    g->check_keys({"sd_m", "tau_s"});
-    const JsonView sd = g->at("sd_m", "the Gauss–Markov 1σ in metres");
-    std::tie(m.gm_sd_h_m, m.gm_sd_v_m) = horizontal_vertical(sd, 0, 1, false, "m");
-    std::tie(m.tau_h_s, m.tau_v_s) =
-        horizontal_vertical(g->at("tau_s", "the correlation time in seconds"), 0, 86400, true, "s");
-    if ((m.gm_sd_h_m > 0) != (m.gm_sd_v_m > 0))
-      sd.fail(
-          "a Gauss–Markov part on one axis only; expected sd_m > 0 on both horizontal and vertical, or 0 "
-          "on both (a white model)");
-  }
-  return m;
-}
-
 GnssConfig parse_gnss(const Loader& L, const JsonView& g) {
   g.require_object("an object {\"pos_files\": [...], ...}");
   g.check_keys({"pos_files", "accept_quality", "max_sd_m", "max_gap_s", "error_model"});
@@ -167,7 +120,7 @@ GnssConfig parse_gnss(const Loader& L, const JsonView& g) {
         v->fail_expected("\"estimate\", \"white\" or an object {\"white_scale\", \"gauss_markov\"}");
       c.estimate_error_model = word == "estimate";
     } else {
-      c.error_model = parse_error_model(*v);
+      c.error_model = read_ppk_error_model(*v);
       c.estimate_error_model = false;
     }
   }

@@ -5,6 +5,10 @@
 // (ScenarioGnss::noise_sd_m). Real carrier-phase errors stay correlated for tens of seconds to
 // minutes (multipath, troposphere), and an ambiguity fix holds an offset until lock is lost; white
 // noise alone makes every epoch an independent look at the truth.
+//
+// This is the truth a simulated receiver draws from, not the network's model of it
+// (gnss/track/ppk_error_model.hpp): per E, N, U axis in metres, with a per-flight bias the model has
+// no term for. stated_error_model below maps it onto the model.
 #include <Eigen/Core>
 
 #include <cstdint>

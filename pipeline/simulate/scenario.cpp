@@ -77,7 +77,7 @@ void parse_gauss_markov(const JsonView& v, PpkCorrelatedError* e) {
   e->gm_tau_s = enu_or_horizontal_vertical(v.at("tau_s", "the correlation time (s)"), "s", true);
 }
 
-void parse_gnss(const JsonView& v, ScenarioGnss* g) {
+void parse_scenario_gnss(const JsonView& v, ScenarioGnss* g) {
   v.require_object("an object {\"rate_hz\", \"noise_sd_m\", …}");
   v.check_keys({"rate_hz", "noise_sd_m", "gauss_markov", "flight_bias_sd_m", "float_fraction",
                 "float_intervals", "float_noise_factor", "gaps", "satellites"});
@@ -106,7 +106,7 @@ void parse_gnss(const JsonView& v, ScenarioGnss* g) {
   }
 }
 
-void parse_attitude(const JsonView& v, ScenarioAttitude* a) {
+void parse_scenario_attitude(const JsonView& v, ScenarioAttitude* a) {
   v.require_object("an object {\"rate_hz\", \"wobble_deg\", \"yaw_deg\"}");
   v.check_keys({"rate_hz", "wobble_deg", "yaw_deg", "tilt_with_acceleration"});
   if (auto x = v.find("rate_hz")) a->rate_hz = positive(*x, "Hz");
@@ -454,14 +454,14 @@ Scenario parse_scenario(const std::string& json_text, const std::string& path) {
     if (std::abs(s.origin.lon_deg) > 180) lon.fail_expected("a longitude in degrees [-180, 180]");
     s.origin.h_m = o.at("h", "an ellipsoidal height (m)").number("an ellipsoidal height (m)");
   }
-  if (auto x = root.find("gnss")) parse_gnss(*x, &s.gnss);
+  if (auto x = root.find("gnss")) parse_scenario_gnss(*x, &s.gnss);
   if (auto x = root.find("lever_arm")) {
     x->require_object("an object {\"body_frd_m\": [x, y, z]}");
     x->check_keys({"body_frd_m"});
     s.lever_arm_frd_m = vec3(x->at("body_frd_m", "an array [x, y, z] (m, body FRD)"), "x, y, z in metres");
     if (s.lever_arm_frd_m.norm() > 10) x->at("body_frd_m", "").fail("lever arm longer than 10 m");
   }
-  if (auto x = root.find("attitude")) parse_attitude(*x, &s.attitude);
+  if (auto x = root.find("attitude")) parse_scenario_attitude(*x, &s.attitude);
   if (auto x = root.find("lamp")) parse_lamp(*x, &s.lamp);
   if (auto x = root.find("sky")) parse_sky(*x, &s.sky);
 

@@ -213,26 +213,6 @@ constexpr std::array<MethodFunction, kCalibrationMethodNames.size()> kMethodFunc
 
 }  // namespace
 
-BundleOptions bundle_options(const CalibrationProblem& p) {
-  const std::vector<CameraParameter> free = expand_free_parameters(p.free);
-  BundleOptions opt;
-  opt.free = p.free;
-  opt.pixel_sigma_px = p.pixel_sigma_px;
-  opt.ppk_error = p.ppk_error;
-  if (p.priors.principal_point_px &&
-      (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
-    opt.priors.use_principal_point = true;
-    opt.priors.principal_point_px = *p.priors.principal_point_px;
-    opt.priors.principal_point_sigma_px = p.priors.principal_point_sigma_px;
-  }
-  if (p.priors.center_enu_m && contains(free, CameraParameter::CE)) {
-    opt.priors.use_center = true;
-    opt.priors.center_enu_m = *p.priors.center_enu_m;
-    opt.priors.center_sigma_m = Eigen::Vector3d::Constant(p.priors.center_sigma_m);
-  }
-  return opt;
-}
-
 std::vector<Eigen::Vector2d> reprojection_residuals(const Camera& cam,
                                                     const std::vector<BundleObservation>& obs,
                                                     double clock_offset_s) {

@@ -39,10 +39,6 @@ CalibrationRun run_calibration_method(const std::string& method, const Calibrati
 /// run_calibration_method's result alone.
 CalibrationResult calibrate_camera(const std::string& method, const CalibrationProblem& problem);
 
-/// The options method `bundle` solves `problem` with: its free set, σ_px, PPK error model and the
-/// priors on the parameters that are free.
-BundleOptions bundle_options(const CalibrationProblem& problem);
-
 /// Per-observation reprojection residual (projected − observed, px) of `cam`, each world point
 /// moved to where the lamp stood at the true exposure time for a camera clock offset (s,
 /// observed_world_point); NaN when a point cannot be projected.

@@ -10,6 +10,7 @@
 #include "gnss/formats/pole_survey_csv.hpp"
 #include "gnss/track/ppk_error_model.hpp"
 #include "optim/bundle/bundle_observation.hpp"
+#include "optim/bundle/bundle_options.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
 #include "pipeline/mission/mission_config.hpp"
 #include "vision/camera/sensor_geometry.hpp"
@@ -59,5 +60,9 @@ ControlPoleViews read_control_pole_views(const MissionConfig& cfg, const CameraC
 CalibrationProblem make_calibration_problem(const CameraConfig& camera, const CalibrateConfig& calibrate,
                                             const std::vector<Correspondence>& pairs,
                                             const ControlPoleViews& poles = {});
+
+/// The options method `bundle` solves `problem` with: its free set, σ_px, PPK error model and the
+/// priors on the parameters that are free.
+BundleOptions bundle_options(const CalibrationProblem& problem);
 
 }  // namespace rangecal

@@ -5,8 +5,6 @@
 #include <map>
 #include <set>
 
-#include "pipeline/steps/calibration_methods.hpp"
-
 namespace rangecal {
 
 NetworkCamera network_camera(const CalibrationProblem& p, const Camera& start, double start_clock_offset_s) {
@@ -15,18 +13,7 @@ NetworkCamera network_camera(const CalibrationProblem& p, const Camera& start, d
   nc.options.free = p.free;
   nc.options.pixel_sigma_px = p.pixel_sigma_px;
   nc.options.initial_clock_offset_s = start_clock_offset_s;
-  const std::vector<CameraParameter> free = expand_free_parameters(p.free);
-  if (p.priors.principal_point_px &&
-      (contains(free, CameraParameter::u0) || contains(free, CameraParameter::v0))) {
-    nc.options.priors.use_principal_point = true;
-    nc.options.priors.principal_point_px = *p.priors.principal_point_px;
-    nc.options.priors.principal_point_sigma_px = p.priors.principal_point_sigma_px;
-  }
-  if (p.priors.center_enu_m && contains(free, CameraParameter::CE)) {
-    nc.options.priors.use_center = true;
-    nc.options.priors.center_enu_m = *p.priors.center_enu_m;
-    nc.options.priors.center_sigma_m = Eigen::Vector3d::Constant(p.priors.center_sigma_m);
-  }
+  nc.options.priors = bundle_options(p).priors;
   return nc;
 }
 

@@ -475,6 +475,14 @@ PpkErrorModel network_model(const GaussMarkovPpk& m) {
   return e;
 }
 
+NetworkOptions plain_least_squares_network() {
+  NetworkOptions opt;
+  opt.loss = RobustLoss::none;
+  opt.resolve_without_outliers = false;
+  opt.ppk_outlier_probability = 1e-300;
+  return opt;
+}
+
 NetworkNoise draw_network_noise(const CrbNetwork& n, const GaussMarkovPpk& model, DeterministicRandom* rng) {
   NetworkNoise noise;
   noise.ppk_error = draw_correlated_ppk_errors(n.epoch_time_s, model, rng);

@@ -177,6 +177,10 @@ NetworkInput network_input(const CrbNetwork& n, const GaussMarkovPpk& weights, c
 /// white scale = white / total per axis, the GM part as it is.
 PpkErrorModel network_model(const GaussMarkovPpk& m);
 
+/// The network as a Monte Carlo of its σ runs it: plain least squares (no robust loss, no outlier
+/// re-solve, no PPK prior ever dropped), so a mission's spread is its noise's alone.
+NetworkOptions plain_least_squares_network();
+
 /// One noisy draw of `n` under `model`: PPK errors, pole and station survey errors, pixel noise.
 NetworkNoise draw_network_noise(const CrbNetwork& n, const GaussMarkovPpk& model, DeterministicRandom* rng);
 

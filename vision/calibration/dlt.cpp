@@ -10,28 +10,13 @@
 #include "config/deterministic_random.hpp"
 #include "config/error.hpp"
 #include "vision/calibration/calibration_input_checks.hpp"
+#include "vision/calibration/hartley_normalisation.hpp"
 #include "vision/calibration/rq_decomposition.hpp"
 
 namespace rangecal {
 namespace {
 
 const char* const kMethod = "dlt";
-
-// Hartley normalisation: similarity moving the centroid to 0 and the mean distance to √dim.
-template <int D>
-Eigen::Matrix<double, D + 1, D + 1> normalising_transform(const std::vector<Eigen::Matrix<double, D, 1>>& x) {
-  Eigen::Matrix<double, D, 1> c = Eigen::Matrix<double, D, 1>::Zero();
-  for (const auto& p : x) c += p;
-  c /= static_cast<double>(x.size());
-  double mean_dist = 0;
-  for (const auto& p : x) mean_dist += (p - c).norm();
-  mean_dist /= static_cast<double>(x.size());
-  const double s = mean_dist > 0 ? std::sqrt(double(D)) / mean_dist : 1.0;
-  Eigen::Matrix<double, D + 1, D + 1> T = Eigen::Matrix<double, D + 1, D + 1>::Identity();
-  T.template topLeftCorner<D, D>() *= s;
-  T.template topRightCorner<D, 1>() = -s * c;
-  return T;
-}
 
 // Normalised DLT on the subset `idx`. Returns false when the system's null space is not 1-D.
 bool solve_dlt(const std::vector<PointCorrespondence>& pts, const std::vector<std::size_t>& idx,
@@ -41,8 +26,8 @@ bool solve_dlt(const std::vector<PointCorrespondence>& pts, const std::vector<st
   X.reserve(idx.size());
   x.reserve(idx.size());
   for (std::size_t i : idx) X.push_back(pts[i].world), x.push_back(pts[i].pixel);
-  const Eigen::Matrix4d TX = normalising_transform<3>(X);
-  const Eigen::Matrix3d Tx = normalising_transform<2>(x);
+  const Eigen::Matrix4d TX = hartley_normalisation<3>(X);
+  const Eigen::Matrix3d Tx = hartley_normalisation<2>(x);
   // Seed 000 eq. 2: G·M' = 0, two rows per point; at least 12 rows so the SVD has 12 singular values.
   const Eigen::Index rows = std::max<Eigen::Index>(2 * idx.size(), 12);
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(rows, 12);

@@ -7,26 +7,9 @@
 
 #include "config/error.hpp"
 #include "vision/calibration/calibration_input_checks.hpp"
+#include "vision/calibration/hartley_normalisation.hpp"
 
 namespace rangecal {
-namespace {
-
-// Similarity taking the centroid to 0 and the mean distance to √2 (Hartley normalisation).
-Eigen::Matrix3d normalising_transform(const std::vector<Eigen::Vector2d>& x) {
-  Eigen::Vector2d c = Eigen::Vector2d::Zero();
-  for (const auto& p : x) c += p;
-  c /= static_cast<double>(x.size());
-  double d = 0;
-  for (const auto& p : x) d += (p - c).norm();
-  d /= static_cast<double>(x.size());
-  const double s = d > 0 ? std::sqrt(2.0) / d : 1.0;
-  Eigen::Matrix3d T;
-  T << s, 0, -s * c.x(), 0, s, -s * c.y(), 0, 0, 1;
-  return T;
-}
-
-}  // namespace
-
 Eigen::Matrix3d fit_homography(const std::vector<PointCorrespondence>& pts, const std::string& what) {
   require_finite(pts, what);
   require_min_points(pts, 4, what, "8 unknowns of the homography, 2 equations per point");
@@ -42,7 +25,7 @@ Eigen::Matrix3d fit_homography(const std::vector<PointCorrespondence>& pts, cons
 
   std::vector<Eigen::Vector2d> X, x;
   for (const auto& p : pts) X.push_back(p.world.head<2>()), x.push_back(p.pixel);
-  const Eigen::Matrix3d TX = normalising_transform(X), Tx = normalising_transform(x);
+  const Eigen::Matrix3d TX = hartley_normalisation<2>(X), Tx = hartley_normalisation<2>(x);
   const Eigen::Index rows = std::max<Eigen::Index>(2 * pts.size(), 9);
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, 9);
   for (std::size_t k = 0; k < pts.size(); ++k) {

@@ -7,7 +7,8 @@
 //   sigma_px  optional: the label's 1σ per axis (px, > 0, ≤ 100); blank: the camera's a-priori σ
 #include <string>
 
-#include "vision/tracks/track_formats.hpp"
+#include "vision/tracks/image_track.hpp"
+#include "vision/tracks/track_read_options.hpp"
 
 namespace rangecal {
 

@@ -10,7 +10,8 @@
 //   u = X − 1;   v = Y − 1 (top)   or   v = H − Y (bottom)
 #include <string>
 
-#include "vision/tracks/track_formats.hpp"
+#include "vision/tracks/image_track.hpp"
+#include "vision/tracks/track_read_options.hpp"
 
 namespace rangecal {
 

@@ -8,6 +8,8 @@
 
 #include <Eigen/LU>
 
+#include "optim/bundle/calibration_warning.hpp"
+#include "optim/bundle/whitening.hpp"
 #include "support/bundle_synthetic.hpp"
 
 namespace rangecal {

@@ -142,10 +142,7 @@ MonteCarloFigures white_network_monte_carlo(const GaussMarkovPpk& model, int dra
   const CameraJointCovariance actual = sandwich_covariance(n, white, truth);
   const CameraJointCovariance believed = cramer_rao_bound(n, white);
   const std::vector<Vector3d> volume = flight_volume(n, 200, 78);
-  NetworkOptions opt;
-  opt.loss = RobustLoss::none;
-  opt.resolve_without_outliers = false;
-  opt.ppk_outlier_probability = 1e-300;  // no PPK prior is ever dropped
+  NetworkOptions opt = plain_least_squares_network();
   const Eigen::Index P = actual.joint.rows();
   const Eigen::LLT<MatrixXd> la(actual.joint), lb(believed.joint);
   DeterministicRandom rng(seed);

@@ -66,10 +66,7 @@ Outcome run(const std::vector<double>& true_px, const GaussMarkovPpk& ppk, bool 
   // The bound of the true noise: the centroids at their true σ.
   const CameraJointCovariance bound = cramer_rao_bound(truth, ppk_joint_covariance(truth.epoch_time_s, ppk));
   const std::vector<Eigen::Vector3d> volume = flight_volume(truth, 200, 78);
-  NetworkOptions opt;
-  opt.loss = RobustLoss::none;
-  opt.resolve_without_outliers = false;
-  opt.ppk_outlier_probability = 1e-300;
+  NetworkOptions opt = plain_least_squares_network();
   opt.estimate_ppk_error = true;
   opt.estimate_image_sigma = image_sigma;
   DeterministicRandom rng(seed);

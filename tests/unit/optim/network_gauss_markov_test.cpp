@@ -152,10 +152,7 @@ TEST(NetworkGaussMarkov, VanishingGaussMarkovPartIsTheWhiteNetwork) {
   const NetworkInput in = network_input(n, white, draw_network_noise(n, measured_ppk_model(), &rng));
   // Plain least squares: both are then the exact minimisers of one model (the white network
   // eliminates its single-view points analytically, the chained network carries them).
-  NetworkOptions plain;
-  plain.loss = RobustLoss::none;
-  plain.resolve_without_outliers = false;
-  plain.ppk_outlier_probability = 1e-300;
+  NetworkOptions plain = plain_least_squares_network();
   const NetworkResult w = network_adjust(in.cameras, in.points, in.observations, plain);
   NetworkOptions opt = plain;
   opt.ppk_error.gm_sd_h_m = opt.ppk_error.gm_sd_v_m = 1e-6;
@@ -227,10 +224,7 @@ TEST(NetworkGaussMarkov, PointCovarianceMatchesItsScatter) {
   o.ascents = 3, o.rate_hz = 2, o.control_poles = 2;
   const CrbNetwork n = ascent_network(o);
   const GaussMarkovPpk m = measured_ppk_model(30);
-  NetworkOptions opt;
-  opt.loss = RobustLoss::none;
-  opt.resolve_without_outliers = false;
-  opt.ppk_outlier_probability = 1e-300;
+  NetworkOptions opt = plain_least_squares_network();
   opt.ppk_error = network_model(m);
   DeterministicRandom rng(9);
   constexpr int kDraws = 30;
@@ -261,10 +255,7 @@ MonteCarloRun honesty_monte_carlo(const CrbNetwork& n, const GaussMarkovPpk& mod
                                   std::uint64_t seed, bool with_estimate = false) {
   const CameraJointCovariance bound = cramer_rao_bound(n, ppk_joint_covariance(n.epoch_time_s, model));
   const std::vector<Vector3d> volume = flight_volume(n, 200, 78);
-  NetworkOptions base;
-  base.loss = RobustLoss::none;
-  base.resolve_without_outliers = false;
-  base.ppk_outlier_probability = 1e-300;  // no PPK prior is ever dropped
+  NetworkOptions base = plain_least_squares_network();
   NetworkOptions correlated = base;
   correlated.ppk_error = network_model(model);
   NetworkOptions estimating = base;

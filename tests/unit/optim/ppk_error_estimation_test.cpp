@@ -35,10 +35,7 @@ double rms_log_spread(const std::vector<double>& v) {
 }
 
 NetworkOptions estimating() {
-  NetworkOptions opt;
-  opt.loss = RobustLoss::none;
-  opt.resolve_without_outliers = false;
-  opt.ppk_outlier_probability = 1e-300;
+  NetworkOptions opt = plain_least_squares_network();
   opt.estimate_ppk_error = true;
   return opt;
 }

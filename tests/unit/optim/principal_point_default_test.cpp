@@ -188,10 +188,7 @@ OffsetFigures measure(double offset_px, int missions, std::uint64_t seed) {
   const GaussMarkovPpk ppk = measured_ppk_model().as_white();
   const std::vector<Vector3d> volume = flight_volume(n, 200, 78);
   const std::vector<Camera> start = start_cameras(n);
-  NetworkOptions net;
-  net.loss = RobustLoss::none;
-  net.resolve_without_outliers = false;
-  net.ppk_outlier_probability = 1e-300;  // no PPK prior is ever dropped
+  NetworkOptions net = plain_least_squares_network();
   DeterministicRandom rng(seed);
   OffsetFigures out;
   for (int m = 0; m < missions; ++m) {
