@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "config/atomic_file.hpp"
+#include "config/csv_table.hpp"
+#include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
 
@@ -63,6 +65,57 @@ std::string format_trajectory_csv(const Trajectory& trajectory, const LocalEnu& 
 
 void write_trajectory_csv(const std::string& path, const Trajectory& trajectory, const LocalEnu& site) {
   write_file_atomic(path, format_trajectory_csv(trajectory, site));
+}
+
+namespace {
+
+/// The ids of a `+`-joined cell; none when blank.
+std::vector<std::string> camera_ids(const std::string& cell) {
+  std::vector<std::string> ids;
+  if (!cell.empty())
+    for (const std::string& id : split_trim(cell, '+')) ids.push_back(id);
+  return ids;
+}
+
+}  // namespace
+
+std::vector<TrajectoryRow> parse_trajectory_csv(const std::string& text, const std::string& path) {
+  const CsvTable t = parse_csv(text, path);
+  const std::size_t utc = t.column("utc"), cameras = t.column("cameras"), rms = t.column("rms_px"),
+                    inflated = t.column("inflated"), extrapolated = t.column("extrapolated");
+  const std::size_t enu[3] = {t.column("E"), t.column("N"), t.column("U")};
+  const std::size_t sd[3] = {t.column("sigma_E"), t.column("sigma_N"), t.column("sigma_U")};
+  const std::size_t en = t.column("cov_EN"), eu = t.column("cov_EU"), nu = t.column("cov_NU");
+  const std::size_t total = t.column("sigma_m"), labels = t.column("sigma_labels_m"),
+                    timing = t.column("sigma_timing_m"), calibration = t.column("sigma_calibration_m");
+  std::vector<TrajectoryRow> rows;
+  for (const CsvRecord& r : t.records) {
+    TrajectoryRow row;
+    row.utc = csv_utc(t, r, utc);
+    const std::array<double, 3> p = t.site_enu(r, enu[0], enu[1], enu[2]);
+    row.enu = Eigen::Vector3d(p[0], p[1], p[2]);
+    for (int k = 0; k < 3; ++k) {
+      const double s = t.number_in(r, sd[k], 0, 1e6, "a 1σ in metres");
+      row.cov_m2(k, k) = s * s;
+    }
+    row.cov_m2(0, 1) = row.cov_m2(1, 0) = t.number(r, en);
+    row.cov_m2(0, 2) = row.cov_m2(2, 0) = t.number(r, eu);
+    row.cov_m2(1, 2) = row.cov_m2(2, 1) = t.number(r, nu);
+    row.sigma_m = t.number_in(r, total, 0, 1e6, "a 1σ in metres");
+    row.sigma_labels_m = t.number_in(r, labels, 0, 1e6, "a 1σ in metres");
+    row.sigma_timing_m = t.number_in(r, timing, 0, 1e6, "a 1σ in metres");
+    row.sigma_calibration_m = t.number_in(r, calibration, 0, 1e6, "a 1σ in metres");
+    row.cameras = camera_ids(t.text(r, cameras));
+    row.rms_px = t.number_in(r, rms, 0, 1e9, "a reprojection rms in pixels");
+    row.inflated = t.number_in(r, inflated, 0, 1, "0 or 1") > 0.5;
+    row.extrapolated = camera_ids(t.text(r, extrapolated));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::vector<TrajectoryRow> read_trajectory_csv(const std::string& path) {
+  return parse_trajectory_csv(read_file_text(path), path);
 }
 
 }  // namespace rangecal

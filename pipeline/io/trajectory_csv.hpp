@@ -19,7 +19,10 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "gnss/geodesy/local_enu.hpp"
+#include "gnss/time/utc_time.hpp"
 #include "vision/triangulation/target_trajectory.hpp"
 
 namespace rangecal {
@@ -29,5 +32,23 @@ std::string format_trajectory_csv(const Trajectory& trajectory, const LocalEnu& 
 
 /// Writes it atomically (a failed write leaves no partial file).
 void write_trajectory_csv(const std::string& path, const Trajectory& trajectory, const LocalEnu& site);
+
+/// One row read back (the report's trajectory section): what the report shows of it.
+struct TrajectoryRow {
+  UtcTime utc;
+  Eigen::Vector3d enu = Eigen::Vector3d::Zero();     ///< m
+  Eigen::Matrix3d cov_m2 = Eigen::Matrix3d::Zero();  ///< total covariance (m²)
+  double sigma_m = 0;                                ///< √trace
+  double sigma_labels_m = 0, sigma_timing_m = 0, sigma_calibration_m = 0;
+  std::vector<std::string> cameras;
+  double rms_px = 0;
+  bool inflated = false;
+  std::vector<std::string> extrapolated;
+};
+
+/// Parses the CSV text written by format_trajectory_csv; `path` names it in messages. Throws
+/// rangecal::Error (input) naming the file, line and column of a missing column or a bad cell.
+std::vector<TrajectoryRow> parse_trajectory_csv(const std::string& text, const std::string& path);
+std::vector<TrajectoryRow> read_trajectory_csv(const std::string& path);
 
 }  // namespace rangecal

@@ -150,6 +150,8 @@ ReportData read_report_data(const std::string& output_dir, const std::string& mi
 
   const std::string inter = mission_output(output_dir, kIntersectionCsv);
   if (fs::exists(inter)) data.intersection = read_intersection_csv(inter);
+  const std::string trajectory = mission_output(output_dir, kTrajectoryCsv);
+  if (fs::exists(trajectory)) data.trajectory = read_trajectory_csv(trajectory);
   return data;
 }
 

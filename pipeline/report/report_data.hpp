@@ -20,6 +20,7 @@
 #include "pipeline/io/methods_csv.hpp"
 #include "pipeline/io/network_json.hpp"
 #include "pipeline/io/residuals_csv.hpp"
+#include "pipeline/io/trajectory_csv.hpp"
 #include "vision/camera/calibration_result.hpp"
 
 namespace rangecal {
@@ -68,6 +69,9 @@ struct ReportData {
   /// intersection.csv as the intersect stage wrote it (pipeline/io/intersection_csv.hpp); absent:
   /// the file is missing.
   std::optional<std::vector<IntersectionRow>> intersection;
+  /// trajectory.csv as the trajectory stage wrote it (pipeline/io/trajectory_csv.hpp); absent: the
+  /// file is missing.
+  std::optional<std::vector<TrajectoryRow>> trajectory;
   std::vector<StageWarnings> stage_warnings;  ///< stages in run.json order (sorted by name)
   /// The lamp track itself (site map); absent with `track`.
   std::optional<LampTrack> lamp_track;

@@ -17,6 +17,7 @@
 #include "pipeline/report/projection_uncertainty.hpp"
 #include "pipeline/report/report_plots.hpp"
 #include "pipeline/report/svg_plot.hpp"
+#include "pipeline/report/trajectory_html.hpp"
 #include "pipeline/report/verdict.hpp"
 #include "pipeline/steps/intersection.hpp"
 #include "vision/camera/camera_model.hpp"
@@ -1031,6 +1032,7 @@ std::string render_report_html(const ReportData& d, const FlightVolumeSigma& vol
   s += funnel_section(d);
   s += network_section(d);
   s += ppk_error_model_section(d);
+  s += trajectory_section(d);
   s += "</body>\n</html>\n";
   return s;
 }
