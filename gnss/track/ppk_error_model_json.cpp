@@ -17,7 +17,8 @@ std::pair<double, double> model_axis_pair(const JsonView& v, double lo, double h
   const std::string form = "a number in " + range + " or {\"horizontal\": h, \"vertical\": v}";
   const auto one = [&](const JsonView& x) {
     const double d = x.number("a number in " + range);
-    if (!(open_low ? d > lo : d >= lo) || !(d <= hi)) x.fail_expected("a number in " + range);
+    // An estimate on its upper bound is exp(log bound), which may round one step above it.
+    if (!(open_low ? d > lo : d >= lo) || !(d <= hi * (1 + 1e-12))) x.fail_expected("a number in " + range);
     return d;
   };
   if (!v.json().is_object()) {

@@ -516,7 +516,7 @@ NetworkResult estimate_image_scales(const std::vector<NetworkCamera>& cameras,
 
 /// The network once more with each camera whose residuals repeat themselves in time weighed by
 /// σ·√F (image_time_correlation.hpp), its σ then held and the PPK model estimated again; the image
-/// scales reported stay the centroids' own scatter (the estimate before).
+/// scales reported stay the centroids' own scatter (the estimate before), and so do the outliers.
 NetworkResult weigh_correlated_images(const std::vector<NetworkCamera>& cameras,
                                       const std::vector<NetworkPoint>& points,
                                       const std::vector<NetworkObservation>& observations,
@@ -542,7 +542,8 @@ NetworkResult weigh_correlated_images(const std::vector<NetworkCamera>& cameras,
   w.image_scale_held = e.image_scale_held;
   w.image_time_factor = factor;
   w.evaluations += e.evaluations;
-  // The outliers are the estimate's tests at σ̂: the cut-off they met is the estimate's (σ̂ units).
+  // The outliers are the estimate's tests (at the σ it weighed by, σ̂ or the stated σ): the cut-off
+  // they met is the estimate's. The whitened norms beside them are this solve's, at σ̂·√F.
   for (std::size_t c = 0; c < cameras.size(); ++c) {
     out.cameras[c].details.time_correlation_factor = factor[c];
     out.cameras[c].details.outlier_threshold_sigma = estimated.cameras[c].details.outlier_threshold_sigma;

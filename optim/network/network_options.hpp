@@ -55,7 +55,8 @@ struct NetworkOptions {
   bool estimate_white_only = false;
   /// With estimate_image_sigma: a camera whose residuals repeat themselves in time (their variance
   /// inflation F measured above 1, image_time_correlation.hpp) is weighed by its estimated
-  /// σ·√F in a last solve, the PPK model estimated again with the image σ held.
+  /// σ·√F in a last solve, the PPK model estimated again with the image σ held and the outliers
+  /// kept from the estimate's solve.
   bool image_time_correlation = true;
 };
 

@@ -10,6 +10,7 @@
 
 #include "config/number_format.hpp"
 #include "gnss/track/ppk_error_model.hpp"
+#include "gnss/track/ppk_error_model_json.hpp"
 #include "optim/network/restricted_likelihood.hpp"
 
 namespace rangecal {
@@ -21,7 +22,10 @@ using Eigen::VectorXd;
 /// The box of the PPK parameters (white scales, Gauss–Markov sd in m, τ in s), then of every image
 /// scale (ppk_error_estimation.hpp).
 const std::array<double, kPpkParameters + 1> kLow = {0.01, 0.01, 1e-4, 1e-4, 0.1, 0.1, kLowestImageScale};
-const std::array<double, kPpkParameters + 1> kHigh = {10, 10, 1, 1, 1e5, 1e5, kHighestImageScale};
+/// The upper bounds are those a model read from JSON may take (gnss/track/ppk_error_model_json.hpp).
+const std::array<double, kPpkParameters + 1> kHigh = {
+    kMaxWhiteScale,      kMaxWhiteScale,      kMaxGaussMarkovSdM, kMaxGaussMarkovSdM,
+    kMaxGaussMarkovTauS, kMaxGaussMarkovTauS, kHighestImageScale};
 /// Newton's iterations per fit at most, the largest step (log units: a factor e^1.5 at once), and
 /// the decrease of D (predicted, or made by a step) below which a fit has converged: 1 % of the
 /// ΔD a 1σ change of a parameter makes (the estimate is then within ~0.1σ of the maximum).

@@ -21,8 +21,6 @@
 
 namespace rangecal {
 
-/// The statistics object (also run.json's `network` counts). `epoch_utc` names each point's epoch
-/// ("" for poles).
 /// The estimate of the model from the mission (PpkErrorEstimate; docs/outputs.md): each parameter's
 /// σ (null where held), whether the white model was kept, the likelihood ratio, the record length
 /// and which τ were held at the fallback (optim/network/ppk_error_estimation.hpp).
@@ -31,6 +29,8 @@ nlohmann::json ppk_error_estimate_json(const PpkErrorEstimate& estimate);
 /// sd_px}} — the image variance components (docs/optimisation.md "Image variance components"); the
 /// statistics' `image_sigma` when the network estimated them.
 nlohmann::json image_sigma_json(const NetworkResult& r);
+/// The statistics object (also run.json's `network` counts). `epoch_utc` names each point's epoch
+/// ("" for poles).
 nlohmann::json network_statistics_json(const NetworkResult& r, const std::vector<std::string>& epoch_utc);
 
 /// `ppk_error_model` read back (the report's PPK error model section): the model, each value's σ
@@ -49,8 +49,8 @@ struct PpkErrorModelRecord {
 };
 
 /// Parses `j` as written by ppk_error_model_json (with `independent_looks`); `path` and `field` name
-/// it in messages: a missing key or a value of the wrong type throws rangecal::Error (input) naming
-/// `field.<key>`.
+/// it in messages: a missing or unknown key, a value of the wrong type or outside the model's limits
+/// (gnss/track/ppk_error_model_json.hpp) throws rangecal::Error (input) naming `field.<key>`.
 PpkErrorModelRecord parse_ppk_error_model_json(const nlohmann::json& j, const std::string& path,
                                                const std::string& field);
 

@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "config/atomic_file.hpp"
 #include "config/csv_table.hpp"
+#include "config/error.hpp"
 #include "gnss/time/csv_utc.hpp"
 
 namespace rangecal {
@@ -69,11 +72,18 @@ void write_trajectory_csv(const std::string& path, const Trajectory& trajectory,
 
 namespace {
 
-/// The ids of a `+`-joined cell; none when blank.
-std::vector<std::string> camera_ids(const std::string& cell) {
+/// The ids of a `+`-joined cell in column `col`; none when blank. An empty or repeated id is an
+/// input error naming the cell.
+std::vector<std::string> camera_ids(const CsvTable& t, const CsvRecord& r, std::size_t col) {
   std::vector<std::string> ids;
-  if (!cell.empty())
-    for (const std::string& id : split_trim(cell, '+')) ids.push_back(id);
+  const std::string& cell = t.text(r, col);
+  if (cell.empty()) return ids;
+  for (const std::string& id : split_trim(cell, '+')) {
+    if (id.empty() || std::find(ids.begin(), ids.end(), id) != ids.end())
+      throw_input_error(t.path, r.line, t.header[col],
+                        "'" + cell + "' is not camera ids joined by '+' (an id empty or given twice)");
+    ids.push_back(id);
+  }
   return ids;
 }
 
@@ -92,6 +102,9 @@ std::vector<TrajectoryRow> parse_trajectory_csv(const std::string& text, const s
   for (const CsvRecord& r : t.records) {
     TrajectoryRow row;
     row.utc = csv_utc(t, r, utc);
+    if (!rows.empty() && !(rows.back().utc < row.utc))
+      throw_input_error(path, r.line, "utc",
+                        "not after the previous row's: the instants must be in time order");
     const std::array<double, 3> p = t.site_enu(r, enu[0], enu[1], enu[2]);
     row.enu = Eigen::Vector3d(p[0], p[1], p[2]);
     for (int k = 0; k < 3; ++k) {
@@ -101,14 +114,23 @@ std::vector<TrajectoryRow> parse_trajectory_csv(const std::string& text, const s
     row.cov_m2(0, 1) = row.cov_m2(1, 0) = t.number(r, en);
     row.cov_m2(0, 2) = row.cov_m2(2, 0) = t.number(r, eu);
     row.cov_m2(1, 2) = row.cov_m2(2, 1) = t.number(r, nu);
+    // |ρ| ≤ 1, allowing for the σ columns' rounding to 0.1 mm.
+    for (const auto& [i, j, col] : {std::tuple{0, 1, en}, std::tuple{0, 2, eu}, std::tuple{1, 2, nu}}) {
+      const double bound = (std::sqrt(row.cov_m2(i, i)) + 0.5e-4) * (std::sqrt(row.cov_m2(j, j)) + 0.5e-4);
+      if (std::abs(row.cov_m2(i, j)) > bound + 1e-8)
+        throw_input_error(path, r.line, t.header[col],
+                          "a covariance whose correlation exceeds 1 in magnitude");
+    }
     row.sigma_m = t.number_in(r, total, 0, 1e6, "a 1σ in metres");
     row.sigma_labels_m = t.number_in(r, labels, 0, 1e6, "a 1σ in metres");
     row.sigma_timing_m = t.number_in(r, timing, 0, 1e6, "a 1σ in metres");
     row.sigma_calibration_m = t.number_in(r, calibration, 0, 1e6, "a 1σ in metres");
-    row.cameras = camera_ids(t.text(r, cameras));
+    row.cameras = camera_ids(t, r, cameras);
     row.rms_px = t.number_in(r, rms, 0, 1e9, "a reprojection rms in pixels");
-    row.inflated = t.number_in(r, inflated, 0, 1, "0 or 1") > 0.5;
-    row.extrapolated = camera_ids(t.text(r, extrapolated));
+    const std::int64_t flag = t.integer(r, inflated);
+    if (flag != 0 && flag != 1) throw_input_error(path, r.line, "inflated", "expected 0 or 1");
+    row.inflated = flag == 1;
+    row.extrapolated = camera_ids(t, r, extrapolated);
     rows.push_back(row);
   }
   return rows;

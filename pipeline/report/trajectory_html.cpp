@@ -24,7 +24,7 @@ std::string trajectory_td(const std::string& html, const char* cls = "num") {
 std::string trajectory_th(const std::string& html) {
   return "<th>" + html + "</th>";
 }
-std::string cm(double m) {
+std::string trajectory_cm(double m) {
   return format_number("%.1f", m * 100);
 }
 std::string joined(const std::vector<std::string>& ids) {
@@ -144,9 +144,11 @@ std::string summary_table(const TrajectorySummary& s) {
   };
   row("Instants", std::to_string(s.instants) + " over " + format_number("%.1f", s.span_s) + " s (step " +
                       format_number("%.3g", s.step_s) + " s)");
-  row("1&#963; (&#8730;trace), median / 95 %", cm(s.sigma_median_m) + " / " + cm(s.sigma_p95_m) + " cm");
-  row("its parts (median): labels, timing, calibration",
-      cm(s.labels_median_m) + ", " + cm(s.timing_median_m) + ", " + cm(s.calibration_median_m) + " cm");
+  row("1&#963; (&#8730;trace), median / 95 %",
+      trajectory_cm(s.sigma_median_m) + " / " + trajectory_cm(s.sigma_p95_m) + " cm");
+  row("its parts (median): labels, timing, calibration", trajectory_cm(s.labels_median_m) + ", " +
+                                                             trajectory_cm(s.timing_median_m) + ", " +
+                                                             trajectory_cm(s.calibration_median_m) + " cm");
   row("Views disagreeing beyond their &#963; (&#963; scaled up)", std::to_string(s.inflated));
   row("On an extrapolated lens model", std::to_string(s.extrapolated));
   return h + "</table>\n";
@@ -161,7 +163,7 @@ std::string camera_table(const TrajectorySummary& s) {
   return h + "</table>\n";
 }
 
-/// The stretches, the longest kMaxRows first in time order beyond which the rest are counted.
+/// The stretches in time order, the first kMaxRows listed and the rest counted.
 std::string stretch_table(const TrajectorySummary& s) {
   constexpr std::size_t kMaxRows = 30;
   std::string h = "<table class=\"trajectory-stretches\">\n<tr>" + trajectory_th("From /s") +

@@ -123,7 +123,7 @@ TEST(ClockOffset, SigmaAgreesWithMonteCarloAndCramerRaoAndTruthIsWithinThreeSigm
   EXPECT_LE(std::abs(z), 3.0);
   EXPECT_LT(sigma, 1e-3) << "this geometry must tell 2 ms from 0 at 2σ at least";
 
-  // Cramér–Rao bound at the truth, from the same points (pipeline/analysis/route_plan.hpp).
+  // Cramér–Rao bound at the truth, from the same points (pipeline/analysis/camera_bound.hpp).
   std::vector<BundleObservation> exact = late_clock_observations(truth, false, 23);
   for (BundleObservation& o : exact) o.world -= o.velocity * kClockOffsetS;  // the true positions
   const CameraBound crb = cramer_rao_bound(truth, exact, c.problem.free);

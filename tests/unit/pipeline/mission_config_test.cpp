@@ -524,6 +524,11 @@ TEST(MissionConfig, PpkErrorModelPastedFromNetworkJsonIsTheModelItStates) {
   EXPECT_DOUBLE_EQ(r.model.gm_sd_h_m, g.error_model.gm_sd_h_m);
   EXPECT_DOUBLE_EQ(r.looks_h, 5.3);
   EXPECT_EQ(r.states, 240);
+  // An estimate on its upper bound is exp(log bound), one rounding step above it: still read.
+  j["gnss"]["error_model"] =
+      ppk_error_model_json(PpkErrorModel{std::exp(std::log(kMaxWhiteScale)), 1, 0, 0, 0, 0}, 0);
+  EXPECT_NEAR(parse_mission_config(j.dump(), kPath, false).gnss.error_model.white_scale_h, kMaxWhiteScale,
+              1e-12);
   // A white model as written (gauss_markov null) is the white model.
   j["gnss"]["error_model"] = ppk_error_model_json(PpkErrorModel{0.8, 0.9, 0, 0, 0, 0}, 0);
   const PpkErrorModel w = parse_mission_config(j.dump(), kPath, false).gnss.error_model;

@@ -97,6 +97,27 @@ TEST(TrajectoryCsv, ABadCellNamesItsLineAndColumn) {
   }
 }
 
+// Rows out of time order, and a camera cell with an empty id, are refused naming line and column.
+TEST(TrajectoryCsv, OutOfOrderTimesAndBadCameraCellsAreNamed) {
+  const std::string text = format_trajectory_csv(helix(), site());
+  const std::size_t l2 = text.find('\n') + 1, l3 = text.find('\n', l2) + 1, l4 = text.find('\n', l3) + 1;
+  const std::string swapped = text.substr(0, l2) + text.substr(l3, l4 - l3) + text.substr(l2, l3 - l2);
+  const auto refused = [](const std::string& csv, long line, const std::string& field) {
+    try {
+      parse_trajectory_csv(csv, "out/trajectory.csv");
+      ADD_FAILURE() << "accepted; expected an error at line " << line << " field " << field;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.exit_code(), 3);
+      EXPECT_EQ(e.line(), line);
+      EXPECT_EQ(e.field(), field);
+    }
+  };
+  refused(swapped, 3, "utc");
+  std::string bad_cameras = text;
+  bad_cameras.replace(bad_cameras.find("cam1+cam2+cam3"), 14, "cam1++cam3");
+  refused(bad_cameras, 2, "cameras");
+}
+
 TEST(TrajectorySummary, StretchesSplitAtGapsAndCameraChanges) {
   const std::vector<TrajectoryRow> rows =
       parse_trajectory_csv(format_trajectory_csv(helix(), site()), "t.csv");
