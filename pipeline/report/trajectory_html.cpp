@@ -95,7 +95,7 @@ std::string svg_sigma_series(const std::vector<TrajectoryRow>& rows, const Traje
   std::vector<double> t;
   double top = 0;
   for (const TrajectoryRow& r : rows) {
-    t.push_back(static_cast<double>(r.utc.ns - rows.front().utc.ns) * 1e-9);
+    t.push_back(seconds_between(rows.front().utc, r.utc));
     top = std::max({top, r.sigma_m, r.sigma_labels_m, r.sigma_timing_m, r.sigma_calibration_m});
   }
   a.x0 = 0, a.x1 = std::max(t.back(), 1e-3), a.y0 = 0, a.y1 = std::max(top * 100 * 1.08, 0.1);
@@ -209,7 +209,7 @@ std::string trajectory_section(const ReportData& d) {
   Eigen::Matrix<double, 2, 3> J = Eigen::Matrix<double, 2, 3>::Zero();
   J(0, 0) = along.x(), J(0, 1) = along.y(), J(1, 2) = 1;
   for (const TrajectoryRow& r : rows) {
-    const double t = static_cast<double>(r.utc.ns - rows.front().utc.ns) * 1e-9;
+    const double t = seconds_between(rows.front().utc, r.utc);
     plan.xy.push_back(r.enu.head<2>()), plan.cov.push_back(r.cov_m2.topLeftCorner<2, 2>()),
         plan.t_s.push_back(t);
     side.xy.push_back(J * r.enu), side.cov.push_back(J * r.cov_m2 * J.transpose()), side.t_s.push_back(t);

@@ -28,9 +28,7 @@ TrajectorySummary summarise_trajectory(const std::vector<TrajectoryRow>& rows) {
   TrajectorySummary s;
   if (rows.empty()) return s;
   s.instants = static_cast<int>(rows.size());
-  const auto since = [&](const TrajectoryRow& r) {
-    return static_cast<double>(r.utc.ns - rows.front().utc.ns) * 1e-9;
-  };
+  const auto since = [&](const TrajectoryRow& r) { return seconds_between(rows.front().utc, r.utc); };
   s.span_s = since(rows.back());
   std::vector<double> steps, sigma, labels, timing, calibration;
   for (std::size_t k = 0; k < rows.size(); ++k) {
