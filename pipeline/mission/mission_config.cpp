@@ -591,12 +591,17 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
     }
   }
   if (auto x = root.find("trajectory")) {
-    x->require_object("an object {\"rate_hz\"}");
-    x->check_keys({"rate_hz"});
+    x->require_object("an object {\"rate_hz\", \"extrapolation_sigma_px_per_px\"}");
+    x->check_keys({"rate_hz", "extrapolation_sigma_px_per_px"});
     if (auto v = x->find("rate_hz")) {
       const std::string form = "output instants per second, positive, at most 100000";
       cfg.trajectory.rate_hz = Loader::positive(*v, form);
       if (cfg.trajectory.rate_hz > 1e5) v->fail_expected(form);
+    }
+    // At most 1: a px of lens error per px outside the coverage is already no model at all.
+    if (auto v = x->find("extrapolation_sigma_px_per_px")) {
+      const std::string form = "px of lens-model error per px outside the coverage, from 0 to 1";
+      cfg.trajectory.extrapolation_sigma_px_per_px = Loader::in_range(*v, 0, 1, form);
     }
   }
   if (auto r = root.find("run")) cfg.run = parse_run(*r);

@@ -165,6 +165,9 @@ struct TrajectoryConfig {
   /// Output instants per second, on a grid of whole UTC seconds (5: …00.0, …00.2, …); 0: the
   /// fastest target track's median frame rate.
   double rate_hz = 0;
+  /// A label d px outside its camera's calibration coverage adds this × d px of lens-model error
+  /// (docs/trajectory.md "Extrapolated views"); ≥ 0.
+  double extrapolation_sigma_px_per_px = 0.05;
 };
 
 /// What the run's outcome counts as incomplete beyond the fixed rules (docs/reliability.md "Run

@@ -191,7 +191,10 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   }
   const double rate = cfg.trajectory.rate_hz > 0 ? cfg.trajectory.rate_hz : fastest_label_rate_hz(cameras);
   const std::vector<UtcTime> instants = trajectory_instants(cameras, rate);
-  const Trajectory trajectory = estimate_trajectory(cameras, instants, cross.empty() ? nullptr : &cross);
+  TrajectoryOptions options;
+  options.extrapolation_sigma_px_per_px = cfg.trajectory.extrapolation_sigma_px_per_px;
+  const Trajectory trajectory =
+      estimate_trajectory(cameras, instants, cross.empty() ? nullptr : &cross, options);
   for (const std::string& w : trajectory.warnings) log.warnings.push_back(w);
   LocalEnu site(cfg.origin);
   write_trajectory_csv(mission_output(cfg, kTrajectoryCsv), trajectory, site);
@@ -204,6 +207,7 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
     calp.push_back(std::sqrt(std::max(0.0, p.fix.cov_calibration_m2.trace())));
   }
   counts["rate_hz"] = rate;
+  counts["extrapolation_sigma_px_per_px"] = options.extrapolation_sigma_px_per_px;
   counts["instants"] = trajectory.instants;
   counts["triangulated"] = trajectory.points.size();
   counts["single_camera"] = trajectory.single_camera;

@@ -19,6 +19,9 @@ class ImageCoverage {
   /// The pixel lies in a covered cell or one of its eight neighbours. An empty coverage (nothing
   /// known) covers everything.
   bool covers(const Eigen::Vector2d& uv_px) const;
+  /// How far (px) the pixel lies outside the covered region (covered cells and their neighbours):
+  /// 0 inside it or for an empty coverage, +inf for a pixel not finite.
+  double distance_outside_px(const Eigen::Vector2d& uv_px) const;
 
  private:
   double cell_px_ = 1;

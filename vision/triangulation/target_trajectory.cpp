@@ -45,7 +45,8 @@ void check_camera(const TrajectoryCamera& c) {
 }
 
 // The camera's view of the target at t: its two labels around t, at most max_gap apart.
-std::optional<TriangulationView> view_at(const TrajectoryCamera& c, double max_gap_s, UtcTime t) {
+std::optional<TriangulationView> view_at(const TrajectoryCamera& c, double max_gap_s,
+                                         double extrapolation_px_per_px, UtcTime t) {
   const auto it = std::lower_bound(c.labels.begin(), c.labels.end(), t,
                                    [](const TimedLabel& l, UtcTime x) { return l.t < x; });
   if (it == c.labels.end()) return std::nullopt;
@@ -79,6 +80,11 @@ std::optional<TriangulationView> view_at(const TrajectoryCamera& c, double max_g
   // moves slowly from frame to frame), which never understates it.
   const auto sigma = [&](const TimedLabel& l) { return l.sigma_px > 0 ? l.sigma_px : c.label_sigma_px; };
   v.pick_sigma_px = (1 - w) * sigma(a) + w * sigma(b);
+  // Where the label lies outside what the calibration saw, the lens model is extrapolated: its error
+  // there, which the calibration's covariance does not carry, taken to grow with the distance.
+  const double outside_px = c.coverage.distance_outside_px(v.uv_px);
+  if (std::isfinite(outside_px))
+    v.pick_sigma_px = std::hypot(v.pick_sigma_px, extrapolation_px_per_px * outside_px);
   v.image_velocity_px_s = (b.uv_px - a.uv_px) / span;
   v.timing_sigma_s = (1 - w) * a.timing_sigma_s + w * b.timing_sigma_s;
   return v;
@@ -150,6 +156,8 @@ std::vector<UtcTime> trajectory_instants(const std::vector<TrajectoryCamera>& ca
 Trajectory estimate_trajectory(const std::vector<TrajectoryCamera>& cameras,
                                const std::vector<UtcTime>& instants, const CrossCovariances* cross,
                                const TrajectoryOptions& options) {
+  if (!(std::isfinite(options.extrapolation_sigma_px_per_px) && options.extrapolation_sigma_px_per_px >= 0))
+    throw_input_error("", 0, "extrapolation_sigma_px_per_px", "must be a finite number ≥ 0");
   std::vector<double> max_gap_s(cameras.size());
   for (std::size_t c = 0; c < cameras.size(); ++c) {
     check_camera(cameras[c]);
@@ -161,7 +169,7 @@ Trajectory estimate_trajectory(const std::vector<TrajectoryCamera>& cameras,
     std::vector<TriangulationView> views;
     std::vector<std::size_t> used;
     for (std::size_t c = 0; c < cameras.size(); ++c)
-      if (auto v = view_at(cameras[c], max_gap_s[c], t)) {
+      if (auto v = view_at(cameras[c], max_gap_s[c], options.extrapolation_sigma_px_per_px, t)) {
         views.push_back(std::move(*v));
         used.push_back(c);
       }

@@ -49,6 +49,11 @@ struct TrajectoryOptions {
   /// Two labels bracket an instant only when they are at most this many of the camera's median frame
   /// intervals apart: a longer gap is a stretch where the target was not seen.
   double max_gap_frames = 2.5;
+  /// A view whose label lies d px outside its camera's coverage (ImageCoverage::distance_outside_px)
+  /// adds a lens-model error of this × d px per axis to its label σ, in quadrature: a model fitted
+  /// where the calibration saw the lamp is extrapolated there, by an error its covariance does not
+  /// carry (docs/trajectory.md "Extrapolated views"; 0: none).
+  double extrapolation_sigma_px_per_px = 0.05;
 };
 
 /// The target at one instant.

@@ -648,6 +648,10 @@ TEST(MissionConfig, TargetTrack) {
       {"file", "cam1/target.csv"}, {"timestamps", "cam1/ts.csv"}, {"timing_sigma_s", 0.0005}};
   j["trajectory"] = {{"rate_hz", 100}};
   MissionConfig c = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_DOUBLE_EQ(c.trajectory.extrapolation_sigma_px_per_px, 0.05);  // the default
+  j["trajectory"]["extrapolation_sigma_px_per_px"] = 0;
+  c = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_DOUBLE_EQ(c.trajectory.extrapolation_sigma_px_per_px, 0);
   ASSERT_TRUE(c.cameras[0].target_track);
   EXPECT_EQ(c.cameras[0].target_track->file, "/missions/m1/cam1/target.csv");
   EXPECT_DOUBLE_EQ(c.cameras[0].target_track->timing_sigma_s, 0.0005);
@@ -678,6 +682,10 @@ TEST(MissionConfig, TargetTrackErrors) {
   expect_error(j, "trajectory.rate_hz", "positive");
   j["trajectory"] = {{"rate", 5}};
   expect_error(j, "trajectory", "rate");
+  j["trajectory"] = {{"extrapolation_sigma_px_per_px", 2}};
+  expect_error(j, "trajectory.extrapolation_sigma_px_per_px", "from 0 to 1");
+  j["trajectory"] = {{"extrapolation_sigma_px_per_px", -0.1}};
+  expect_error(j, "trajectory.extrapolation_sigma_px_per_px", "from 0 to 1");
 }
 
 }  // namespace

@@ -169,6 +169,73 @@ TEST(TargetTrajectory, GapsVelocityAndExtrapolation) {
   EXPECT_EQ(tr.single_camera, 0u);
 }
 
+TEST(ImageCoverage, DistanceOutsideTheCoveredCellsAndTheirNeighbours) {
+  // One observation in cell (2, 3) of a 64-px grid: covered is the box of cells 1..3 × 2..4, i.e.
+  // u in [64, 256), v in [128, 320).
+  const ImageCoverage c({Eigen::Vector2d(150, 200)}, 64);
+  EXPECT_EQ(c.distance_outside_px({100, 300}), 0.0);
+  EXPECT_NEAR(c.distance_outside_px({356, 200}), 100, 1e-9);           // right of the box
+  EXPECT_NEAR(c.distance_outside_px({30, 200}), 34, 1e-9);             // left of it
+  EXPECT_NEAR(c.distance_outside_px({256 + 30, 320 + 40}), 50, 1e-9);  // off its corner: √(30² + 40²)
+  EXPECT_EQ(ImageCoverage().distance_outside_px({1e6, 1e6}), 0.0);     // nothing known: no term
+  EXPECT_TRUE(std::isinf(c.distance_outside_px({NAN, 0})));
+}
+
+// A lens model extrapolated beyond its calibration's coverage: the east camera's labels carry an
+// error that is nil where its calibration saw the lamp (the left half of its image) and grows by
+// 0.05 px per px beyond the covered cells — what a distortion polynomial fitted on one half does on
+// the other. Twenty missions; over the instants where east's label lies outside its coverage.
+struct ExtrapolatedFigures {
+  double error_rms_m = 0, z_rms = 0;
+  std::size_t instants = 0;
+};
+
+ExtrapolatedFigures extrapolated_instants(double stated_px_per_px) {
+  std::mt19937_64 rng(35);
+  std::vector<Eigen::Vector2d> left;
+  for (double u = 0; u < 640; u += 16)
+    for (double v = 0; v < 800; v += 16) left.emplace_back(u, v);
+  TrajectoryOptions options;
+  options.extrapolation_sigma_px_per_px = stated_px_per_px;
+  double e2 = 0, z2 = 0;
+  ExtrapolatedFigures f;
+  for (int m = 0; m < 20; ++m) {
+    Simulated s = simulate(&rng, 0, 0, true);
+    TrajectoryCamera& east = s.cameras[1];
+    east.coverage = ImageCoverage(left, 64);
+    for (TimedLabel& l : east.labels) {
+      const double outside = std::max(0.0, l.uv_px.x() - (640 + 64));  // beyond the covered box
+      l.uv_px += 0.05 * outside * Eigen::Vector2d(0.6, 0.8);
+    }
+    const Trajectory tr =
+        estimate_trajectory(s.cameras, trajectory_instants(s.cameras, 25), nullptr, options);
+    for (const TrajectoryPoint& p : tr.points) {
+      if (std::find(p.extrapolated.begin(), p.extrapolated.end(), "east") == p.extrapolated.end()) continue;
+      const double e = (p.fix.point - target_at(seconds_of(p.t))).squaredNorm();
+      e2 += e;
+      z2 += e / (p.fix.sigma_m * p.fix.sigma_m);
+      ++f.instants;
+    }
+  }
+  f.error_rms_m = std::sqrt(e2 / static_cast<double>(f.instants));
+  f.z_rms = std::sqrt(z2 / static_cast<double>(f.instants));
+  return f;
+}
+
+TEST(TargetTrajectory, AnExtrapolatedLensWeighsLessAndItsSigmaHolds) {
+  const ExtrapolatedFigures without = extrapolated_instants(0);
+  const ExtrapolatedFigures with = extrapolated_instants(0.05);
+  std::printf("extrapolated instants %zu: without the term error %.2f cm z %.2f; with it %.2f cm z %.2f\n",
+              with.instants, 100 * without.error_rms_m, without.z_rms, 100 * with.error_rms_m, with.z_rms);
+  ASSERT_GT(with.instants, 200u);
+  // Without the term the east view weighs as much as the others: the instant takes the east lens's
+  // error, and only the χ² inflation widens its σ (it cannot tell which view is off). With it the
+  // other two cameras carry the instant, and its σ holds.
+  EXPECT_LT(with.error_rms_m, 0.25 * without.error_rms_m);
+  EXPECT_GT(with.z_rms, 0.7);
+  EXPECT_LT(with.z_rms, 1.25);
+}
+
 // A label's own σ (the track file's sigma_px) replaces the camera's for that label: the label part
 // of an instant's covariance scales as σ² when every label gives its own, and an instant between a
 // label with σ and one without takes the σ between them.
