@@ -13,6 +13,7 @@ namespace rangecal {
 inline constexpr const char* kLampTrackCsv = "gnss/lamp_track.csv";  ///< gnss stage
 inline constexpr const char* kIntersectionCsv = "intersection.csv";  ///< intersect stage
 inline constexpr const char* kTrajectoryCsv = "trajectory.csv";      ///< trajectory stage
+inline constexpr const char* kTrajectoryJson = "trajectory.json";    ///< trajectory stage
 /// calibrate stage, method `network`: its statistics and joint covariance (pipeline/io/network_json.hpp).
 inline constexpr const char* kNetworkJson = "network.json";
 /// calibrate stage, method `network`: the adjusted lamp track (pipeline/io/lamp_track_adjusted_csv.hpp).

@@ -46,7 +46,7 @@ std::vector<std::string> intersect_outputs(const MissionConfig& cfg) {
 }
 
 std::vector<std::string> trajectory_outputs(const MissionConfig& cfg) {
-  return {mission_output(cfg, kTrajectoryCsv)};
+  return {mission_output(cfg, kTrajectoryCsv), mission_output(cfg, kTrajectoryJson)};
 }
 
 std::vector<std::string> report_outputs(const MissionConfig& cfg) {

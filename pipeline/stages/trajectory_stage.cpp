@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 
+#include "config/atomic_file.hpp"
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/json_view.hpp"
@@ -17,6 +18,7 @@
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/trajectory_csv.hpp"
 #include "pipeline/mission/stage_options.hpp"
+#include "pipeline/report/trajectory_json.hpp"
 #include "pipeline/stages/stage_inputs.hpp"
 #include "pipeline/steps/camera_clock.hpp"
 #include "pipeline/steps/intersection.hpp"
@@ -197,7 +199,8 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
       estimate_trajectory(cameras, instants, cross.empty() ? nullptr : &cross, options);
   for (const std::string& w : trajectory.warnings) log.warnings.push_back(w);
   LocalEnu site(cfg.origin);
-  write_trajectory_csv(mission_output(cfg, kTrajectoryCsv), trajectory, site);
+  const std::string csv_path = mission_output(cfg, kTrajectoryCsv);
+  const std::string csv = format_trajectory_csv(trajectory, site);
 
   std::vector<double> sig, lab, tim, calp;
   for (const TrajectoryPoint& p : trajectory.points) {
@@ -227,6 +230,18 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   counts["median_sigma_labels_m"] = to_um(median(lab));
   counts["median_sigma_timing_m"] = to_um(median(tim));
   counts["median_sigma_calibration_m"] = to_um(median(calp));
+  // trajectory.json summarises the CSV as written (read back: the figures the report will show).
+  TrajectoryJsonContext context;
+  context.origin = cfg.origin;
+  context.rate_hz = rate;
+  context.extrapolation_sigma_px_per_px = options.extrapolation_sigma_px_per_px;
+  context.instants_tried = trajectory.instants;
+  context.single_camera = trajectory.single_camera;
+  context.joint_covariance = !cross.empty();
+  context.cameras = per_camera;
+  const nlohmann::json summary = trajectory_json(parse_trajectory_csv(csv, csv_path), context);
+  write_file_atomic(csv_path, csv);
+  write_file_atomic(mission_output(cfg, kTrajectoryJson), summary.dump(2) + "\n");
   log.counts = counts;
   if (trajectory.points.empty())
     log.shortfalls.push_back(

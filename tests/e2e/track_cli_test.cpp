@@ -198,6 +198,15 @@ TEST(ImportedTracks, CamerasWithoutTimeCodeCalibrate) {
   EXPECT_GT(tr["median_sigma_timing_m"].get<double>(), 0);
   EXPECT_EQ(tr["cameras"].size(), mission["cameras"].size());
   EXPECT_TRUE(tr["joint_covariance"].get<bool>());
+  // trajectory.json: the same instants, their UTC bounds those of the CSV's first and last rows.
+  const json summary = read_json(dir / "out" / "trajectory.json");
+  EXPECT_EQ(summary["instants"]["triangulated"].get<std::size_t>(), rows.records.size());
+  EXPECT_EQ(summary["first_utc"].get<std::string>().substr(0, 23),
+            rows.text(rows.records.front(), rows.column("utc")).substr(0, 23));
+  EXPECT_EQ(summary["last_utc"].get<std::string>().substr(0, 23),
+            rows.text(rows.records.back(), rows.column("utc")).substr(0, 23));
+  EXPECT_EQ(summary["cameras"].size(), mission["cameras"].size());
+  EXPECT_TRUE(summary["joint_covariance"].get<bool>());
 
   // A file that is no track.
   mission["cameras"][0]["track"]["file"] = (dir / "sim" / "mission.json").string();

@@ -10,6 +10,7 @@
 #include "config/error.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/trajectory_csv.hpp"
+#include "pipeline/report/trajectory_json.hpp"
 #include "pipeline/report/trajectory_summary.hpp"
 #include "pipeline/stages/report_stage.hpp"
 #include "support/paths.hpp"
@@ -140,6 +141,51 @@ TEST(TrajectorySummary, StretchesSplitAtGapsAndCameraChanges) {
   EXPECT_EQ(s.cameras[1].extrapolated, 5);  // 20.6 … 21.4 s
   EXPECT_EQ(s.extrapolated, 5);
   EXPECT_EQ(s.inflated, 3);  // 1.4, 11.4 and 21.4 s
+}
+
+// trajectory.json: the summary with UTC bounds, each camera's inputs beside its share.
+TEST(TrajectoryJson, StatesTheStretchesInUtcAndEachCamerasShare) {
+  const std::vector<TrajectoryRow> rows =
+      parse_trajectory_csv(format_trajectory_csv(helix(), site()), "t.csv");
+  TrajectoryJsonContext c;
+  c.origin = {47.37, 8.55, 500};
+  c.rate_hz = 5;
+  c.extrapolation_sigma_px_per_px = 0.05;
+  c.instants_tried = 121;
+  c.single_camera = 0;
+  c.cameras = {{"cam1", {{"label_sigma_px", 0.5}}},
+               {"cam2", {{"label_sigma_px", 0.7}}},
+               {"cam4", {{"label_sigma_px", 1.0}}}};
+  const nlohmann::json j = trajectory_json(rows, c);
+  EXPECT_EQ(j["instants_file"], "trajectory.csv");
+  EXPECT_EQ(j["instants"]["tried"], 121);
+  EXPECT_EQ(j["instants"]["triangulated"], 92);
+  EXPECT_EQ(j["instants"]["extrapolated"], 5);
+  EXPECT_EQ(j["first_utc"], format_iso8601_utc(UtcTime{kStartNs}, 3));
+  EXPECT_EQ(j["last_utc"], format_iso8601_utc(UtcTime{kStartNs + 24'000'000'000}, 3));
+  ASSERT_EQ(j["stretches"].size(), 3u);
+  // The second stretch: cam1 + cam3 from 10.0 to 14.0 s; the third from 20 s.
+  EXPECT_EQ(j["stretches"][1]["first_utc"], format_iso8601_utc(UtcTime{kStartNs + 10'000'000'000}, 3));
+  EXPECT_EQ(j["stretches"][1]["last_utc"], format_iso8601_utc(UtcTime{kStartNs + 14'000'000'000}, 3));
+  EXPECT_EQ(j["stretches"][1]["cameras"], (std::vector<std::string>{"cam1", "cam3"}));
+  EXPECT_EQ(j["stretches"][2]["first_utc"], format_iso8601_utc(UtcTime{kStartNs + 20'000'000'000}, 3));
+  // σ median over the 92 instants, computed here from the helix's own covariance: σ_E = 0.01 +
+  // 0.002·s, σ_N 0.004, σ_U 0.01, so √trace rises with s and the median (nearest rank,
+  // ⌈0.5·92⌉ = 46th) is that of the 46th time; the CSV holds σ to 0.1 mm.
+  std::vector<double> times;
+  for (int k = 0; k <= 120; ++k)
+    if (!(0.2 * k > 14.01 && 0.2 * k < 19.99)) times.push_back(0.2 * k);
+  const double s46 = times[45], a = 0.01 + 0.002 * s46;
+  EXPECT_NEAR(j["sigma_m"]["median"].get<double>(), std::sqrt(a * a + 0.004 * 0.004 + 0.0001), 6e-5);
+  // Each camera of the context with its inputs and share; one without instants says 0.
+  ASSERT_EQ(j["cameras"].size(), 3u);
+  EXPECT_EQ(j["cameras"][1]["id"], "cam2");
+  EXPECT_EQ(j["cameras"][1]["label_sigma_px"], 0.7);
+  EXPECT_EQ(j["cameras"][1]["instants"], 71);
+  EXPECT_EQ(j["cameras"][1]["extrapolated"], 5);
+  EXPECT_EQ(j["cameras"][2]["id"], "cam4");
+  EXPECT_EQ(j["cameras"][2]["instants"], 0);
+  EXPECT_EQ(j["frame"]["origin"]["lat_deg"], 47.37);
 }
 
 TEST(TrajectorySummary, EllipseIsTheClosedFormEigenDecomposition) {
