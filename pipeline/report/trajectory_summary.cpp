@@ -4,15 +4,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "optim/estimation/nearest_rank_quantile.hpp"
+
 namespace rangecal {
 namespace {
 
-/// The q-quantile of `v` by the nearest rank (q in [0, 1]); 0 for none.
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
-  return v[std::min(v.size() - 1, k == 0 ? 0 : k - 1)];
+double quantile(const std::vector<double>& v, double q) {
+  return nearest_rank_quantile(v, q, 0);
 }
 
 TrajectoryCameraUse& use_of(const std::string& id, std::vector<TrajectoryCameraUse>* uses) {

@@ -92,6 +92,31 @@ TEST(Plan, CliComparesCandidatesSideBySide) {
   EXPECT_EQ(missing.exit_code, 3) << missing.err;
   const auto bad_free = test::run_cli("plan '" + (dir / "three.json").string() + "' --free f,zoom");
   EXPECT_EQ(bad_free.exit_code, 2) << bad_free.err;
+
+  // A target's path: its σ per candidate, the CSV per instant; bad input named, nothing written.
+  test::write_text(dir / "path.csv", "t_s,E,N,U\n0,-4,2,2\n3,0,2,6\n6,4,1,8\n");
+  const auto target =
+      test::run_cli("plan '" + (dir / "three.json").string() + "' --target-path '" +
+                    (dir / "path.csv").string() + "' --target-csv '" + (dir / "sigma.csv").string() + "'");
+  ASSERT_EQ(target.exit_code, 0) << target.err;
+  EXPECT_NE(target.out.find("Target path"), std::string::npos) << target.out;
+  const std::string sigma = test::read_text(dir / "sigma.csv");
+  EXPECT_EQ(sigma.rfind("candidate,t_s,E,N,U,cameras,sigma_m", 0), 0u) << sigma;
+  EXPECT_NE(sigma.find("three,6.000,4.0000,1.0000,8.0000,"), std::string::npos) << sigma;
+  test::write_text(dir / "back.csv", "t_s,E,N,U\n0,-4,2,2\n3,0,2,6\n2,4,1,8\n");
+  const auto back =
+      test::run_cli("plan '" + (dir / "three.json").string() + "' --target-path '" +
+                    (dir / "back.csv").string() + "' --target-csv '" + (dir / "x.csv").string() + "'");
+  EXPECT_EQ(back.exit_code, 3) << back.err;
+  EXPECT_NE(back.err.find("back.csv:4"), std::string::npos) << back.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.csv"));
+  const auto label = test::run_cli("plan '" + (dir / "three.json").string() + "' --target-path '" +
+                                   (dir / "path.csv").string() + "' --target-label-sigma 0");
+  EXPECT_EQ(label.exit_code, 2) << label.err;
+  EXPECT_NE(label.err.find("--target-label-sigma"), std::string::npos) << label.err;
+  const auto orphan = test::run_cli("plan '" + (dir / "three.json").string() + "' --target-csv '" +
+                                    (dir / "x.csv").string() + "'");
+  EXPECT_EQ(orphan.exit_code, 2) << orphan.err;
 }
 
 }  // namespace
