@@ -22,31 +22,34 @@ void target_path_at(const std::vector<TargetPathPoint>& path, double t, Eigen::V
 
 }  // namespace
 
-void check_target_path_options(const TargetPathOptions& options) {
+void check_target_path_options(const TargetPathOptions& options, const std::vector<TargetPathPoint>& path) {
   if (!(options.label_sigma_px > 0 && std::isfinite(options.label_sigma_px)))
     throw_config_error("", "--target-label-sigma", "must be a positive number of pixels");
   if (!(options.timing_sigma_s >= 0 && std::isfinite(options.timing_sigma_s)))
     throw_config_error("", "--target-timing-sigma", "must be a number of seconds ≥ 0");
   if (!(options.rate_hz > 0 && std::isfinite(options.rate_hz)))
     throw_config_error("", "--target-rate", "must be a positive number of instants per second");
+  // Bounded work (docs/reliability.md): a million instants is hours of a fast target at 100 Hz.
+  if (path.size() >= 2) {
+    const double span = path.back().t_s - path.front().t_s;
+    if (span * options.rate_hz > 1e6)
+      throw_config_error(
+          "", "--target-rate",
+          "the path's " + std::to_string(span) + " s at this rate would be more than 1,000,000 instants");
+  }
 }
 
 PlannedTargetPath plan_target_path(const std::vector<Camera>& truth,
                                    const std::vector<CameraParameter>& parameters,
                                    const Eigen::MatrixXd& joint, const std::vector<TargetPathPoint>& path,
                                    const TargetPathOptions& options) {
-  check_target_path_options(options);
+  check_target_path_options(options, path);
   const Eigen::Index p = static_cast<Eigen::Index>(parameters.size());
   const bool with_calibration =
       joint.rows() == p * static_cast<Eigen::Index>(truth.size()) && joint.size() > 0;
   PlannedTargetPath out;
   if (path.size() < 2) return out;
   const double span = path.back().t_s - path.front().t_s;
-  // Bounded work (docs/reliability.md): a million instants is hours of a fast target at 100 Hz.
-  if (span * options.rate_hz > 1e6)
-    throw_config_error(
-        "", "--target-rate",
-        "the path's " + std::to_string(span) + " s at this rate would be more than 1,000,000 instants");
   const auto steps = static_cast<long>(std::floor(span * options.rate_hz + 1e-9));
   for (long k = 0; k <= steps; ++k) {
     PlannedTargetInstant at;

@@ -39,8 +39,9 @@ struct PlannedTargetPath {
   std::size_t unseen = 0;                      ///< of them, seen by fewer than two cameras
 };
 
-/// Throws rangecal::Error (config) naming the command-line option of a value out of range.
-void check_target_path_options(const TargetPathOptions& options);
+/// Throws rangecal::Error (config) naming the command-line option of a value out of range, or
+/// --target-rate when `path` at that rate would be more than 1,000,000 instants.
+void check_target_path_options(const TargetPathOptions& options, const std::vector<TargetPathPoint>& path);
 
 /// The path's instants every 1/rate_hz s from its first waypoint's time to its last, each
 /// triangulated from the cameras `truth` that see it. `joint` is the cameras' joint calibration

@@ -107,7 +107,7 @@ void add_plan_command(CLI::App& app, const CliContext& /*ctx*/) {
     std::vector<TargetPathPoint> path;
     if (!args->target_path.empty()) {
       path = read_target_path_csv(args->target_path);
-      check_target_path_options(args->target);
+      check_target_path_options(args->target, path);
     } else if (!args->target_csv.empty()) {
       throw_config_error("", "--target-csv", "needs --target-path (the path whose σ it would hold)");
     }

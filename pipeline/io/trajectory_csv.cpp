@@ -17,7 +17,9 @@ namespace {
 
 constexpr const char* kTrajectoryHeader =
     "utc,E,N,U,lat,lon,h,sigma_E,sigma_N,sigma_U,cov_EN,cov_EU,cov_NU,sigma_m,sigma_labels_m,sigma_timing_m,"
-    "sigma_calibration_m,vE,vN,vU,sigma_vE,sigma_vN,sigma_vU,cameras,rms_px,chi2,dof,inflated,extrapolated";
+    "sigma_calibration_m,vE,vN,vU,sigma_vE,sigma_vN,sigma_vU,aE,aN,aU,sigma_aE,sigma_aN,sigma_aU,cameras,rms_"
+    "px,chi2,"
+    "dof,inflated,extrapolated";
 
 // A number with `digits` decimals; "-0.000…" printed without its sign; blank for NaN.
 void cell(std::string* s, double v, int digits) {
@@ -54,6 +56,8 @@ std::string format_trajectory_csv(const Trajectory& trajectory, const LocalEnu& 
     cell(&s, root_trace(f.cov_calibration_m2), 4);
     for (int k = 0; k < 3; ++k) cell(&s, p.velocity[k], 3);
     for (int k = 0; k < 3; ++k) cell(&s, p.velocity_sd[k], 3);
+    for (int k = 0; k < 3; ++k) cell(&s, p.acceleration[k], 3);
+    for (int k = 0; k < 3; ++k) cell(&s, p.acceleration_sd[k], 3);
     s.push_back(',');
     for (std::size_t i = 0; i < p.cameras.size(); ++i) s += (i ? "+" : "") + p.cameras[i];
     cell(&s, f.rms_px, 3);

@@ -8,8 +8,11 @@
 //   cov_EN,cov_EU,cov_NU     the total covariance's off-diagonal (m²)
 //   sigma_m                  √trace of the covariance: the predicted rms of the 3-D error (m)
 //   sigma_labels_m, sigma_timing_m, sigma_calibration_m   √trace of each part (m)
-//   vE,vN,vU                 velocity (m/s), central difference; blank without neighbours
+//   vE,vN,vU                 velocity (m/s): the smoother's, else a central difference; blank without
+//                            neighbours
 //   sigma_vE,sigma_vN,sigma_vU   their 1σ (m/s)
+//   aE,aN,aU                 acceleration (m/s²), from the smoother's state; blank without it
+//   sigma_aE,sigma_aN,sigma_aU   their 1σ (m/s²)
 //   cameras                  the cameras whose labels were used, joined by '+'
 //   rms_px                   the views' reprojection rms (px)
 //   chi2,dof                 the views' χ² under their label and timing σ, and 2·views − 3

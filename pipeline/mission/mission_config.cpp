@@ -591,8 +591,14 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
     }
   }
   if (auto x = root.find("trajectory")) {
-    x->require_object("an object {\"rate_hz\", \"extrapolation_sigma_px_per_px\"}");
-    x->check_keys({"rate_hz", "extrapolation_sigma_px_per_px"});
+    x->require_object("an object {\"rate_hz\", \"extrapolation_sigma_px_per_px\", \"smoothing\"}");
+    x->check_keys({"rate_hz", "extrapolation_sigma_px_per_px", "smoothing"});
+    if (auto v = x->find("smoothing")) {
+      const std::string form = "\"constant_acceleration\" or \"none\"";
+      const std::string m = v->nonempty_string(form);
+      if (m != "constant_acceleration" && m != "none") v->fail_expected(form);
+      cfg.trajectory.smooth = m == "constant_acceleration";
+    }
     if (auto v = x->find("rate_hz")) {
       const std::string form = "output instants per second, positive, at most 100000";
       cfg.trajectory.rate_hz = Loader::positive(*v, form);

@@ -168,6 +168,9 @@ struct TrajectoryConfig {
   /// A label d px outside its camera's calibration coverage adds this × d px of lens-model error
   /// (docs/trajectory.md "Extrapolated views"); ≥ 0.
   double extrapolation_sigma_px_per_px = 0.05;
+  /// The per-instant fixes smoothed by a constant-acceleration process (docs/trajectory.md
+  /// "Method" 6); false (the default): each instant as triangulated.
+  bool smooth = false;
 };
 
 /// What the run's outcome counts as incomplete beyond the fixed rules (docs/reliability.md "Run

@@ -23,7 +23,8 @@ nlohmann::json trajectory_json(const std::vector<TrajectoryRow>& rows, const Tra
                 {"axes", "ENU (east, north, up) at the origin, m; σ 1σ, m; times UTC"}};
   j["settings"] = {{"rate_hz", context.rate_hz},
                    {"extrapolation_sigma_px_per_px", context.extrapolation_sigma_px_per_px},
-                   {"gap_steps", kTrajectoryGapSteps}};
+                   {"gap_steps", kTrajectoryGapSteps},
+                   {"smoothing", context.smoothing}};
   j["instants"] = {{"tried", context.instants_tried},
                    {"triangulated", s.instants},
                    {"single_camera", context.single_camera},

@@ -22,6 +22,7 @@
 #include "pipeline/stages/stage_inputs.hpp"
 #include "pipeline/steps/camera_clock.hpp"
 #include "pipeline/steps/intersection.hpp"
+#include "vision/triangulation/trajectory_smoother.hpp"
 
 namespace rangecal {
 
@@ -195,8 +196,23 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   const std::vector<UtcTime> instants = trajectory_instants(cameras, rate);
   TrajectoryOptions options;
   options.extrapolation_sigma_px_per_px = cfg.trajectory.extrapolation_sigma_px_per_px;
-  const Trajectory trajectory =
-      estimate_trajectory(cameras, instants, cross.empty() ? nullptr : &cross, options);
+  Trajectory trajectory = estimate_trajectory(cameras, instants, cross.empty() ? nullptr : &cross, options);
+  if (cfg.trajectory.smooth) {
+    const SmootherReport smoothed = smooth_trajectory(&trajectory);
+    const SmootherOptions defaults;
+    // No stretch of three instants: nothing was estimated (null, not a white model).
+    const auto estimated = [&](double v) {
+      return smoothed.stretches > 0 ? nlohmann::json(v) : nlohmann::json();
+    };
+    counts["smoothing"] = {{"model", "constant_acceleration"},
+                           {"jerk_psd_m2_s5", estimated(smoothed.jerk_psd)},
+                           {"label_error_tau_s", estimated(smoothed.label_tau_s)},
+                           {"gap_steps", defaults.gap_steps},
+                           {"stretches", smoothed.stretches},
+                           {"instants", smoothed.smoothed}};
+  } else {
+    counts["smoothing"] = {{"model", "none"}};
+  }
   for (const std::string& w : trajectory.warnings) log.warnings.push_back(w);
   LocalEnu site(cfg.origin);
   const std::string csv_path = mission_output(cfg, kTrajectoryCsv);
@@ -235,6 +251,7 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   context.origin = cfg.origin;
   context.rate_hz = rate;
   context.extrapolation_sigma_px_per_px = options.extrapolation_sigma_px_per_px;
+  context.smoothing = counts["smoothing"];
   context.instants_tried = trajectory.instants;
   context.single_camera = trajectory.single_camera;
   context.joint_covariance = !cross.empty();

@@ -10,6 +10,7 @@
 
 #include "support/synthetic_camera.hpp"
 #include "vision/triangulation/target_trajectory.hpp"
+#include "vision/triangulation/trajectory_smoother.hpp"
 
 namespace rangecal {
 namespace {
@@ -70,6 +71,19 @@ void BM_Trajectory(benchmark::State& state) {
   state.counters["instants"] = static_cast<double>(s.instants.size());
 }
 BENCHMARK(BM_Trajectory)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(3);
+
+// The smoother over the trajectory's 100,000 instants (vision/triangulation/trajectory_smoother.hpp):
+// q's likelihood search and one Kalman + Rauch–Tung–Striebel pass.
+void BM_SmoothTrajectory(benchmark::State& state) {
+  const Scene& s = scene();
+  const Trajectory tr = estimate_trajectory(s.cameras, s.instants, nullptr);
+  for (auto _ : state) {
+    Trajectory copy = tr;
+    benchmark::DoNotOptimize(smooth_trajectory(&copy));
+  }
+  state.counters["instants"] = static_cast<double>(tr.points.size());
+}
+BENCHMARK(BM_SmoothTrajectory)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(3);
 
 // The reference: each instant's views (the label nearest in time, no interpolation, no timing)
 // triangulated as a static point.

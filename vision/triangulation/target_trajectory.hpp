@@ -75,6 +75,10 @@ struct TrajectoryPoint {
   Eigen::Vector3d velocity = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());  ///< m/s
   Eigen::Vector3d velocity_sd =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());  ///< m/s; NaN: no neighbours
+  /// m/s² and its 1σ: from the smoother's state (vision/triangulation/trajectory_smoother.hpp); NaN
+  /// without it.
+  Eigen::Vector3d acceleration = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d acceleration_sd = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 struct Trajectory {

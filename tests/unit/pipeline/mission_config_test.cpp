@@ -652,6 +652,10 @@ TEST(MissionConfig, TargetTrack) {
   j["trajectory"]["extrapolation_sigma_px_per_px"] = 0;
   c = parse_mission_config(j.dump(), kPath, false);
   EXPECT_DOUBLE_EQ(c.trajectory.extrapolation_sigma_px_per_px, 0);
+  EXPECT_FALSE(c.trajectory.smooth);  // the default
+  j["trajectory"]["smoothing"] = "constant_acceleration";
+  c = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_TRUE(c.trajectory.smooth);
   ASSERT_TRUE(c.cameras[0].target_track);
   EXPECT_EQ(c.cameras[0].target_track->file, "/missions/m1/cam1/target.csv");
   EXPECT_DOUBLE_EQ(c.cameras[0].target_track->timing_sigma_s, 0.0005);
@@ -684,6 +688,8 @@ TEST(MissionConfig, TargetTrackErrors) {
   expect_error(j, "trajectory", "rate");
   j["trajectory"] = {{"extrapolation_sigma_px_per_px", 2}};
   expect_error(j, "trajectory.extrapolation_sigma_px_per_px", "from 0 to 1");
+  j["trajectory"] = {{"smoothing", "spline"}};
+  expect_error(j, "trajectory.smoothing", "constant_acceleration");
   j["trajectory"] = {{"extrapolation_sigma_px_per_px", -0.1}};
   expect_error(j, "trajectory.extrapolation_sigma_px_per_px", "from 0 to 1");
 }

@@ -109,7 +109,6 @@ TEST(TargetPathPlan, TheSigmaIsTheMonteCarloErrorsRms) {
               100 * mid.calibration_m * ratio);
   // Reported, not asserted: on this geometry the cross blocks move it by ~5 %, within what 300
   // missions can tell apart; tests/unit/vision/trajectory_sigma_test.cpp holds the term to truth.
-  EXPECT_NE(ratio, 1.0);
 }
 
 TEST(TargetPathPlan, ThePathFilesBadInputIsNamed) {

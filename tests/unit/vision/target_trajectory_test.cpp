@@ -11,6 +11,7 @@
 #include <random>
 
 #include "config/error.hpp"
+#include "vision/triangulation/trajectory_smoother.hpp"
 
 #include "support/synthetic_camera.hpp"
 
@@ -103,6 +104,132 @@ TEST(TargetTrajectory, IgnoringTheTimingTermUnderCovers) {
   const double z = z_rms(false, 20);
   std::printf("timing not stated: z rms %.2f\n", z);
   EXPECT_GT(z, 1.5);
+}
+
+// The smoother (vision/triangulation/trajectory_smoother.hpp) over the same twenty missions: the
+// labels' noise averaged down, the timing errors (a clock offset per camera: common to a stretch)
+// kept whole. Its error must be lower than the instants' own and its σ must hold; its velocity
+// against the circle's within its σ.
+TEST(TargetTrajectory, SmoothingLowersTheErrorAndItsSigmaHolds) {
+  std::mt19937_64 rng(2026);
+  double e2_raw = 0, e2 = 0, z2 = 0, zv2 = 0;
+  std::size_t n = 0, nv = 0;
+  double q_min = 1e300, q_max = 0;
+  for (int m = 0; m < 20; ++m) {
+    const Simulated s = simulate(&rng, 0.002, 0.002, true);
+    Trajectory tr = estimate_trajectory(s.cameras, trajectory_instants(s.cameras, 25), nullptr);
+    for (const TrajectoryPoint& p : tr.points)
+      e2_raw += (p.fix.point - target_at(seconds_of(p.t))).squaredNorm();
+    const SmootherReport r = smooth_trajectory(&tr);
+    EXPECT_EQ(r.smoothed, tr.points.size());
+    q_min = std::min(q_min, r.jerk_psd), q_max = std::max(q_max, r.jerk_psd);
+    for (const TrajectoryPoint& p : tr.points) {
+      const double t = seconds_of(p.t);
+      const double e = (p.fix.point - target_at(t)).squaredNorm();
+      e2 += e;
+      z2 += e / (p.fix.sigma_m * p.fix.sigma_m);
+      ++n;
+      const double h = 1e-4;
+      const Eigen::Vector3d v = (target_at(t + h) - target_at(t - h)) / (2 * h);
+      for (int k = 0; k < 3; ++k) {
+        const double d = p.velocity[k] - v[k];
+        zv2 += d * d / (p.velocity_sd[k] * p.velocity_sd[k]);
+        ++nv;
+      }
+    }
+  }
+  const double raw = std::sqrt(e2_raw / n), smoothed = std::sqrt(e2 / n), z = std::sqrt(z2 / n),
+               zv = std::sqrt(zv2 / nv);
+  std::printf("smoothing: error rms %.2f → %.2f cm, z rms %.3f; velocity z rms %.2f; q %.3g–%.3g m²/s⁵\n",
+              100 * raw, 100 * smoothed, z, zv, q_min, q_max);
+  EXPECT_LT(smoothed, 0.85 * raw);
+  // The clock offsets are kept whole though the frames' jitter (half the timing variance here)
+  // averages down: σ on the safe side.
+  EXPECT_GT(z, 0.75);
+  EXPECT_LT(z, 1.1);
+  EXPECT_GT(zv, 0.8);
+  EXPECT_LT(zv, 1.25);
+}
+
+// An instant with a view outside its calibration's coverage — every view, or one — is left as
+// triangulated and splits the stretch; the others are smoothed.
+TEST(TargetTrajectory, SmoothingLeavesAnInstantWhoseEveryViewIsExtrapolated) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n01(0, 1);
+  Trajectory tr;
+  for (int k = 0; k < 40; ++k) {
+    TrajectoryPoint p;
+    p.t = UtcTime{kT0 + std::int64_t{k} * 100'000'000};
+    p.cameras = {"a", "b"};
+    if (k == 20) p.extrapolated = {"a", "b"};
+    if (k == 30) p.extrapolated = {"b"};
+    p.fix.point =
+        Eigen::Vector3d(0.8 * k, 0.1 * k, 20) + 0.02 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+    p.fix.cov_pick_m2 = 0.0004 * Eigen::Matrix3d::Identity();
+    p.fix.cov_m2 = p.fix.cov_pick_m2;
+    p.fix.sigma_m = std::sqrt(p.fix.cov_m2.trace());
+    tr.points.push_back(p);
+  }
+  const Trajectory before = tr;
+  const SmootherReport r = smooth_trajectory(&tr);
+  EXPECT_EQ(r.stretches, 3u);
+  EXPECT_EQ(r.smoothed, 38u);
+  for (const int k : {20, 30}) {
+    EXPECT_EQ(tr.points[k].fix.point, before.points[k].fix.point) << k;
+    EXPECT_TRUE(std::isnan(tr.points[k].acceleration.x())) << k;
+  }
+  EXPECT_NE(tr.points[25].fix.point, before.points[25].fix.point);
+  EXPECT_LT(tr.points[25].fix.sigma_m, before.points[25].fix.sigma_m);  // averaged down
+}
+
+// Labels' errors correlated in time (a tracker's): instants 0.1 s apart on a gently turning path,
+// each fix off by an AR(1) error of φ 0.8 per step (τ 0.45 s) and 2 cm per axis. The likelihood
+// must choose a correlated model (τ > 0), and the smoothed σ must hold (it would not if the errors
+// were averaged as independent); with white errors it must choose white.
+double smoothed_z_rms(double phi, double* tau_s) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n01(0, 1);
+  double z2 = 0, tau = 0;
+  std::size_t n = 0;
+  for (int m = 0; m < 10; ++m) {
+    Trajectory tr;
+    std::vector<Eigen::Vector3d> truth;
+    Eigen::Vector3d e = 0.02 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+    for (int k = 0; k < 400; ++k) {
+      const double t = 0.1 * k;
+      truth.emplace_back(5 * t, 20 * std::sin(0.05 * t), 30 + 0.2 * t);
+      e = phi * e + std::sqrt(1 - phi * phi) * 0.02 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+      TrajectoryPoint p;
+      p.t = UtcTime{kT0 + std::int64_t{k} * 100'000'000};
+      p.cameras = {"a", "b"};
+      p.fix.point = truth.back() + e;
+      p.fix.cov_pick_m2 = 0.0004 * Eigen::Matrix3d::Identity();
+      p.fix.cov_m2 = p.fix.cov_pick_m2;
+      p.fix.sigma_m = std::sqrt(p.fix.cov_m2.trace());
+      tr.points.push_back(p);
+    }
+    tau += smooth_trajectory(&tr).label_tau_s / 10;
+    for (std::size_t k = 0; k < tr.points.size(); ++k) {
+      z2 += (tr.points[k].fix.point - truth[k]).squaredNorm() / std::pow(tr.points[k].fix.sigma_m, 2);
+      ++n;
+    }
+  }
+  *tau_s = tau;
+  return std::sqrt(z2 / static_cast<double>(n));
+}
+
+TEST(TargetTrajectory, SmoothingFindsTheLabelsErrorsCorrelationAndItsSigmaHolds) {
+  double tau_correlated = 0, tau_white = 0;
+  const double z_correlated = smoothed_z_rms(0.8, &tau_correlated);
+  const double z_white = smoothed_z_rms(0, &tau_white);
+  std::printf("labels' errors AR(1) φ 0.8: τ chosen %.2f s (mean), z rms %.2f; white: τ %.2f s, z rms %.2f\n",
+              tau_correlated, z_correlated, tau_white, z_white);
+  EXPECT_GT(tau_correlated, 0.15);
+  EXPECT_LT(tau_white, 0.05);
+  for (const double z : {z_correlated, z_white}) {
+    EXPECT_GT(z, 0.8);
+    EXPECT_LT(z, 1.25);
+  }
 }
 
 TEST(TargetTrajectory, InstantsOnWholeSecondsWhereTwoCamerasSee) {
