@@ -94,11 +94,8 @@ std::optional<TriangulationView> view_at(const TrajectoryCamera& c, double max_g
 // stretch's ends); σ from the label and timing parts of both positions.
 void add_velocities(Trajectory& out) {
   std::vector<TrajectoryPoint>& p = out.points;
-  std::vector<double> steps;
-  for (std::size_t k = 1; k < p.size(); ++k) steps.push_back(seconds_between(p[k - 1].t, p[k].t));
-  if (steps.empty()) return;
-  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
-  const double grid = steps[steps.size() / 2];
+  if (p.size() < 2) return;
+  const double grid = median_step_s(p);
   for (std::size_t k = 0; k < p.size(); ++k) {
     // Neighbours farther than 1.5 grid steps lie across a gap: not differenced.
     const TrajectoryPoint* prev =
@@ -117,6 +114,15 @@ void add_velocities(Trajectory& out) {
 }
 
 }  // namespace
+
+double median_step_s(const std::vector<TrajectoryPoint>& points) {
+  std::vector<double> steps;
+  for (std::size_t k = 1; k < points.size(); ++k)
+    steps.push_back(seconds_between(points[k - 1].t, points[k].t));
+  if (steps.empty()) return 0;
+  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
+  return steps[steps.size() / 2];
+}
 
 double fastest_label_rate_hz(const std::vector<TrajectoryCamera>& cameras) {
   double best = 0;

@@ -92,6 +92,10 @@ struct Trajectory {
 /// where two or more cameras have labels (rate_hz > 0).
 std::vector<UtcTime> trajectory_instants(const std::vector<TrajectoryCamera>& cameras, double rate_hz);
 
+/// The median step between consecutive points (s; the upper median for an even count): the output
+/// grid's, against which gaps are judged. 0 for fewer than two points.
+double median_step_s(const std::vector<TrajectoryPoint>& points);
+
 /// The median frame rate of the fastest camera's labels (frames/s); 0 when no camera has two labels.
 double fastest_label_rate_hz(const std::vector<TrajectoryCamera>& cameras);
 

@@ -199,10 +199,7 @@ SmootherReport smooth_trajectory(Trajectory* trajectory, const SmootherOptions& 
   SmootherReport r;
   std::vector<TrajectoryPoint>& pts = trajectory->points;
   if (pts.size() < 3) return r;
-  std::vector<double> steps;
-  for (std::size_t k = 1; k < pts.size(); ++k) steps.push_back(seconds_between(pts[k - 1].t, pts[k].t));
-  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
-  const double grid = steps[steps.size() / 2];
+  const double grid = median_step_s(pts);
   // An instant with a view on an extrapolated lens is left as triangulated and ends a stretch: its
   // lens-model error (in its labels' σ, docs/trajectory.md "Extrapolated views") is common to the
   // instants around it, which the smoother's model of the labels' error is not; and where every
