@@ -420,6 +420,73 @@ CameraConfig parse_camera(const Loader& L, const JsonView& c) {
   return cam;
 }
 
+// trajectory.imported_cameras[i] (docs/trajectory.md "Imported calibrations"): every σ stated, none
+// assumed — a calibration given without its uncertainty would be taken as exact.
+ImportedCameraConfig parse_imported_camera(const Loader& L, const JsonView& c) {
+  c.require_object(
+      "an imported camera {\"id\", \"calibration\", \"sensor\", \"sigma\", \"target_track\", "
+      "\"label_sigma_px\"}");
+  c.check_keys({"id", "calibration", "sensor", "sigma", "target_track", "label_sigma_px"});
+  ImportedCameraConfig cam;
+  cam.id = parse_camera_id(c);
+  cam.sensor = parse_sensor(c);
+  const std::string cform =
+      "an object {\"opencv_yml\": \"camera.yml\"} or {\"dlt\": \"coefficients.csv\", \"column\": n}";
+  const JsonView cal = c.at("calibration", cform);
+  cal.require_object(cform);
+  cal.check_keys({"opencv_yml", "dlt", "column"});
+  if (cal.has("opencv_yml") == cal.has("dlt"))
+    cal.fail(
+        std::string(cal.has("dlt") ? "both 'opencv_yml' and 'dlt' are given" : "no calibration file given") +
+        "; expected " + cform);
+  if (auto y = cal.find("opencv_yml")) cam.opencv_yml = L.input_file(*y, "an OpenCV camera YAML path");
+  if (auto d = cal.find("dlt")) cam.dlt = L.input_file(*d, "a DLT-11 coefficient CSV path");
+  if (auto col = cal.find("column")) {
+    if (cam.dlt.empty()) col->fail("applies only with \"dlt\" (the camera's column of the coefficient file)");
+    const std::int64_t n = col->integer("the camera's column of the coefficient file, 1 to 1000");
+    if (n < 1 || n > 1000) col->fail_expected("the camera's column of the coefficient file, 1 to 1000");
+    cam.dlt_column = static_cast<int>(n);
+  }
+  const std::string sform =
+      "an object {\"focal_px\", \"principal_point_px\", \"position_m\", \"rotation_mrad\"[, \"image_px\"]}: "
+      "the calibration's stated 1σ";
+  const JsonView sg = c.at("sigma", sform);
+  sg.require_object(sform);
+  sg.check_keys({"focal_px", "principal_point_px", "position_m", "rotation_mrad", "image_px"});
+  struct Field {
+    const char* key;
+    double* value;
+    double hi;
+    const char* form;
+    bool required;
+  };
+  for (const Field& f :
+       {Field{"focal_px", &cam.sigma.focal_px, 1e4, "the focal length's 1σ in pixels, 0 to 10000", true},
+        Field{"principal_point_px", &cam.sigma.principal_point_px, 1e4,
+              "the principal point's 1σ per axis in pixels, 0 to 10000", true},
+        Field{"position_m", &cam.sigma.position_m, 100, "the camera centre's 1σ per axis in metres, 0 to 100",
+              true},
+        Field{"rotation_mrad", &cam.sigma.rotation_mrad, 1000,
+              "the attitude's 1σ about each axis in milliradians, 0 to 1000", true},
+        Field{"image_px", &cam.sigma.image_px, 100,
+              "the lens model's error at the pixel, 1σ per axis in pixels, 0 to 100", false}}) {
+    if (f.required || sg.has(f.key)) *f.value = Loader::in_range(sg.at(f.key, f.form), 0, f.hi, f.form);
+  }
+  const JsonView t = c.at("target_track", "the target's 2-D track in this camera (docs/trajectory.md)");
+  cam.target_track = parse_track(L, t, cam.sensor, true);
+  if (cam.target_track.calibration_clock)
+    t.at("clock", "")
+        .fail(
+            "an imported camera has no clock the align stage estimated; its track's times must be UTC "
+            "(\"time_code\")");
+  if (auto v = c.find("label_sigma_px")) {
+    const std::string form = "a label's 1σ per axis in pixels, positive, at most 100";
+    cam.label_sigma_px = Loader::positive(*v, form);
+    if (cam.label_sigma_px > 100) v->fail_expected(form);
+  }
+  return cam;
+}
+
 // A method name (pipeline/steps/calibration_methods.hpp); unknown names suggest the nearest.
 std::string method_name(const JsonView& v) {
   const std::string form = "one of " + join(kMethods);
@@ -591,8 +658,9 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
     }
   }
   if (auto x = root.find("trajectory")) {
-    x->require_object("an object {\"rate_hz\", \"extrapolation_sigma_px_per_px\", \"smoothing\"}");
-    x->check_keys({"rate_hz", "extrapolation_sigma_px_per_px", "smoothing"});
+    x->require_object(
+        "an object {\"rate_hz\", \"extrapolation_sigma_px_per_px\", \"smoothing\", \"imported_cameras\"}");
+    x->check_keys({"rate_hz", "extrapolation_sigma_px_per_px", "smoothing", "imported_cameras"});
     if (auto v = x->find("smoothing")) {
       const std::string form = "\"constant_acceleration\" or \"none\"";
       const std::string m = v->nonempty_string(form);
@@ -608,6 +676,22 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
     if (auto v = x->find("extrapolation_sigma_px_per_px")) {
       const std::string form = "px of lens-model error per px outside the coverage, from 0 to 1";
       cfg.trajectory.extrapolation_sigma_px_per_px = Loader::in_range(*v, 0, 1, form);
+    }
+    if (auto v = x->find("imported_cameras")) {
+      const std::string form = "an array of imported cameras (docs/trajectory.md \"Imported calibrations\")";
+      const std::size_t n = v->require_array(form, 0);
+      for (std::size_t i = 0; i < n; ++i) {
+        const JsonView e = v->element(i);
+        ImportedCameraConfig cam = parse_imported_camera(L, e);
+        for (const CameraConfig& other : cfg.cameras)
+          if (other.id == cam.id)
+            e.at("id", "").fail("duplicate camera id '" + cam.id +
+                                "' (also in cameras[]); ids must be unique");
+        for (const ImportedCameraConfig& other : cfg.trajectory.imported_cameras)
+          if (other.id == cam.id)
+            e.at("id", "").fail("duplicate camera id '" + cam.id + "'; ids must be unique");
+        cfg.trajectory.imported_cameras.push_back(std::move(cam));
+      }
     }
   }
   if (auto r = root.find("run")) cfg.run = parse_run(*r);

@@ -13,6 +13,7 @@
 #include "gnss/track/ppk_error_model.hpp"
 #include "vision/camera/camera_parameters.hpp"
 #include "vision/tracks/track_formats.hpp"
+#include "vision/triangulation/stated_calibration_sigma.hpp"
 
 namespace rangecal {
 
@@ -160,6 +161,20 @@ struct IntersectConfig {
   double bar_mean_dR_m = 0.010;
 };
 
+/// trajectory.imported_cameras[i] (docs/trajectory.md "Imported calibrations"): a camera calibrated
+/// elsewhere — an OpenCV camera file or a DLT-11 column — with the σ its user states, whose target track
+/// the trajectory stage uses beside the mission's own cameras.
+struct ImportedCameraConfig {
+  std::string id;          ///< unique among cameras[] and these
+  std::string opencv_yml;  ///< an OpenCV camera YAML (absolute), or empty
+  std::string dlt;         ///< a DLTdv / Argus DLT-11 coefficient CSV (absolute), or empty
+  int dlt_column = 1;      ///< its camera's column (1-based)
+  SensorConfig sensor;
+  StatedCalibrationSigma sigma;
+  TrackConfig target_track;   ///< its times UTC ("time_code")
+  double label_sigma_px = 1;  ///< a label's 1σ per axis where the track gives none (px)
+};
+
 /// The trajectory stage's options (docs/trajectory.md).
 struct TrajectoryConfig {
   /// Output instants per second, on a grid of whole UTC seconds (5: …00.0, …00.2, …); 0: the
@@ -171,6 +186,7 @@ struct TrajectoryConfig {
   /// The per-instant fixes smoothed by a constant-acceleration process (docs/trajectory.md
   /// "Method" 6); false (the default): each instant as triangulated.
   bool smooth = false;
+  std::vector<ImportedCameraConfig> imported_cameras;
 };
 
 /// What the run's outcome counts as incomplete beyond the fixed rules (docs/reliability.md "Run

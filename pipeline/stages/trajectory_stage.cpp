@@ -10,10 +10,12 @@
 #include "config/csv_table.hpp"
 #include "config/error.hpp"
 #include "config/json_view.hpp"
+#include "config/number_format.hpp"
 #include "gnss/geodesy/local_enu.hpp"
 #include "pipeline/io/align_record.hpp"
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/correspondences_csv.hpp"
+#include "pipeline/io/imported_calibration.hpp"
 #include "pipeline/io/network_json.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/io/trajectory_csv.hpp"
@@ -31,7 +33,7 @@ namespace {
 bool any_target_track(const MissionConfig& cfg) {
   for (const CameraConfig& cam : cfg.cameras)
     if (cam.target_track) return true;
-  return false;
+  return !cfg.trajectory.imported_cameras.empty();
 }
 
 // run.json's align record (the clocks the align stage estimated); empty without one.
@@ -49,26 +51,26 @@ AlignRecord read_align_record(const MissionConfig& cfg) {
 // The labels of a camera's target track at their true times with their timing σ: UTC as given
 // ("time_code"), or the camera's estimated clock applied ("calibration"; its σ at that time, wander
 // included); a rolling shutter's readout (given, or the clock's) moves each label to its row's time.
-std::vector<TimedLabel> timed_labels(const CameraConfig& cam, const CameraTrackInput& in,
-                                     const AlignRecord& align, const std::string& run_json) {
-  const TrackConfig& tc = *cam.target_track;
+std::vector<TimedLabel> timed_labels(const std::string& id, const TrackConfig& tc, int height_px,
+                                     const CameraTrackInput& in, const AlignRecord& align,
+                                     const std::string& run_json) {
   std::optional<ClockRecord> clock;
   UtcTime n0;
   if (tc.calibration_clock) {
-    const auto it = align.cameras.find(cam.id);
+    const auto it = align.cameras.find(id);
     if (it == align.cameras.end() || !it->second.clock)
-      throw_input_error(run_json, 0, "stages.align.counts." + cam.id + ".clock",
-                        "camera " + cam.id +
+      throw_input_error(run_json, 0, "stages.align.counts." + id + ".clock",
+                        "camera " + id +
                             "'s target track is on its estimated clock, and the align stage has not "
                             "estimated one; run rangecal align CONFIG first");
     clock = it->second.clock;
     std::string why;
     const auto t = parse_iso8601_utc(clock->nominal_start_utc, &why);
-    if (!t) throw_input_error(run_json, 0, "stages.align.counts." + cam.id + ".clock.nominal_start_utc", why);
+    if (!t) throw_input_error(run_json, 0, "stages.align.counts." + id + ".clock.nominal_start_utc", why);
     n0 = *t;
   }
   const double readout = tc.readout_s != 0 ? tc.readout_s : clock ? clock->readout_s : 0.0;
-  const double height = std::max(1, cam.sensor.height_px - 1);
+  const double height = std::max(1, height_px - 1);
   std::vector<TimedLabel> labels;
   labels.reserve(in.track.points.size());
   for (std::size_t i = 0; i < in.track.points.size(); ++i) {
@@ -102,8 +104,21 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-double to_um(double v) {
-  return std::isfinite(v) ? std::round(v * 1e6) / 1e6 : v;
+// run.json's counts of a camera's target labels: how many, their σ and where it came from, timing, clock.
+nlohmann::json label_counts(const TrajectoryCamera& tc, const CameraTrackInput& in, const TrackConfig& track,
+                            const std::string& label_sigma_source) {
+  std::vector<double> timing;
+  for (const TimedLabel& l : tc.labels) timing.push_back(l.timing_sigma_s);
+  nlohmann::json pc;
+  pc["labels"] = tc.labels.size();
+  pc["outside_image"] = in.track.outside_image_lines.size();
+  pc["label_sigma_px"] = tc.label_sigma_px;
+  pc["labels_with_own_sigma"] =
+      std::count_if(tc.labels.begin(), tc.labels.end(), [](const TimedLabel& l) { return l.sigma_px > 0; });
+  pc["label_sigma_source"] = label_sigma_source;
+  pc["timing_sigma_s_median"] = median(timing);
+  pc["clock"] = track.calibration_clock ? "calibration" : "time_code";
+  return pc;
 }
 
 }  // namespace
@@ -113,7 +128,8 @@ void require_trajectory_inputs(const MissionConfig& cfg) {
     throw_input_error(
         cfg.config_path, 0, "cameras[].target_track",
         "no camera has a target track; the trajectory stage needs \"target_track\" (a 2-D "
-        "track of the target with its frame times, docs/trajectory.md) for at least two cameras");
+        "track of the target with its frame times, docs/trajectory.md) for at least two cameras, or "
+        "trajectory.imported_cameras");
 }
 
 StageLog run_trajectory_stage(const MissionConfig& cfg) {
@@ -157,22 +173,40 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
       tc.coverage = ImageCoverage(seen, 64);
     }
     const CameraTrackInput in = read_track_input(*cc.target_track);
-    tc.labels = timed_labels(cc, in, align, run_json);
-    std::vector<double> timing;
-    for (const TimedLabel& l : tc.labels) timing.push_back(l.timing_sigma_s);
-    nlohmann::json pc;
-    pc["labels"] = tc.labels.size();
-    pc["outside_image"] = in.track.outside_image_lines.size();
-    pc["label_sigma_px"] = tc.label_sigma_px;
-    pc["labels_with_own_sigma"] =
-        std::count_if(tc.labels.begin(), tc.labels.end(), [](const TimedLabel& l) { return l.sigma_px > 0; });
-    pc["label_sigma_source"] =
-        estimated ? "network image variance component" : "pixel_sigma_px.track (stated)";
-    pc["timing_sigma_s_median"] = median(timing);
-    pc["clock"] = cc.target_track->calibration_clock ? "calibration" : "time_code";
-    per_camera[cc.id] = pc;
+    tc.labels = timed_labels(cc.id, *cc.target_track, cc.sensor.height_px, in, align, run_json);
+    per_camera[cc.id] =
+        label_counts(tc, in, *cc.target_track,
+                     estimated ? "network image variance component" : "pixel_sigma_px.track (stated)");
     all_network = all_network && cal.method == "network" && usable;
     parameters.push_back(tc.calibration.parameters);
+    cameras.push_back(std::move(tc));
+  }
+  // The network's cross blocks are between the mission's own cameras, which come first; an imported
+  // camera, calibrated apart from them, has none (estimate_trajectory: a missing block is independence).
+  const std::size_t own = cameras.size();
+  for (const ImportedCameraConfig& ic : cfg.trajectory.imported_cameras) {
+    const ImportedCalibration imported = read_imported_calibration(ic);
+    TrajectoryCamera tc;
+    tc.id = ic.id;
+    tc.camera = imported.camera;
+    tc.calibration = imported.covariance;
+    tc.model_sigma_px = imported.model_sigma_px;
+    tc.label_sigma_px = ic.label_sigma_px;
+    const CameraTrackInput in = read_track_input(ic.target_track);
+    tc.labels = timed_labels(ic.id, ic.target_track, ic.sensor.height_px, in, align, run_json);
+    nlohmann::json pc = label_counts(tc, in, ic.target_track, "label_sigma_px (stated)");
+    nlohmann::json calibration;
+    calibration["format"] = imported.format;
+    calibration["file"] = imported.file;
+    calibration["conversion_rms_px"] = imported.fit_rms_px;
+    calibration["conversion_max_px"] = imported.fit_max_px;
+    calibration["model_sigma_px"] = imported.model_sigma_px;
+    pc["imported_calibration"] = calibration;
+    per_camera[ic.id] = pc;
+    if (imported.fit_max_px > 0.5)
+      log.warnings.push_back("camera " + ic.id + ": rangecal's model reproduces " + imported.file + " to " +
+                             format_number("%.2f", imported.fit_max_px) + " px at worst (rms " +
+                             format_number("%.2f", imported.fit_rms_px) + " px, added to its labels' σ)");
     cameras.push_back(std::move(tc));
   }
   counts["cameras"] = per_camera;
@@ -183,9 +217,9 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
     return log;
   }
   CrossCovariances cross;
-  if (all_network) {
+  if (all_network && own >= 2) {
     std::vector<std::string> ids;
-    for (const TrajectoryCamera& c : cameras) ids.push_back(c.id);
+    for (std::size_t c = 0; c < own; ++c) ids.push_back(cameras[c].id);
     cross = read_network_cross_covariances(network_path, ids, &parameters);
     if (cross.empty())
       log.warnings.push_back("the calibrations come from the network but " + network_path +
@@ -218,13 +252,6 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   const std::string csv_path = mission_output(cfg, kTrajectoryCsv);
   const std::string csv = format_trajectory_csv(trajectory, site);
 
-  std::vector<double> sig, lab, tim, calp;
-  for (const TrajectoryPoint& p : trajectory.points) {
-    sig.push_back(p.fix.sigma_m);
-    lab.push_back(std::sqrt(std::max(0.0, p.fix.cov_pick_m2.trace())));
-    tim.push_back(std::sqrt(std::max(0.0, p.fix.cov_timing_m2.trace())));
-    calp.push_back(std::sqrt(std::max(0.0, p.fix.cov_calibration_m2.trace())));
-  }
   counts["rate_hz"] = rate;
   counts["extrapolation_sigma_px_per_px"] = options.extrapolation_sigma_px_per_px;
   counts["instants"] = trajectory.instants;
@@ -242,11 +269,8 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
                            " instants rest on a camera's label outside the image region its calibration saw "
                            "(trajectory.csv column extrapolated): the lens model is extrapolated there and "
                            "their σ may not hold");
-  counts["median_sigma_m"] = to_um(median(sig));
-  counts["median_sigma_labels_m"] = to_um(median(lab));
-  counts["median_sigma_timing_m"] = to_um(median(tim));
-  counts["median_sigma_calibration_m"] = to_um(median(calp));
-  // trajectory.json summarises the CSV as written (read back: the figures the report will show).
+  // trajectory.json summarises the CSV as written (read back: the figures the report will show), and
+  // run.json states the same medians.
   TrajectoryJsonContext context;
   context.origin = cfg.origin;
   context.rate_hz = rate;
@@ -257,6 +281,11 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   context.joint_covariance = !cross.empty();
   context.cameras = per_camera;
   const nlohmann::json summary = trajectory_json(parse_trajectory_csv(csv, csv_path), context);
+  for (const auto& [key, part] : {std::pair<const char*, const char*>{"median_sigma_m", "median"},
+                                  {"median_sigma_labels_m", "labels_median"},
+                                  {"median_sigma_timing_m", "timing_median"},
+                                  {"median_sigma_calibration_m", "calibration_median"}})
+    counts[key] = summary.contains("sigma_m") ? summary["sigma_m"][part] : nlohmann::json();
   write_file_atomic(csv_path, csv);
   write_file_atomic(mission_output(cfg, kTrajectoryJson), summary.dump(2) + "\n");
   log.counts = counts;

@@ -15,16 +15,10 @@
 #include <Eigen/Core>
 
 #include "vision/camera/camera_model.hpp"
+#include "vision/camera/imported_camera.hpp"
 #include "vision/camera/opencv_camera_export.hpp"
 
 namespace rangecal {
-
-struct ImportedCamera {
-  Camera camera;
-  double fit_max_px = 0;  ///< max reprojection difference over the evaluation grid (px)
-  double fit_rms_px = 0;  ///< RMS of the same (px)
-  int fit_points = 0;     ///< evaluation grid points
-};
 
 /// Converts `oc` (image size set; 5 or 8 distortion coefficients) with the sensor's pixel pitch
 /// dx_mm × dy_mm. Throws rangecal::Error (calibration) when K is not a pinhole matrix with

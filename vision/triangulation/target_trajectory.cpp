@@ -34,6 +34,9 @@ double median_interval_s(const std::vector<TimedLabel>& labels) {
 void check_camera(const TrajectoryCamera& c) {
   if (!(std::isfinite(c.label_sigma_px) && c.label_sigma_px > 0))
     throw_input_error("", 0, "label_sigma_px", "camera " + c.id + ": the labels' σ must be positive");
+  if (!(std::isfinite(c.model_sigma_px) && c.model_sigma_px >= 0))
+    throw_input_error("", 0, "model_sigma_px",
+                      "camera " + c.id + ": the model's σ must be a finite number ≥ 0");
   for (const TimedLabel& l : c.labels)
     if (!(std::isfinite(l.sigma_px) && l.sigma_px >= 0))
       throw_input_error("", l.line, "sigma_px",
@@ -79,7 +82,7 @@ std::optional<TriangulationView> view_at(const TrajectoryCamera& c, double max_g
   // Interpolated like the timing σ: neighbouring labels' errors taken as one (a tracker's error
   // moves slowly from frame to frame), which never understates it.
   const auto sigma = [&](const TimedLabel& l) { return l.sigma_px > 0 ? l.sigma_px : c.label_sigma_px; };
-  v.pick_sigma_px = (1 - w) * sigma(a) + w * sigma(b);
+  v.pick_sigma_px = std::hypot((1 - w) * sigma(a) + w * sigma(b), c.model_sigma_px);
   // Where the label lies outside what the calibration saw, the lens model is extrapolated: its error
   // there, which the calibration's covariance does not carry, taken to grow with the distance.
   const double outside_px = c.coverage.distance_outside_px(v.uv_px);

@@ -43,6 +43,10 @@ struct TrajectoryCamera {
   double label_sigma_px = 1;       ///< a label's 1σ per axis (px, > 0) where it gives none of its own
   std::vector<TimedLabel> labels;  ///< strictly increasing t
   ImageCoverage coverage;          ///< where its calibration saw the lamp (empty: unknown)
+  /// A calibration's error at the pixel that no parameter of `calibration` carries (an imported
+  /// calibration's stated lens residual and its conversion's fit; px per axis, ≥ 0): added to every
+  /// view's σ in quadrature (vision/triangulation/stated_calibration_sigma.hpp).
+  double model_sigma_px = 0;
 };
 
 struct TrajectoryOptions {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "config/error.hpp"
@@ -692,6 +693,74 @@ TEST(MissionConfig, TargetTrackErrors) {
   expect_error(j, "trajectory.smoothing", "constant_acceleration");
   j["trajectory"] = {{"extrapolation_sigma_px_per_px", -0.1}};
   expect_error(j, "trajectory.extrapolation_sigma_px_per_px", "from 0 to 1");
+}
+
+// trajectory.imported_cameras (docs/trajectory.md "Imported calibrations"): a camera calibrated
+// elsewhere, every σ stated.
+nlohmann::json imported() {
+  return {
+      {"id", "lab1"},
+      {"calibration", {{"dlt", "lab/dlt.csv"}, {"column", 2}}},
+      {"sensor", {{"width_px", 1920}, {"height_px", 1080}, {"pixel_size_um", {5.5, 5.5}}}},
+      {"sigma", {{"focal_px", 3}, {"principal_point_px", 2}, {"position_m", 0.02}, {"rotation_mrad", 0.1}}},
+      {"target_track", {{"file", "lab/t.csv"}, {"t0_utc", "2026-05-04T10:00:00Z"}, {"fps", 30}}}};
+}
+
+TEST(MissionConfig, ImportedCameras) {
+  nlohmann::json j = minimal();
+  j["trajectory"]["imported_cameras"] = {imported()};
+  MissionConfig c = parse_mission_config(j.dump(), kPath, false);
+  ASSERT_EQ(c.trajectory.imported_cameras.size(), 1u);
+  const ImportedCameraConfig& ic = c.trajectory.imported_cameras[0];
+  EXPECT_EQ(ic.id, "lab1");
+  EXPECT_EQ(ic.dlt, "/missions/m1/lab/dlt.csv");
+  EXPECT_TRUE(ic.opencv_yml.empty());
+  EXPECT_EQ(ic.dlt_column, 2);
+  EXPECT_DOUBLE_EQ(ic.sigma.focal_px, 3);
+  EXPECT_DOUBLE_EQ(ic.sigma.rotation_mrad, 0.1);
+  EXPECT_DOUBLE_EQ(ic.sigma.image_px, 0);  // the default
+  EXPECT_DOUBLE_EQ(ic.label_sigma_px, 1);  // the default
+  EXPECT_EQ(ic.sensor.height_px, 1080);
+  EXPECT_EQ(ic.target_track.file, "/missions/m1/lab/t.csv");
+  EXPECT_FALSE(ic.target_track.calibration_clock);
+}
+
+TEST(MissionConfig, ImportedCameraErrors) {
+  nlohmann::json j = minimal();
+  const auto with = [&](const std::function<void(nlohmann::json&)>& change) {
+    nlohmann::json cam = imported();
+    change(cam);
+    j["trajectory"]["imported_cameras"] = {cam};
+    return j;
+  };
+  const std::string at = "trajectory.imported_cameras[0]";
+  expect_error(with([](nlohmann::json& c) { c["sigma"].erase("position_m"); }), at + ".sigma.position_m",
+               "metres");
+  expect_error(with([](nlohmann::json& c) { c["sigma"]["focal_px"] = -1; }), at + ".sigma.focal_px",
+               "0 to 10000");
+  expect_error(with([](nlohmann::json& c) { c["sigma"]["image_px"] = 101; }), at + ".sigma.image_px",
+               "0 to 100");
+  expect_error(with([](nlohmann::json& c) { c.erase("sigma"); }), at + ".sigma", "stated 1σ");
+  expect_error(with([](nlohmann::json& c) { c["calibration"]["opencv_yml"] = "a.yml"; }), at + ".calibration",
+               "both 'opencv_yml' and 'dlt'");
+  expect_error(with([](nlohmann::json& c) { c["calibration"] = nlohmann::json::object(); }),
+               at + ".calibration", "no calibration file");
+  expect_error(with([](nlohmann::json& c) {
+                 c["calibration"] = {{"opencv_yml", "a.yml"}, {"column", 1}};
+               }),
+               at + ".calibration.column", "only with");
+  expect_error(with([](nlohmann::json& c) { c["calibration"]["column"] = 0; }), at + ".calibration.column",
+               "1 to 1000");
+  expect_error(with([](nlohmann::json& c) { c["target_track"]["clock"] = "calibration"; }),
+               at + ".target_track.clock", "UTC");
+  expect_error(with([](nlohmann::json& c) { c["label_sigma_px"] = 200; }), at + ".label_sigma_px",
+               "at most 100");
+  expect_error(with([](nlohmann::json& c) { c["id"] = "cam1"; }), at + ".id", "duplicate camera id 'cam1'");
+  expect_error(with([](nlohmann::json& c) { c.erase("target_track"); }), at + ".target_track", "2-D track");
+  expect_error(with([](nlohmann::json& c) { c["lens"] = 1; }), at, "lens");
+  j = minimal();
+  j["trajectory"]["imported_cameras"] = {imported(), imported()};
+  expect_error(j, "trajectory.imported_cameras[1].id", "duplicate camera id 'lab1'");
 }
 
 }  // namespace
