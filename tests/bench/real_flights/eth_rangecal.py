@@ -94,6 +94,72 @@ def run(cmd):
     return r.stdout
 
 
+def score_trajectory(path, hold_set, track):
+    """Each held-out instant of a trajectory.csv against the RTK fix there: errors, z, σ parts, times, extrapolated."""
+    with open(path) as fh:
+        tr = list(csv.DictReader(fh))
+    t_err, t_z, t_parts, t_t, t_x = [], [], [], [], []
+    for row in tr:
+        hh, mm, ss = row["utc"].split("T")[1].rstrip("Z").split(":")
+        k = int(round(((int(hh) - 12) * 3600 + int(mm) * 60 + float(ss)) / eth.RTK_DT))
+        if k not in hold_set:
+            continue
+        e = np.array([float(row["E"]), float(row["N"]), float(row["U"])]) - track.p[k]
+        t_err.append(e)
+        t_z.append(np.linalg.norm(e) / float(row["sigma_m"]))
+        t_parts.append([float(row[c]) for c in ("sigma_labels_m", "sigma_timing_m", "sigma_calibration_m")])
+        t_t.append(track.t[k])
+        t_x.append(row["extrapolated"] != "")
+    return t_err, t_z, t_parts, t_t, t_x
+
+
+def utc_text(t):
+    """Seconds after 12:00 UTC of the dataset's day as the ISO 8601 the timestamps files use."""
+    h = int(t // 3600)
+    m = int((t - 3600 * h) // 60)
+    return f"2020-01-01T{12 + h:02d}:{m:02d}:{t - 3600 * h - 60 * m:012.9f}Z"
+
+
+def imported_mission(cfg, d, ds, eth_out, name):
+    """The trajectory of `cfg`'s cameras as imported cameras (rangecal's own exports, calibration.json's σ)."""
+    runj = json.load(open(os.path.join(d, "out", "run.json")))
+    icfg = {k: v for k, v in cfg.items() if k not in ("cameras", "poles", "intersect")}
+    icfg["cameras"] = []
+    icfg["output_dir"] = os.path.join(d, "out_imported")
+    imported = []
+    for cam, cc in zip(ds["cams"], cfg["cameras"]):
+        cid = cam["name"]
+        cal = json.load(open(os.path.join(d, "out", cid, "calibration.json")))
+        sg = cal["sigma"]
+        pitch_mm = cc["sensor"]["pixel_size_um"][1] * 1e-3
+        rms = lambda v: float(np.sqrt(np.mean(np.square(v)))) if v is not None else 0.0
+        ck = runj["stages"]["align"]["counts"][cid]["clock"]
+        n0 = ck["nominal_start_utc"]
+        hh, mm, ss = n0.split("T")[1].rstrip("Z").split(":")
+        n0_s = (int(hh) - 12) * 3600 + int(mm) * 60 + float(ss)
+        src = os.path.join(eth_out, name, cid, "timestamps.csv")
+        dst = os.path.join(d, cid, "target_utc.csv")
+        with open(src) as fi, open(dst, "w") as fo:
+            fo.write("frame,utc\n")
+            for row in csv.DictReader(fi):
+                hh, mm, ss = row["utc"].split("T")[1].rstrip("Z").split(":")
+                t = (int(hh) - 12) * 3600 + int(mm) * 60 + float(ss)
+                fo.write(f"{row['frame']},{utc_text(t + ck['offset_s'] + 1e-6 * ck['rate_ppm'] * (t - n0_s))}\n")
+        imported.append({
+            "id": cid,
+            "calibration": {"opencv_yml": os.path.join(d, "out", cid, "camera_opencv.yml")},
+            "sensor": cc["sensor"],
+            "sigma": {"focal_px": (sg["focal_mm"] or 0) / pitch_mm, "principal_point_px": rms(sg["principal_point_px"]),
+                      "position_m": rms(sg["center_enu_m"]), "rotation_mrad": 1e3 * rms(sg["rotation_rad"])},
+            "label_sigma_px": runj["stages"]["trajectory"]["counts"]["cameras"][cid]["label_sigma_px"]
+            if "trajectory" in runj["stages"] else 1.0,
+            "target_track": {"file": cc["target_track"]["file"], "timestamps": dst,
+                             "readout_s": ck.get("readout_s", 0.0), "timing_sigma_s": ck["offset_sd_s"]}})
+    icfg.setdefault("trajectory", {})
+    icfg["trajectory"] = {**icfg["trajectory"], "imported_cameras": imported}
+    return icfg
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--eth-out", required=True, help="eth_drone_tracking.py's --out")
@@ -103,6 +169,9 @@ def main():
     ap.add_argument("--datasets", default="dataset1,dataset2")
     ap.add_argument("--config-extra", default="{}", help="JSON merged into each mission (for experiments)")
     ap.add_argument("--readout", default="", help="'estimate': each camera's rolling-shutter readout found with its clock")
+    ap.add_argument("--imported", action="store_true",
+                    help="also run the trajectory with rangecal's exported cameras imported back (OpenCV YAML, "
+                         "calibration.json's σ stated)")
     ap.add_argument("--published-pp-sigma", type=float, default=0,
                     help="> 0: each camera's principal point prior from its published calibration, with this σ (px)")
     args = ap.parse_args()
@@ -124,6 +193,7 @@ def main():
         ep_block = np.floor((track.t - T0) / eth.BLOCK_S).astype(int)
         pooled_err, pooled_z, pooled_rows = [], [], []
         pooled_traj_err, pooled_traj_z, pooled_traj_t, pooled_traj_x = [], [], [], []
+        pooled_imp_err, pooled_imp_z, pooled_imp_t = [], [], []
         summary[name] = {"splits": {}}
         for split in (0, 1):
             d = os.path.join(args.out, name, f"split{split}")
@@ -221,21 +291,25 @@ def main():
             # rangecal's own trajectory of the held-out blocks (the trajectory stage, 5 Hz on whole
             # seconds: the RTK's instants), each instant against the RTK fix there
             run([args.rangecal, "trajectory", cfg_path])
-            with open(os.path.join(d, "out", "trajectory.csv")) as fh:
-                tr = list(csv.DictReader(fh))
             hold_set = set(int(k) for k in hold_ep)
-            t_err, t_z, t_parts, t_t, t_x = [], [], [], [], []
-            for row in tr:
-                hh, mm, ss = row["utc"].split("T")[1].rstrip("Z").split(":")
-                k = int(round(((int(hh) - 12) * 3600 + int(mm) * 60 + float(ss)) / eth.RTK_DT))
-                if k not in hold_set:
-                    continue
-                e = np.array([float(row["E"]), float(row["N"]), float(row["U"])]) - track.p[k]
-                t_err.append(e)
-                t_z.append(np.linalg.norm(e) / float(row["sigma_m"]))
-                t_parts.append([float(row[c]) for c in ("sigma_labels_m", "sigma_timing_m", "sigma_calibration_m")])
-                t_t.append(track.t[k])
-                t_x.append(row["extrapolated"] != "")
+            t_err, t_z, t_parts, t_t, t_x = score_trajectory(os.path.join(d, "out", "trajectory.csv"), hold_set, track)
+            if args.imported:
+                # The same cameras as rangecal exported them (camera_opencv.yml), imported back with
+                # calibration.json's σ per parameter stated (diagonal: no correlations, no cross blocks)
+                # and the held-out labels' times put on UTC by the clocks the align stage found.
+                icfg = imported_mission(cfg, d, ds, args.eth_out, name)
+                icfg_path = os.path.join(d, "imported.json")
+                json.dump(icfg, open(icfg_path, "w"), indent=1)
+                run([args.rangecal, "track", icfg_path])
+                ie, iz, _, it, _ = score_trajectory(os.path.join(d, "out_imported", "trajectory.csv"), hold_set, track)
+                pooled_imp_err.append(np.array(ie).reshape(-1, 3))
+                pooled_imp_z.append(np.array(iz))
+                pooled_imp_t.append(np.array(it))
+                si = eth.stats_cm(np.array(ie).reshape(-1, 3))
+                si["z_rms"] = float(np.sqrt(np.mean(np.square(iz)))) if iz else None
+                print(f"{name} split {split} imported calibrations: {si['epochs']} instants, median "
+                      f"{si['median_cm']:.1f} rms {si['rms_cm']:.1f} p95 {si['p95_cm']:.1f} cm; z rms {si['z_rms']:.2f}",
+                      flush=True)
             ts = eth.stats_cm(np.array(t_err).reshape(-1, 3))
             ts["z_rms"] = float(np.sqrt(np.mean(np.square(t_z)))) if t_z else None
             ts["median_sigma_parts_cm"] = (np.median(np.array(t_parts), axis=0) * 100).tolist() if t_parts else None
@@ -305,6 +379,19 @@ def main():
                 summary[name][f"baseline_{b}_without_rtk_step"] = sb
                 print(f"{name} baseline {b} without the RTK step: {sb['epochs']} epochs, median {sb['median_cm']:.1f} "
                       f"rms {sb['rms_cm']:.1f} p95 {sb['p95_cm']:.1f} cm", flush=True)
+        if pooled_imp_err:
+            ti = eth.stats_cm(np.vstack(pooled_imp_err))
+            ti["z_rms"] = float(np.sqrt(np.mean(np.concatenate(pooled_imp_z) ** 2)))
+            summary[name]["pooled_imported"] = ti
+            print(f"{name} pooled imported calibrations: {ti['epochs']} instants, median {ti['median_cm']:.1f} rms "
+                  f"{ti['rms_cm']:.1f} p95 {ti['p95_cm']:.1f} cm; z rms {ti['z_rms']:.2f}", flush=True)
+            if name in RTK_STEP_S:
+                ki = outside_rtk_step(name, np.concatenate(pooled_imp_t))
+                tj = eth.stats_cm(np.vstack(pooled_imp_err)[ki])
+                tj["z_rms"] = float(np.sqrt(np.mean(np.concatenate(pooled_imp_z)[ki] ** 2)))
+                summary[name]["pooled_imported_without_rtk_step"] = tj
+                print(f"{name} pooled imported calibrations without the RTK step: {tj['epochs']} instants, median "
+                      f"{tj['median_cm']:.1f} rms {tj['rms_cm']:.1f} cm; z rms {tj['z_rms']:.2f}", flush=True)
         print(f"{name} pooled trajectory stage: {tp['epochs']} instants, median {tp['median_cm']:.1f} rms "
               f"{tp['rms_cm']:.1f} p95 {tp['p95_cm']:.1f} cm; z rms {tp['z_rms']:.2f}", flush=True)
         print(f"{name} pooled: {p['epochs']} epochs, median {p['median_cm']:.1f} rms {p['rms_cm']:.1f} "
