@@ -208,6 +208,48 @@ TEST(ImportedTracks, CamerasWithoutTimeCodeCalibrate) {
   EXPECT_EQ(summary["cameras"].size(), mission["cameras"].size());
   EXPECT_TRUE(summary["joint_covariance"].get<bool>());
 
+  // A camera calibrated elsewhere beside the network's (docs/trajectory.md "Imported calibrations"):
+  // the first camera again, as its own export (camera_opencv.yml) with a stated σ, its labels the
+  // simulator's lamp pixels at their true UTC. It joins the instants; the network's cross blocks
+  // still hold between the mission's own cameras.
+  {
+    const std::string id0 = mission["cameras"][0]["id"];
+    std::string labels = "frame,u,v\n", times = "frame,utc\n";
+    for (const json& f : truth["cameras"][0]["frames"]) {
+      if (!f["in_view"].get<bool>() || f["lamp_px"].is_null()) continue;
+      const std::string frame = std::to_string(f["frame"].get<long>());
+      labels += frame + "," + std::to_string(f["lamp_px"][0].get<double>() + 0.3 * rng.normal()) + "," +
+                std::to_string(f["lamp_px"][1].get<double>() + 0.3 * rng.normal()) + "\n";
+      times += frame + "," + f["true_utc"].get<std::string>() + "\n";
+    }
+    test::write_text(dir / "tracks" / "lab0_labels.csv", labels);
+    test::write_text(dir / "tracks" / "lab0_times.csv", times);
+    json mixed = target;
+    mixed["trajectory"]["imported_cameras"] = json::array(
+        {{{"id", "lab0"},
+          {"calibration", {{"opencv_yml", (dir / "out" / id0 / "camera_opencv.yml").string()}}},
+          {"sensor", target["cameras"][0]["sensor"]},
+          {"sigma",
+           {{"focal_px", 2.0}, {"principal_point_px", 2.0}, {"position_m", 0.05}, {"rotation_mrad", 0.1}}},
+          {"label_sigma_px", 0.3},
+          {"target_track",
+           {{"file", (dir / "tracks" / "lab0_labels.csv").string()},
+            {"timestamps", (dir / "tracks" / "lab0_times.csv").string()}}}}});
+    test::write_text(dir / "sim" / "mixed.json", mixed.dump(2));
+    const auto r = test::run_cli("track '" + (dir / "sim" / "mixed.json").string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+    const json counts = read_json(dir / "out" / "run.json")["stages"]["trajectory"]["counts"];
+    EXPECT_TRUE(counts["joint_covariance"].get<bool>());
+    EXPECT_EQ(counts["cameras"].size(), mission["cameras"].size() + 1);
+    EXPECT_EQ(counts["cameras"]["lab0"]["imported_calibration"]["format"], "opencv_yml");
+    const CsvTable mixed_rows = parse_csv(test::read_text(dir / "out" / "trajectory.csv"), "trajectory.csv");
+    std::size_t with_lab0 = 0;
+    for (const CsvRecord& row : mixed_rows.records)
+      with_lab0 +=
+          mixed_rows.text(row, mixed_rows.column("cameras")).find("lab0") != std::string::npos ? 1 : 0;
+    EXPECT_GT(with_lab0, mixed_rows.records.size() / 2);
+  }
+
   // A file that is no track.
   mission["cameras"][0]["track"]["file"] = (dir / "sim" / "mission.json").string();
   test::write_text(dir / "sim" / "bad.json", mission.dump(2));

@@ -115,14 +115,17 @@ def score_trajectory(path, hold_set, track):
 
 def utc_text(t):
     """Seconds after 12:00 UTC of the dataset's day as the ISO 8601 the timestamps files use."""
-    h = int(t // 3600)
-    m = int((t - 3600 * h) // 60)
-    return f"2020-01-01T{12 + h:02d}:{m:02d}:{t - 3600 * h - 60 * m:012.9f}Z"
+    ns = int(round(t * 1e9)) + 12 * 3600 * 10**9
+    s, frac = divmod(ns, 10**9)
+    h, rest = divmod(s, 3600)
+    m, sec = divmod(rest, 60)
+    return f"2020-01-01T{h:02d}:{m:02d}:{sec:02d}.{frac:09d}Z"
 
 
 def imported_mission(cfg, d, ds, eth_out, name):
     """The trajectory of `cfg`'s cameras as imported cameras (rangecal's own exports, calibration.json's σ)."""
     runj = json.load(open(os.path.join(d, "out", "run.json")))
+    native = runj["stages"]["trajectory"]["counts"]["cameras"]
     icfg = {k: v for k, v in cfg.items() if k not in ("cameras", "poles", "intersect")}
     icfg["cameras"] = []
     icfg["output_dir"] = os.path.join(d, "out_imported")
@@ -132,7 +135,12 @@ def imported_mission(cfg, d, ds, eth_out, name):
         cal = json.load(open(os.path.join(d, "out", cid, "calibration.json")))
         sg = cal["sigma"]
         pitch_mm = cc["sensor"]["pixel_size_um"][1] * 1e-3
-        rms = lambda v: float(np.sqrt(np.mean(np.square(v)))) if v is not None else 0.0
+
+        def rms(key):  # the stated σ of a group: the rms of its axes' marginal σ; none estimated is no statement
+            v = sg[key]
+            if v is None or (isinstance(v, list) and any(x is None for x in v)):
+                raise SystemExit(f"{cid}: calibration.json states no σ for {key}: nothing to import it with")
+            return float(np.sqrt(np.mean(np.square(v))))
         ck = runj["stages"]["align"]["counts"][cid]["clock"]
         n0 = ck["nominal_start_utc"]
         hh, mm, ss = n0.split("T")[1].rstrip("Z").split(":")
@@ -149,12 +157,13 @@ def imported_mission(cfg, d, ds, eth_out, name):
             "id": cid,
             "calibration": {"opencv_yml": os.path.join(d, "out", cid, "camera_opencv.yml")},
             "sensor": cc["sensor"],
-            "sigma": {"focal_px": (sg["focal_mm"] or 0) / pitch_mm, "principal_point_px": rms(sg["principal_point_px"]),
-                      "position_m": rms(sg["center_enu_m"]), "rotation_mrad": 1e3 * rms(sg["rotation_rad"])},
-            "label_sigma_px": runj["stages"]["trajectory"]["counts"]["cameras"][cid]["label_sigma_px"]
-            if "trajectory" in runj["stages"] else 1.0,
+            "sigma": {"focal_px": rms("focal_mm") / pitch_mm, "principal_point_px": rms("principal_point_px"),
+                      "position_m": rms("center_enu_m"), "rotation_mrad": 1e3 * rms("rotation_rad")},
+            # the stage's own label σ and the median of its labels' timing σ (the clock's, wander included)
+            "label_sigma_px": native[cid]["label_sigma_px"],
             "target_track": {"file": cc["target_track"]["file"], "timestamps": dst,
-                             "readout_s": ck.get("readout_s", 0.0), "timing_sigma_s": ck["offset_sd_s"]}})
+                             "readout_s": ck.get("readout_s", 0.0),
+                             "timing_sigma_s": min(1.0, native[cid]["timing_sigma_s_median"])}})
     icfg.setdefault("trajectory", {})
     icfg["trajectory"] = {**icfg["trajectory"], "imported_cameras": imported}
     return icfg
@@ -301,15 +310,23 @@ def main():
                 icfg_path = os.path.join(d, "imported.json")
                 json.dump(icfg, open(icfg_path, "w"), indent=1)
                 run([args.rangecal, "track", icfg_path])
-                ie, iz, _, it, _ = score_trajectory(os.path.join(d, "out_imported", "trajectory.csv"), hold_set, track)
+                ie, iz, iparts, it, _ = score_trajectory(os.path.join(d, "out_imported", "trajectory.csv"), hold_set,
+                                                         track)
+                irun = json.load(open(os.path.join(d, "out_imported", "run.json")))["stages"]["trajectory"]["counts"]
+                conv = {c: v["imported_calibration"]["conversion_max_px"] for c, v in irun["cameras"].items()}
                 pooled_imp_err.append(np.array(ie).reshape(-1, 3))
                 pooled_imp_z.append(np.array(iz))
                 pooled_imp_t.append(np.array(it))
                 si = eth.stats_cm(np.array(ie).reshape(-1, 3))
                 si["z_rms"] = float(np.sqrt(np.mean(np.square(iz)))) if iz else None
+                si["median_sigma_parts_cm"] = (np.median(np.array(iparts), axis=0) * 100).tolist() if iparts else None
+                si["conversion_max_px"] = conv
+                s_imp = si
                 print(f"{name} split {split} imported calibrations: {si['epochs']} instants, median "
-                      f"{si['median_cm']:.1f} rms {si['rms_cm']:.1f} p95 {si['p95_cm']:.1f} cm; z rms {si['z_rms']:.2f}",
-                      flush=True)
+                      f"{si['median_cm']:.1f} rms {si['rms_cm']:.1f} p95 {si['p95_cm']:.1f} cm; z rms {si['z_rms']:.2f}; "
+                      "median σ parts (labels, timing, calibration) "
+                      + " ".join(f"{v:.2f}" for v in si["median_sigma_parts_cm"]) + " cm; conversion max px "
+                      + " ".join(f"{c} {v:.4f}" for c, v in conv.items()), flush=True)
             ts = eth.stats_cm(np.array(t_err).reshape(-1, 3))
             ts["z_rms"] = float(np.sqrt(np.mean(np.square(t_z)))) if t_z else None
             ts["median_sigma_parts_cm"] = (np.median(np.array(t_parts), axis=0) * 100).tolist() if t_parts else None
@@ -325,6 +342,8 @@ def main():
             s["clocks"] = clocks
             s["method"] = runj["stages"]["calibrate"]["counts"].get("method_choice")
             s["trajectory"] = ts
+            if args.imported:
+                s["imported"] = s_imp
             summary[name]["splits"][split] = s
             pooled_err.append(err)
             pooled_z.append(z)

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -48,10 +49,6 @@ StatedCalibrationSigma stated() {
   return s;
 }
 
-const std::vector<CameraParameter> kParameters = {
-    CameraParameter::f,  CameraParameter::u0, CameraParameter::v0, CameraParameter::wx, CameraParameter::wy,
-    CameraParameter::wz, CameraParameter::CE, CameraParameter::CN, CameraParameter::CU};
-
 Eigen::Vector3d path(double t) {
   const double s = t - 0.5 * kSeconds;
   return {8 * s, 0.4 * s, 15 + 0.16 * s};
@@ -84,10 +81,18 @@ Mission simulate(const fs::path& dir, std::mt19937_64* rng) {
                           sg.position_m,
                           sg.position_m,
                           sg.position_m};
-    Eigen::VectorXd delta(9);
-    for (int i = 0; i < 9; ++i) delta[i] = sd[i] * n01(*rng);
-    const Camera elsewhere =
-        camera_with_parameters(truth, kParameters, parameter_values(truth, kParameters) + delta);
+    // The calibration made elsewhere, drawn here without the library's parameter code: f and the
+    // principal point moved, the attitude turned by a small rotation about the camera's axes
+    // (R = exp([w]×)·R̂), the centre moved in site ENU.
+    Camera elsewhere = truth;
+    elsewhere.intr.f_mm += sd[0] * n01(*rng);
+    elsewhere.intr.u0_px += sd[1] * n01(*rng);
+    elsewhere.intr.v0_px += sd[2] * n01(*rng);
+    const Eigen::Vector3d w(sd[3] * n01(*rng), sd[4] * n01(*rng), sd[5] * n01(*rng));
+    const Eigen::Vector3d centre_elsewhere =
+        truth.pose.center() + Eigen::Vector3d(sd[6] * n01(*rng), sd[7] * n01(*rng), sd[8] * n01(*rng));
+    elsewhere.pose.R = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * truth.pose.R;
+    elsewhere.pose.T = -elsewhere.pose.R * centre_elsewhere;
 
     ImportedCameraConfig cfg;
     cfg.id = id;
