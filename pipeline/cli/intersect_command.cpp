@@ -23,6 +23,7 @@
 #include "pipeline/stages/intersect_stage.hpp"
 #include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/steps/intersection.hpp"
+#include "vision/triangulation/calibration_covariance.hpp"
 
 namespace rangecal {
 

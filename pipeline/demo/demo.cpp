@@ -17,6 +17,7 @@
 #include "pipeline/io/residuals_csv.hpp"
 #include "pipeline/stages/mission_runner.hpp"
 #include "pipeline/steps/calibration_problem.hpp"
+#include "vision/triangulation/calibration_covariance.hpp"
 
 namespace rangecal {
 namespace {

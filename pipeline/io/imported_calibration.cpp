@@ -3,9 +3,12 @@
 #include <cmath>
 
 #include "config/error.hpp"
+#include "config/number_format.hpp"
+#include "pipeline/io/calibration_json.hpp"
 #include "vision/calibration/dlt_camera_import.hpp"
 #include "vision/camera/opencv_camera_import.hpp"
 #include "vision/camera/sensor_geometry.hpp"
+#include "vision/triangulation/calibration_covariance.hpp"
 
 namespace rangecal {
 namespace {
@@ -22,11 +25,44 @@ ImportedCamera converted(const std::string& file, const std::string& field, F&& 
   }
 }
 
+// Another mission's calibration.json: its camera and its covariance as they stand, when its world
+// frame is this site's ENU (an origin equal to 1e-9° and 1 mm: the same survey's site).
+ImportedCalibration from_calibration_json(const ImportedCameraConfig& cfg, const GeodeticOrigin& site) {
+  ImportedCalibration out;
+  out.format = "rangecal_json";
+  out.file = cfg.rangecal_json;
+  const CalibrationResult r = read_calibration_json(cfg.rangecal_json);
+  const GeodeticOrigin& o = require_site_origin(r, cfg.rangecal_json);
+  if (std::abs(o.lat_deg - site.lat_deg) > 1e-9 || std::abs(o.lon_deg - site.lon_deg) > 1e-9 ||
+      std::abs(o.h_m - site.h_m) > 1e-3)
+    throw_input_error(cfg.rangecal_json, 0, "world_frame",
+                      "its site origin (" + format_number("%.9f", o.lat_deg) + ", " +
+                          format_number("%.9f", o.lon_deg) + ", " + format_number("%.3f", o.h_m) +
+                          ") is not this mission's (" + format_number("%.9f", site.lat_deg) + ", " +
+                          format_number("%.9f", site.lon_deg) + ", " + format_number("%.3f", site.h_m) +
+                          "): its camera's pose is in another ENU frame");
+  if (r.camera.intr.width_px != cfg.sensor.width_px || r.camera.intr.height_px != cfg.sensor.height_px)
+    throw_input_error(cfg.rangecal_json, 0, "image_size_px",
+                      "the file's image is " + std::to_string(r.camera.intr.width_px) + " × " +
+                          std::to_string(r.camera.intr.height_px) + " px and camera " + cfg.id +
+                          "'s sensor " + std::to_string(cfg.sensor.width_px) + " × " +
+                          std::to_string(cfg.sensor.height_px));
+  bool usable = false;
+  out.covariance = camera_covariance(r, &usable);
+  if (!usable)
+    throw_input_error(cfg.rangecal_json, 0, "covariance",
+                      "has no usable covariance: an imported calibration must bring its uncertainty");
+  out.camera = r.camera;
+  out.camera.id = cfg.id;
+  return out;
+}
+
 }  // namespace
 
-ImportedCalibration read_imported_calibration(const ImportedCameraConfig& cfg) {
+ImportedCalibration read_imported_calibration(const ImportedCameraConfig& cfg, const GeodeticOrigin& site) {
   const double dx = cfg.sensor.pixel_size_um[0] * 1e-3, dy = cfg.sensor.pixel_size_um[1] * 1e-3;
   ImportedCalibration out;
+  if (!cfg.rangecal_json.empty()) return from_calibration_json(cfg, site);
   ImportedCamera cam;
   if (!cfg.opencv_yml.empty()) {
     out.format = "opencv_yml";

@@ -1,6 +1,7 @@
 #include "pipeline/mission/mission_config.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -179,6 +180,20 @@ std::string parse_camera_id(const JsonView& c) {
   return id;
 }
 
+// Exactly one of three alternative keys in `v`, else a failure naming those given ("both 'a' and
+// 'b' are given") or `none`, and the expected `form`.
+void require_one_of(const JsonView& v, const std::array<const char*, 3>& keys, const std::string& none,
+                    const std::string& form) {
+  std::vector<std::string> given;
+  for (const char* key : keys)
+    if (v.has(key)) given.push_back(std::string("'") + key + "'");
+  if (given.size() == 1) return;
+  v.fail((given.empty()       ? none
+          : given.size() == 2 ? "both " + given[0] + " and " + given[1] + " are given"
+                              : "all of " + given[0] + ", " + given[1] + " and " + given[2] + " are given") +
+         "; expected " + form);
+}
+
 FramesConfig parse_frames(const Loader& L, const JsonView& f) {
   const std::string form =
       "an object with one of {\"timestamps\": \"frame,file,utc CSV\"}, {\"cine\": \"file.cine\"} or "
@@ -186,15 +201,7 @@ FramesConfig parse_frames(const Loader& L, const JsonView& f) {
   f.require_object(form);
   f.check_keys({"timestamps", "cine", "mraw", "clock_utc_offset_h", "allow_missing"});
   const bool has_ts = f.has("timestamps"), has_cine = f.has("cine"), has_mraw = f.has("mraw");
-  std::vector<std::string> given;
-  for (const char* key : {"timestamps", "cine", "mraw"})
-    if (f.has(key)) given.push_back(std::string("'") + key + "'");
-  if (given.size() != 1)
-    f.fail((given.empty() ? std::string("no frames given")
-            : given.size() == 2
-                ? "both " + given[0] + " and " + given[1] + " are given"
-                : "all of " + given[0] + ", " + given[1] + " and " + given[2] + " are given") +
-           "; expected " + form);
+  require_one_of(f, {"timestamps", "cine", "mraw"}, "no frames given", form);
   FramesConfig frames;
   if (has_ts) frames.timestamps = L.input_file(*f.find("timestamps"), "a timestamps CSV path");
   if (has_cine) frames.cine = L.input_file(*f.find("cine"), "a Phantom .cine path");
@@ -420,36 +427,12 @@ CameraConfig parse_camera(const Loader& L, const JsonView& c) {
   return cam;
 }
 
-// trajectory.imported_cameras[i] (docs/trajectory.md "Imported calibrations"): every σ stated, none
-// assumed — a calibration given without its uncertainty would be taken as exact.
-ImportedCameraConfig parse_imported_camera(const Loader& L, const JsonView& c) {
-  c.require_object(
-      "an imported camera {\"id\", \"calibration\", \"sensor\", \"sigma\", \"target_track\", "
-      "\"label_sigma_px\"}");
-  c.check_keys({"id", "calibration", "sensor", "sigma", "target_track", "label_sigma_px"});
-  ImportedCameraConfig cam;
-  cam.id = parse_camera_id(c);
-  cam.sensor = parse_sensor(c);
-  const std::string cform =
-      "an object {\"opencv_yml\": \"camera.yml\"} or {\"dlt\": \"coefficients.csv\", \"column\": n}";
-  const JsonView cal = c.at("calibration", cform);
-  cal.require_object(cform);
-  cal.check_keys({"opencv_yml", "dlt", "column"});
-  if (cal.has("opencv_yml") == cal.has("dlt"))
-    cal.fail(
-        std::string(cal.has("dlt") ? "both 'opencv_yml' and 'dlt' are given" : "no calibration file given") +
-        "; expected " + cform);
-  if (auto y = cal.find("opencv_yml")) cam.opencv_yml = L.input_file(*y, "an OpenCV camera YAML path");
-  if (auto d = cal.find("dlt")) cam.dlt = L.input_file(*d, "a DLT-11 coefficient CSV path");
-  if (auto col = cal.find("column")) {
-    if (cam.dlt.empty()) col->fail("applies only with \"dlt\" (the camera's column of the coefficient file)");
-    const std::int64_t n = col->integer("the camera's column of the coefficient file, 1 to 1000");
-    if (n < 1 || n > 1000) col->fail_expected("the camera's column of the coefficient file, 1 to 1000");
-    cam.dlt_column = static_cast<int>(n);
-  }
+// trajectory.imported_cameras[i].sigma: the σ a user states for a calibration made elsewhere.
+StatedCalibrationSigma parse_stated_sigma(const JsonView& c) {
   const std::string sform =
       "an object {\"focal_px\", \"principal_point_px\", \"position_m\", \"rotation_mrad\"[, \"image_px\"]}: "
       "the calibration's stated 1σ";
+  StatedCalibrationSigma out;
   const JsonView sg = c.at("sigma", sform);
   sg.require_object(sform);
   sg.check_keys({"focal_px", "principal_point_px", "position_m", "rotation_mrad", "image_px"});
@@ -461,16 +444,55 @@ ImportedCameraConfig parse_imported_camera(const Loader& L, const JsonView& c) {
     bool required;
   };
   for (const Field& f :
-       {Field{"focal_px", &cam.sigma.focal_px, 1e4, "the focal length's 1σ in pixels, 0 to 10000", true},
-        Field{"principal_point_px", &cam.sigma.principal_point_px, 1e4,
+       {Field{"focal_px", &out.focal_px, 1e4, "the focal length's 1σ in pixels, 0 to 10000", true},
+        Field{"principal_point_px", &out.principal_point_px, 1e4,
               "the principal point's 1σ per axis in pixels, 0 to 10000", true},
-        Field{"position_m", &cam.sigma.position_m, 100, "the camera centre's 1σ per axis in metres, 0 to 100",
+        Field{"position_m", &out.position_m, 100, "the camera centre's 1σ per axis in metres, 0 to 100",
               true},
-        Field{"rotation_mrad", &cam.sigma.rotation_mrad, 1000,
+        Field{"rotation_mrad", &out.rotation_mrad, 1000,
               "the attitude's 1σ about each axis in milliradians, 0 to 1000", true},
-        Field{"image_px", &cam.sigma.image_px, 100,
+        Field{"image_px", &out.image_px, 100,
               "the lens model's error at the pixel, 1σ per axis in pixels, 0 to 100", false}}) {
     if (f.required || sg.has(f.key)) *f.value = Loader::in_range(sg.at(f.key, f.form), 0, f.hi, f.form);
+  }
+  return out;
+}
+
+// trajectory.imported_cameras[i] (docs/trajectory.md "Imported calibrations"): every σ stated, none
+// assumed — a calibration given without its uncertainty would be taken as exact.
+ImportedCameraConfig parse_imported_camera(const Loader& L, const JsonView& c) {
+  c.require_object(
+      "an imported camera {\"id\", \"calibration\", \"sensor\", \"sigma\", \"target_track\", "
+      "\"label_sigma_px\"}");
+  c.check_keys({"id", "calibration", "sensor", "sigma", "target_track", "label_sigma_px"});
+  ImportedCameraConfig cam;
+  cam.id = parse_camera_id(c);
+  cam.sensor = parse_sensor(c);
+  const std::string cform =
+      "an object {\"opencv_yml\": \"camera.yml\"}, {\"dlt\": \"coefficients.csv\", \"column\": n} or "
+      "{\"rangecal_json\": \"calibration.json\"}";
+  const JsonView cal = c.at("calibration", cform);
+  cal.require_object(cform);
+  cal.check_keys({"opencv_yml", "dlt", "column", "rangecal_json"});
+  require_one_of(cal, {"opencv_yml", "dlt", "rangecal_json"}, "no calibration file given", cform);
+  if (auto y = cal.find("opencv_yml")) cam.opencv_yml = L.input_file(*y, "an OpenCV camera YAML path");
+  if (auto d = cal.find("dlt")) cam.dlt = L.input_file(*d, "a DLT-11 coefficient CSV path");
+  if (auto r = cal.find("rangecal_json"))
+    cam.rangecal_json = L.input_file(*r, "a rangecal calibration.json path");
+  if (auto col = cal.find("column")) {
+    if (cam.dlt.empty()) col->fail("applies only with \"dlt\" (the camera's column of the coefficient file)");
+    const std::int64_t n = col->integer("the camera's column of the coefficient file, 1 to 1000");
+    if (n < 1 || n > 1000) col->fail_expected("the camera's column of the coefficient file, 1 to 1000");
+    cam.dlt_column = static_cast<int>(n);
+  }
+  // A rangecal calibration.json states its own covariance; a σ beside it would be a second statement.
+  if (!cam.rangecal_json.empty()) {
+    if (auto sv = c.find("sigma"))
+      sv->fail(
+          "a rangecal calibration.json states its own covariance; give \"sigma\" only with an OpenCV or DLT "
+          "file");
+  } else {
+    cam.sigma = parse_stated_sigma(c);
   }
   const JsonView t = c.at("target_track", "the target's 2-D track in this camera (docs/trajectory.md)");
   cam.target_track = parse_track(L, t, cam.sensor, true);

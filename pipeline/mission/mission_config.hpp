@@ -162,13 +162,17 @@ struct IntersectConfig {
 };
 
 /// trajectory.imported_cameras[i] (docs/trajectory.md "Imported calibrations"): a camera calibrated
-/// elsewhere — an OpenCV camera file or a DLT-11 column — with the σ its user states, whose target track
+/// elsewhere — an OpenCV camera file or a DLT-11 column with the σ its user states, or another
+/// mission's calibration.json with its covariance — whose target track
 /// the trajectory stage uses beside the mission's own cameras.
 struct ImportedCameraConfig {
   std::string id;          ///< unique among cameras[] and these
   std::string opencv_yml;  ///< an OpenCV camera YAML (absolute), or empty
   std::string dlt;         ///< a DLTdv / Argus DLT-11 coefficient CSV (absolute), or empty
-  int dlt_column = 1;      ///< its camera's column (1-based)
+  /// a rangecal calibration.json from another mission on the same site (absolute), or empty: its own
+  /// covariance, with its correlations, stands for the stated σ
+  std::string rangecal_json;
+  int dlt_column = 1;  ///< its camera's column (1-based)
   SensorConfig sensor;
   StatedCalibrationSigma sigma;
   TrackConfig target_track;   ///< its times UTC ("time_code")

@@ -6,6 +6,7 @@
 #include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/output_paths.hpp"
 #include "pipeline/steps/intersection.hpp"
+#include "vision/triangulation/calibration_covariance.hpp"
 
 namespace rangecal {
 

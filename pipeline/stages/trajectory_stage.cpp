@@ -185,7 +185,7 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   // camera, calibrated apart from them, has none (estimate_trajectory: a missing block is independence).
   const std::size_t own = cameras.size();
   for (const ImportedCameraConfig& ic : cfg.trajectory.imported_cameras) {
-    const ImportedCalibration imported = read_imported_calibration(ic);
+    const ImportedCalibration imported = read_imported_calibration(ic, cfg.origin);
     TrajectoryCamera tc;
     tc.id = ic.id;
     tc.camera = imported.camera;

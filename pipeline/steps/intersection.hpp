@@ -25,10 +25,6 @@ struct IntersectCamera {
   std::vector<PolePick> picks;   ///< `id,u,v` picks (docs/formats.md)
 };
 
-/// The covariance of a calibration result in the form triangulation takes; empty when the result
-/// has none (not computed, wrong shape or non-finite), with `*usable` set to false then.
-CameraCovariance camera_covariance(const CalibrationResult& r, bool* usable = nullptr);
-
 /// One pole triangulated from ≥ 2 cameras.
 struct PoleIntersection {
   std::string id;

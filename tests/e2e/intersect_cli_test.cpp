@@ -19,6 +19,7 @@
 #include "support/paths.hpp"
 #include "support/pole_field.hpp"
 #include "support/synthetic_camera.hpp"
+#include "vision/triangulation/calibration_covariance.hpp"
 
 namespace rangecal {
 namespace {

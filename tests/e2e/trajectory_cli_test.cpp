@@ -14,6 +14,7 @@
 #include "config/csv_table.hpp"
 #include "config/deterministic_random.hpp"
 #include "gnss/time/utc_time.hpp"
+#include "pipeline/io/calibration_json.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
 #include "vision/camera/dlt_export.hpp"
@@ -88,6 +89,24 @@ void write_labels(const Camera& cam, double fps, const fs::path& dir, Determinis
   test::write_text(dir / (cam.id + "_times.csv"), times);
 }
 
+// A calibration.json of `cam` as another mission on the site `origin` would have written it, with a
+// covariance over f, u0, v0 and the pose whose centre and focal length are correlated.
+void write_rangecal_json(const Camera& cam, const GeodeticOrigin& origin, const fs::path& path) {
+  CalibrationResult r;
+  r.camera_id = cam.id;
+  r.method = "network";
+  r.camera = cam;
+  r.site_origin = origin;
+  r.parameters = {CameraParameter::f,  CameraParameter::u0, CameraParameter::v0,
+                  CameraParameter::wx, CameraParameter::wy, CameraParameter::wz,
+                  CameraParameter::CE, CameraParameter::CN, CameraParameter::CU};
+  Eigen::VectorXd sd(9);
+  sd << 0.02, 1.0, 1.0, 5e-5, 5e-5, 5e-5, 0.01, 0.01, 0.01;
+  r.covariance = sd.cwiseAbs2().asDiagonal();
+  r.covariance(0, 8) = r.covariance(8, 0) = 0.8 * sd[0] * sd[8];
+  write_calibration_json(path.string(), r);
+}
+
 nlohmann::json imported_mission(const fs::path& dir) {
   Camera a = test::range_camera_at("lab_a", {-30, -55, 2}, drone(1.5), -1.5e-4, {655.0, 388.0});
   Camera b = test::range_camera_at("lab_b", {35, -50, 3}, drone(1.5), 0.0, {630.0, 410.0});
@@ -98,8 +117,12 @@ nlohmann::json imported_mission(const fs::path& dir) {
   other.pose.T += Eigen::Vector3d(1, 0, 0);
   test::write_text(dir / "dlt.csv", dlt_coefficients_csv({dlt_camera(other), dlt_camera(b)}));
   DeterministicRandom rng(37);
+  Camera c = test::range_camera_at("lab_c", {5, -70, 2}, drone(1.5), -1e-4, {640.0, 402.0});
+  c.intr.f_mm = 35;
+  write_rangecal_json(c, {45.6, 122.8, 150.0}, dir / "lab_c.json");
   write_labels(a, 30, dir, &rng);
   write_labels(b, 25, dir, &rng);
+  write_labels(c, 20, dir, &rng);
   nlohmann::json j = mission(dir);
   j["cameras"] = nlohmann::json::array();
   const nlohmann::json sensor = {{"width_px", 1280}, {"height_px", 800}, {"pixel_size_um", {20, 20}}};
@@ -107,7 +130,8 @@ nlohmann::json imported_mission(const fs::path& dir) {
       {"focal_px", 1.0}, {"principal_point_px", 1.0}, {"position_m", 0.01}, {"rotation_mrad", 0.05}};
   for (const auto& [id, calibration] :
        {std::pair<std::string, nlohmann::json>{"lab_a", {{"opencv_yml", (dir / "lab_a.yml").string()}}},
-        {"lab_b", {{"dlt", (dir / "dlt.csv").string()}, {"column", 2}}}})
+        {"lab_b", {{"dlt", (dir / "dlt.csv").string()}, {"column", 2}}},
+        {"lab_c", {{"rangecal_json", (dir / "lab_c.json").string()}}}})
     j["trajectory"]["imported_cameras"].push_back({{"id", id},
                                                    {"calibration", calibration},
                                                    {"sensor", sensor},
@@ -116,6 +140,7 @@ nlohmann::json imported_mission(const fs::path& dir) {
                                                    {"target_track",
                                                     {{"file", (dir / (id + "_labels.csv")).string()},
                                                      {"timestamps", (dir / (id + "_times.csv")).string()}}}});
+  j["trajectory"]["imported_cameras"][2].erase("sigma");  // calibration.json states its own
   return j;
 }
 
@@ -141,6 +166,7 @@ TEST(TrajectoryCli, ImportedCalibrationsAloneGiveATrajectory) {
   const auto& cams = run["stages"]["trajectory"]["counts"]["cameras"];
   EXPECT_EQ(cams["lab_a"]["imported_calibration"]["format"], "opencv_yml");
   EXPECT_EQ(cams["lab_b"]["imported_calibration"]["format"], "dlt");
+  EXPECT_EQ(cams["lab_c"]["imported_calibration"]["format"], "rangecal_json");
   EXPECT_LT(cams["lab_b"]["imported_calibration"]["conversion_max_px"].get<double>(), 1e-3);
   EXPECT_LT(cams["lab_a"]["imported_calibration"]["conversion_max_px"].get<double>(), 0.05);
   // run.json and trajectory.json state one median: the ⌈n/2⌉-th smallest of trajectory.csv's values
@@ -211,6 +237,21 @@ TEST(TrajectoryCli, BadImportedCalibrationsNameTheirCause) {
   EXPECT_NE(r.err.find("short.csv"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("10 coefficient lines"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "out" / "trajectory.csv"));  // the stage removed the old one first
+  // A calibration.json of another site: its pose is in another ENU frame.
+  write_rangecal_json(test::range_camera_at("lab_c", {5, -70, 2}, drone(1.5)), {45.6, 122.9, 150.0},
+                      dir / "elsewhere.json");
+  j = good;
+  j["trajectory"]["imported_cameras"][2]["calibration"]["rangecal_json"] = (dir / "elsewhere.json").string();
+  r = run(j);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("elsewhere.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("world_frame"), std::string::npos) << r.err;
+  // A σ stated beside a calibration.json's own covariance.
+  j = good;
+  j["trajectory"]["imported_cameras"][2]["sigma"] = good["trajectory"]["imported_cameras"][0]["sigma"];
+  r = run(j);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("states its own covariance"), std::string::npos) << r.err;
   // An OpenCV file of another image size.
   j = good;
   j["trajectory"]["imported_cameras"][0]["sensor"]["width_px"] = 1920;

@@ -122,7 +122,7 @@ def utc_text(t):
     return f"2020-01-01T{h:02d}:{m:02d}:{sec:02d}.{frac:09d}Z"
 
 
-def imported_mission(cfg, d, ds, eth_out, name):
+def imported_mission(cfg, d, ds, eth_out, name, form):
     """The trajectory of `cfg`'s cameras as imported cameras (rangecal's own exports, calibration.json's σ)."""
     runj = json.load(open(os.path.join(d, "out", "run.json")))
     native = runj["stages"]["trajectory"]["counts"]["cameras"]
@@ -153,12 +153,16 @@ def imported_mission(cfg, d, ds, eth_out, name):
                 hh, mm, ss = row["utc"].split("T")[1].rstrip("Z").split(":")
                 t = (int(hh) - 12) * 3600 + int(mm) * 60 + float(ss)
                 fo.write(f"{row['frame']},{utc_text(t + ck['offset_s'] + 1e-6 * ck['rate_ppm'] * (t - n0_s))}\n")
+        if form == "rangecal_json":
+            stated = {"calibration": {"rangecal_json": os.path.join(d, "out", cid, "calibration.json")}}
+        else:
+            stated = {"calibration": {"opencv_yml": os.path.join(d, "out", cid, "camera_opencv.yml")},
+                      "sigma": {"focal_px": rms("focal_mm") / pitch_mm, "principal_point_px": rms("principal_point_px"),
+                                "position_m": rms("center_enu_m"), "rotation_mrad": 1e3 * rms("rotation_rad")}}
         imported.append({
             "id": cid,
-            "calibration": {"opencv_yml": os.path.join(d, "out", cid, "camera_opencv.yml")},
+            **stated,
             "sensor": cc["sensor"],
-            "sigma": {"focal_px": rms("focal_mm") / pitch_mm, "principal_point_px": rms("principal_point_px"),
-                      "position_m": rms("center_enu_m"), "rotation_mrad": 1e3 * rms("rotation_rad")},
             # the stage's own label σ and the median of its labels' timing σ (the clock's, wander included)
             "label_sigma_px": native[cid]["label_sigma_px"],
             "target_track": {"file": cc["target_track"]["file"], "timestamps": dst,
@@ -178,9 +182,9 @@ def main():
     ap.add_argument("--datasets", default="dataset1,dataset2")
     ap.add_argument("--config-extra", default="{}", help="JSON merged into each mission (for experiments)")
     ap.add_argument("--readout", default="", help="'estimate': each camera's rolling-shutter readout found with its clock")
-    ap.add_argument("--imported", action="store_true",
-                    help="also run the trajectory with rangecal's exported cameras imported back (OpenCV YAML, "
-                         "calibration.json's σ stated)")
+    ap.add_argument("--imported", default="", choices=["", "opencv_yml", "rangecal_json"],
+                    help="also run the trajectory with the cameras imported back: 'opencv_yml' (rangecal's export, "
+                         "calibration.json's marginal σ stated) or 'rangecal_json' (calibration.json with its covariance)")
     ap.add_argument("--published-pp-sigma", type=float, default=0,
                     help="> 0: each camera's principal point prior from its published calibration, with this σ (px)")
     args = ap.parse_args()
@@ -306,7 +310,7 @@ def main():
                 # The same cameras as rangecal exported them (camera_opencv.yml), imported back with
                 # calibration.json's σ per parameter stated (diagonal: no correlations, no cross blocks)
                 # and the held-out labels' times put on UTC by the clocks the align stage found.
-                icfg = imported_mission(cfg, d, ds, args.eth_out, name)
+                icfg = imported_mission(cfg, d, ds, args.eth_out, name, args.imported)
                 icfg_path = os.path.join(d, "imported.json")
                 json.dump(icfg, open(icfg_path, "w"), indent=1)
                 run([args.rangecal, "track", icfg_path])

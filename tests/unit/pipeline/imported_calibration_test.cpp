@@ -108,7 +108,7 @@ Mission simulate(const fs::path& dir, std::mt19937_64* rng) {
       cfg.opencv_yml = (dir / (id + ".yml")).string();
       write_opencv_camera_yml(cfg.opencv_yml, fit_opencv_camera(elsewhere));
     }
-    const ImportedCalibration imported = read_imported_calibration(cfg);
+    const ImportedCalibration imported = read_imported_calibration(cfg, GeodeticOrigin{});
     EXPECT_LT(imported.fit_max_px, 0.05) << id;
 
     TrajectoryCamera tc;

@@ -723,6 +723,14 @@ TEST(MissionConfig, ImportedCameras) {
   EXPECT_EQ(ic.sensor.height_px, 1080);
   EXPECT_EQ(ic.target_track.file, "/missions/m1/lab/t.csv");
   EXPECT_FALSE(ic.target_track.calibration_clock);
+  // Another mission's calibration.json: its own covariance, no σ stated.
+  nlohmann::json cam = imported();
+  cam["calibration"] = {{"rangecal_json", "lab/calibration.json"}};
+  cam.erase("sigma");
+  j["trajectory"]["imported_cameras"] = {cam};
+  c = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_EQ(c.trajectory.imported_cameras[0].rangecal_json, "/missions/m1/lab/calibration.json");
+  EXPECT_DOUBLE_EQ(c.trajectory.imported_cameras[0].sigma.focal_px, 0);
 }
 
 TEST(MissionConfig, ImportedCameraErrors) {
@@ -745,6 +753,14 @@ TEST(MissionConfig, ImportedCameraErrors) {
                "both 'opencv_yml' and 'dlt'");
   expect_error(with([](nlohmann::json& c) { c["calibration"] = nlohmann::json::object(); }),
                at + ".calibration", "no calibration file");
+  expect_error(with([](nlohmann::json& c) {
+                 c["calibration"] = {{"rangecal_json", "c.json"}};
+               }),
+               at + ".sigma", "states its own covariance");
+  expect_error(with([](nlohmann::json& c) {
+                 c["calibration"] = {{"rangecal_json", "c.json"}, {"opencv_yml", "a.yml"}, {"dlt", "d.csv"}};
+               }),
+               at + ".calibration", "all of 'opencv_yml', 'dlt' and 'rangecal_json'");
   expect_error(with([](nlohmann::json& c) {
                  c["calibration"] = {{"opencv_yml", "a.yml"}, {"column", 1}};
                }),
