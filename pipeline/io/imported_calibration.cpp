@@ -1,6 +1,9 @@
 #include "pipeline/io/imported_calibration.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "config/error.hpp"
 #include "config/number_format.hpp"
@@ -23,6 +26,33 @@ ImportedCamera converted(const std::string& file, const std::string& field, F&& 
     if (e.kind() != ErrorKind::calibration) throw;
     throw_input_error(file, 0, field, e.reason());
   }
+}
+
+// A covariance that leaves out the focal length, the principal point, the attitude or the position
+// would import those as exact, and one not positive semi-definite states no uncertainty at all.
+void require_whole_covariance(const CameraCovariance& c, const std::string& file) {
+  using P = CameraParameter;
+  const auto has = [&](P p) {
+    return std::find(c.parameters.begin(), c.parameters.end(), p) != c.parameters.end();
+  };
+  std::string missing;
+  for (const auto& [p, name] : {std::pair<P, const char*>{P::f, "f"},
+                                {P::u0, "u0"},
+                                {P::v0, "v0"},
+                                {P::wx, "wx"},
+                                {P::wy, "wy"},
+                                {P::wz, "wz"}})
+    if (!has(p)) missing += std::string(missing.empty() ? "" : ", ") + name;
+  if (!(has(P::CE) && has(P::CN) && has(P::CU)) && !(has(P::Tx) && has(P::Ty) && has(P::Tz)))
+    missing += std::string(missing.empty() ? "" : ", ") + "the position (CE CN CU or Tx Ty Tz)";
+  if (!missing.empty())
+    throw_input_error(
+        file, 0, "covariance",
+        "leaves out " + missing + ": those would be imported as exact; calibrate with them free");
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(c.covariance);
+  if (eig.info() != Eigen::Success ||
+      eig.eigenvalues().minCoeff() < -1e-12 * std::max(1e-300, eig.eigenvalues().maxCoeff()))
+    throw_input_error(file, 0, "covariance", "is not positive semi-definite: it states no uncertainty");
 }
 
 // Another mission's calibration.json: its camera and its covariance as they stand, when its world
@@ -52,6 +82,7 @@ ImportedCalibration from_calibration_json(const ImportedCameraConfig& cfg, const
   if (!usable)
     throw_input_error(cfg.rangecal_json, 0, "covariance",
                       "has no usable covariance: an imported calibration must bring its uncertainty");
+  require_whole_covariance(out.covariance, cfg.rangecal_json);
   out.camera = r.camera;
   out.camera.id = cfg.id;
   return out;

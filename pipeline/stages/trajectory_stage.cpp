@@ -184,7 +184,21 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   // The network's cross blocks are between the mission's own cameras, which come first; an imported
   // camera, calibrated apart from them, has none (estimate_trajectory: a missing block is independence).
   const std::size_t own = cameras.size();
-  for (const ImportedCameraConfig& ic : cfg.trajectory.imported_cameras) {
+  for (std::size_t k = 0; k < cfg.trajectory.imported_cameras.size(); ++k) {
+    const ImportedCameraConfig& ic = cfg.trajectory.imported_cameras[k];
+    // This mission's own calibration.json imported beside its camera would count that camera twice,
+    // as if its errors were another's.
+    if (!ic.rangecal_json.empty()) {
+      const std::filesystem::path rel =
+          std::filesystem::weakly_canonical(ic.rangecal_json)
+              .lexically_relative(std::filesystem::weakly_canonical(cfg.output_dir));
+      if (!rel.empty() && *rel.begin() != "..")
+        throw_config_error(
+            cfg.config_path,
+            "trajectory.imported_cameras[" + std::to_string(k) + "].calibration.rangecal_json",
+            "is this mission's own output: its camera is one of the mission's cameras; give its "
+            "target track as that camera's cameras[].target_track");
+    }
     const ImportedCalibration imported = read_imported_calibration(ic, cfg.origin);
     TrajectoryCamera tc;
     tc.id = ic.id;

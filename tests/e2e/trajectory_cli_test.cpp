@@ -246,6 +246,16 @@ TEST(TrajectoryCli, BadImportedCalibrationsNameTheirCause) {
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("elsewhere.json"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("world_frame"), std::string::npos) << r.err;
+  // This mission's own output imported: its camera would count twice.
+  fs::create_directories(dir / "out" / "lab_c");
+  fs::copy_file(dir / "lab_c.json", dir / "out" / "lab_c" / "calibration.json",
+                fs::copy_options::overwrite_existing);
+  j = good;
+  j["trajectory"]["imported_cameras"][2]["calibration"]["rangecal_json"] =
+      (dir / "out" / "lab_c" / "calibration.json").string();
+  r = run(j);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("this mission's own output"), std::string::npos) << r.err;
   // A σ stated beside a calibration.json's own covariance.
   j = good;
   j["trajectory"]["imported_cameras"][2]["sigma"] = good["trajectory"]["imported_cameras"][0]["sigma"];

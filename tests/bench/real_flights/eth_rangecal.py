@@ -123,7 +123,8 @@ def utc_text(t):
 
 
 def imported_mission(cfg, d, ds, eth_out, name, form):
-    """The trajectory of `cfg`'s cameras as imported cameras (rangecal's own exports, calibration.json's σ)."""
+    """The trajectory of `cfg`'s cameras as imported cameras: `form` "opencv_yml" (rangecal's own exports,
+    calibration.json's marginal σ stated) or "rangecal_json" (each calibration.json, its covariance whole)."""
     runj = json.load(open(os.path.join(d, "out", "run.json")))
     native = runj["stages"]["trajectory"]["counts"]["cameras"]
     icfg = {k: v for k, v in cfg.items() if k not in ("cameras", "poles", "intersect")}
@@ -307,8 +308,8 @@ def main():
             hold_set = set(int(k) for k in hold_ep)
             t_err, t_z, t_parts, t_t, t_x = score_trajectory(os.path.join(d, "out", "trajectory.csv"), hold_set, track)
             if args.imported:
-                # The same cameras as rangecal exported them (camera_opencv.yml), imported back with
-                # calibration.json's σ per parameter stated (diagonal: no correlations, no cross blocks)
+                # The same cameras imported back (imported_mission: their camera_opencv.yml with
+                # calibration.json's marginal σ stated, or their calibration.json whole; no cross blocks)
                 # and the held-out labels' times put on UTC by the clocks the align stage found.
                 icfg = imported_mission(cfg, d, ds, args.eth_out, name, args.imported)
                 icfg_path = os.path.join(d, "imported.json")

@@ -22,7 +22,9 @@
 
 #include "config/atomic_file.hpp"
 #include "config/error.hpp"
+#include "pipeline/io/calibration_json.hpp"
 #include "pipeline/io/imported_calibration.hpp"
+#include "support/expect_error.hpp"
 #include "support/paths.hpp"
 #include "support/synthetic_camera.hpp"
 #include "vision/camera/dlt_export.hpp"
@@ -209,6 +211,78 @@ TEST(ImportedCalibration, TheModelSigmaAddsInQuadrature) {
               1e-9 * b.points[i].fix.cov_pick_m2.norm());
   stated[0].model_sigma_px = -1;
   EXPECT_THROW(estimate_trajectory(stated, instants, nullptr), Error);
+}
+
+// Another mission's calibration.json: the camera and its covariance as written; refused when a
+// parameter the σ needs is left out (it would be exact), the matrix states no uncertainty, the
+// image is another, or the pose is in another site's frame (or in none).
+TEST(ImportedCalibration, ACalibrationJsonComesWithItsWholeCovariance) {
+  const fs::path dir = test::scratch_dir("imported_calibration_json");
+  const GeodeticOrigin site{45.6, 122.8, 150.0};
+  Camera cam = test::range_camera_at("lab", {-30, -55, 2}, path(1.5));
+  CalibrationResult r;
+  r.camera_id = "lab";
+  r.method = "bundle";
+  r.camera = cam;
+  r.site_origin = site;
+  r.parameters = {CameraParameter::f,  CameraParameter::k1, CameraParameter::u0, CameraParameter::v0,
+                  CameraParameter::wx, CameraParameter::wy, CameraParameter::wz, CameraParameter::CE,
+                  CameraParameter::CN, CameraParameter::CU};
+  Eigen::MatrixXd a = Eigen::MatrixXd::Random(10, 10);
+  const Eigen::MatrixXd spd = 1e-6 * (a * a.transpose() + Eigen::MatrixXd::Identity(10, 10));
+  r.covariance = 0.5 * (spd + spd.transpose());  // symmetric to the bit, as calibration.json requires
+  const auto imported = [&](const CalibrationResult& res) {
+    write_calibration_json((dir / "calibration.json").string(), res);
+    ImportedCameraConfig cfg;
+    cfg.id = "lab1";
+    cfg.rangecal_json = (dir / "calibration.json").string();
+    cfg.sensor.width_px = 1280;
+    cfg.sensor.height_px = 800;
+    return read_imported_calibration(cfg, site);
+  };
+  const ImportedCalibration ok = imported(r);
+  EXPECT_EQ(ok.format, "rangecal_json");
+  EXPECT_EQ(ok.camera.id, "lab1");
+  EXPECT_NEAR(ok.camera.intr.f_mm, cam.intr.f_mm, 1e-9);
+  EXPECT_NEAR((ok.camera.pose.center() - cam.pose.center()).norm(), 0, 1e-9);
+  ASSERT_EQ(ok.covariance.parameters, r.parameters);
+  EXPECT_LT((ok.covariance.covariance - r.covariance).norm(), 1e-12 * r.covariance.norm() + 1e-18);
+
+  CalibrationResult no_pp = r;
+  no_pp.parameters = {CameraParameter::f,  CameraParameter::wx, CameraParameter::wy, CameraParameter::wz,
+                      CameraParameter::CE, CameraParameter::CN, CameraParameter::CU};
+  no_pp.covariance = r.covariance.topLeftCorner(7, 7);
+  Error e = test::expect_error([&] { imported(no_pp); });
+  EXPECT_EQ(e.exit_code(), 3);
+  EXPECT_EQ(e.field(), "covariance");
+  EXPECT_NE(e.reason().find("leaves out u0, v0"), std::string::npos) << e.reason();
+
+  // Every variance positive and every correlation within ±0.9, yet no covariance: f, u0 and v0
+  // correlated +0.9, +0.9 and −0.9 have a negative eigenvalue.
+  CalibrationResult negative = r;
+  Eigen::MatrixXd corr = Eigen::MatrixXd::Identity(10, 10);
+  corr(0, 2) = corr(2, 0) = corr(0, 3) = corr(3, 0) = 0.9;
+  corr(2, 3) = corr(3, 2) = -0.9;
+  const Eigen::VectorXd sd = r.covariance.diagonal().cwiseSqrt();
+  const Eigen::MatrixXd indefinite = sd.asDiagonal() * corr * sd.asDiagonal();
+  negative.covariance = 0.5 * (indefinite + indefinite.transpose());
+  e = test::expect_error([&] { imported(negative); });
+  EXPECT_NE(e.reason().find("positive semi-definite"), std::string::npos) << e.reason();
+
+  CalibrationResult other_site = r;
+  other_site.site_origin = GeodeticOrigin{45.6, 122.8, 151.0};
+  e = test::expect_error([&] { imported(other_site); });
+  EXPECT_EQ(e.field(), "world_frame");
+
+  CalibrationResult no_site = r;
+  no_site.site_origin.reset();
+  e = test::expect_error([&] { imported(no_site); });
+  EXPECT_EQ(e.field(), "world_frame");
+
+  CalibrationResult wide = r;
+  wide.camera.intr.width_px = 1920;
+  e = test::expect_error([&] { imported(wide); });
+  EXPECT_EQ(e.field(), "image_size_px");
 }
 
 }  // namespace
