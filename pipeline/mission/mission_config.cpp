@@ -681,8 +681,16 @@ MissionConfig parse_mission_config(const std::string& json_text, const std::stri
   }
   if (auto x = root.find("trajectory")) {
     x->require_object(
-        "an object {\"rate_hz\", \"extrapolation_sigma_px_per_px\", \"smoothing\", \"imported_cameras\"}");
-    x->check_keys({"rate_hz", "extrapolation_sigma_px_per_px", "smoothing", "imported_cameras"});
+        "an object {\"rate_hz\", \"extrapolation_sigma_px_per_px\", \"smoothing\", \"label_sigma\", "
+        "\"imported_cameras\"}");
+    x->check_keys(
+        {"rate_hz", "extrapolation_sigma_px_per_px", "smoothing", "label_sigma", "imported_cameras"});
+    if (auto v = x->find("label_sigma")) {
+      const std::string form = "\"estimate\" or \"stated\"";
+      const std::string m = v->nonempty_string(form);
+      if (m != "estimate" && m != "stated") v->fail_expected(form);
+      cfg.trajectory.estimate_label_sigma = m == "estimate";
+    }
     if (auto v = x->find("smoothing")) {
       const std::string form = "\"constant_acceleration\" or \"none\"";
       const std::string m = v->nonempty_string(form);

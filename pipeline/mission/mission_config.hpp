@@ -190,6 +190,9 @@ struct TrajectoryConfig {
   /// The per-instant fixes smoothed by a constant-acceleration process (docs/trajectory.md
   /// "Method" 6); false (the default): each instant as triangulated.
   bool smooth = false;
+  /// Each camera's label σ estimated from the views' disagreement (docs/trajectory.md "Label σ"),
+  /// the σ given its a-priori value; false ("stated", the default): the σ given, as given.
+  bool estimate_label_sigma = false;
   std::vector<ImportedCameraConfig> imported_cameras;
 };
 

@@ -24,7 +24,8 @@ nlohmann::json trajectory_json(const std::vector<TrajectoryRow>& rows, const Tra
   j["settings"] = {{"rate_hz", context.rate_hz},
                    {"extrapolation_sigma_px_per_px", context.extrapolation_sigma_px_per_px},
                    {"gap_steps", kTrajectoryGapSteps},
-                   {"smoothing", context.smoothing}};
+                   {"smoothing", context.smoothing},
+                   {"label_sigma", context.label_sigma}};
   j["instants"] = {{"tried", context.instants_tried},
                    {"triangulated", s.instants},
                    {"single_camera", context.single_camera},

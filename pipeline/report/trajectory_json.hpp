@@ -18,6 +18,8 @@ struct TrajectoryJsonContext {
   double rate_hz = 0;     ///< output instants per second
   double extrapolation_sigma_px_per_px = 0;
   nlohmann::json smoothing = nlohmann::json::object();  ///< the smoother's model and q (run.json's)
+  /// How the labels' σ was set: run.json's `label_sigma` (mode, instants, excluded, iterations)
+  nlohmann::json label_sigma = nlohmann::json::object();
   std::size_t instants_tried = 0;  ///< grid instants from the first to the last two-camera instant
   std::size_t single_camera = 0;   ///< of them, seen by one camera only
   bool joint_covariance = false;   ///< the calibrations' cross covariances were used

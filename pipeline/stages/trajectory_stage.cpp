@@ -121,6 +121,49 @@ nlohmann::json label_counts(const TrajectoryCamera& tc, const CameraTrackInput& 
   return pc;
 }
 
+// The labels' σ as estimated, into each camera's run.json counts: the σ used, the one given, its 1σ,
+// the camera's share of the degrees of freedom and how it was set.
+void record_label_sigma(const Trajectory& tr, const std::vector<TrajectoryCamera>& cameras,
+                        nlohmann::json& per_camera, std::vector<std::string>& warnings) {
+  const LabelVcResult& vc = tr.label_sigma;
+  std::vector<std::string> kept;
+  for (std::size_t c = 0; c < cameras.size(); ++c) {
+    nlohmann::json& pc = per_camera[cameras[c].id];
+    const double given = cameras[c].label_sigma_px;
+    pc["label_sigma_a_priori_px"] = given;
+    pc["label_sigma_px"] = given * vc.sigma_scale[c];
+    pc["label_sigma_scale"] = vc.sigma_scale[c];
+    pc["label_sigma_sd_px"] = given * vc.sigma_scale_sd[c];
+    pc["label_sigma_redundancy"] = vc.redundancy[c];
+    pc["label_correlation"] = vc.correlation[c];
+    pc["label_correlation_sd"] = vc.correlation_sd[c];
+    pc["label_correlation_estimated"] = static_cast<bool>(vc.correlation_estimated[c]);
+    const std::string source = pc["label_sigma_source"].get<std::string>();
+    switch (vc.kind[c]) {
+      case LabelScaleKind::own:
+        pc["label_sigma_source"] = "estimated from the views (a priori: " + source + ")";
+        break;
+      case LabelScaleKind::common:
+        pc["label_sigma_source"] =
+            "estimated from the views, one scale with the cameras the geometry cannot tell apart (a "
+            "priori: " +
+            source + ")";
+        break;
+      case LabelScaleKind::as_given:
+        pc["label_sigma_source"] = source + "; the views could not determine it";
+        kept.push_back(cameras[c].id);
+        break;
+    }
+  }
+  if (!kept.empty()) {
+    std::string ids;
+    for (const std::string& id : kept) ids += (ids.empty() ? "" : ", ") + id;
+    warnings.push_back("the labels' σ of " + ids +
+                       " could not be estimated from the views (too few instants seen with other cameras, or "
+                       "their σ hidden by others'): the σ given is used (docs/trajectory.md \"Label σ\")");
+  }
+}
+
 }  // namespace
 
 void require_trajectory_inputs(const MissionConfig& cfg) {
@@ -244,7 +287,19 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   const std::vector<UtcTime> instants = trajectory_instants(cameras, rate);
   TrajectoryOptions options;
   options.extrapolation_sigma_px_per_px = cfg.trajectory.extrapolation_sigma_px_per_px;
+  options.estimate_label_sigma = cfg.trajectory.estimate_label_sigma;
   Trajectory trajectory = estimate_trajectory(cameras, instants, cross.empty() ? nullptr : &cross, options);
+  if (trajectory.label_sigma_estimated) {
+    record_label_sigma(trajectory, cameras, per_camera, log.warnings);
+    counts["cameras"] = per_camera;
+    counts["label_sigma"] = {{"mode", "estimate"},
+                             {"instants", trajectory.label_sigma.instants},
+                             {"excluded", trajectory.label_sigma.excluded},
+                             {"iterations", trajectory.label_sigma.iterations},
+                             {"converged", trajectory.label_sigma.converged}};
+  } else {
+    counts["label_sigma"] = {{"mode", "stated"}};
+  }
   if (cfg.trajectory.smooth) {
     const SmootherReport smoothed = smooth_trajectory(&trajectory);
     const SmootherOptions defaults;
@@ -290,6 +345,7 @@ StageLog run_trajectory_stage(const MissionConfig& cfg) {
   context.rate_hz = rate;
   context.extrapolation_sigma_px_per_px = options.extrapolation_sigma_px_per_px;
   context.smoothing = counts["smoothing"];
+  context.label_sigma = counts["label_sigma"];
   context.instants_tried = trajectory.instants;
   context.single_camera = trajectory.single_camera;
   context.joint_covariance = !cross.empty();

@@ -72,6 +72,22 @@ void BM_Trajectory(benchmark::State& state) {
 }
 BENCHMARK(BM_Trajectory)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(3);
 
+// The same with each camera's label σ estimated from the views (label_variance_components.hpp,
+// docs/trajectory.md "Label σ"): the REML over 2,000 of the instants, the calibrations' errors one
+// draw common to them (8 × 12 parameters), then the trajectory with the σ found.
+void BM_TrajectoryEstimatingLabelSigma(benchmark::State& state) {
+  const Scene& s = scene();
+  TrajectoryOptions options;
+  options.estimate_label_sigma = true;
+  for (auto _ : state) benchmark::DoNotOptimize(estimate_trajectory(s.cameras, s.instants, nullptr, options));
+  state.counters["instants"] = static_cast<double>(s.instants.size());
+}
+BENCHMARK(BM_TrajectoryEstimatingLabelSigma)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1)
+    ->Repetitions(3);
+
 // The smoother over the trajectory's 100,000 instants (vision/triangulation/trajectory_smoother.hpp):
 // q's likelihood search and one Kalman + Rauch–Tung–Striebel pass.
 void BM_SmoothTrajectory(benchmark::State& state) {

@@ -187,6 +187,37 @@ TEST(TrajectoryCli, ImportedCalibrationsAloneGiveATrajectory) {
   EXPECT_GT(counts["median_sigma_calibration_m"].get<double>(), 0);
 }
 
+// The same cameras with the labels' σ a guess five times too large (1 px; 0.2 px true), estimated
+// from the views (`trajectory.label_sigma: "estimate"`, docs/trajectory.md "Label σ"): every camera's
+// σ comes back near 0.2 px — a little below: the files hold the true cameras, while the σ they state
+// allows a pixel of principal point, whose share of the residuals is then missing — and run.json and
+// trajectory.json say how it was set.
+TEST(TrajectoryCli, ALabelSigmaGuessedIsEstimatedFromTheViews) {
+  const fs::path dir = test::scratch_dir("trajectory_cli_label_sigma");
+  nlohmann::json j = imported_mission(dir);
+  for (auto& cam : j["trajectory"]["imported_cameras"]) cam["label_sigma_px"] = 1.0;
+  j["trajectory"]["label_sigma"] = "estimate";
+  test::write_text(dir / "m.json", j.dump(2));
+  const auto r = test::run_cli("track '" + (dir / "m.json").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const auto run = nlohmann::json::parse(test::read_text(dir / "out" / "run.json"));
+  const auto& counts = run["stages"]["trajectory"]["counts"];
+  EXPECT_EQ(counts["label_sigma"]["mode"], "estimate");
+  EXPECT_TRUE(counts["label_sigma"]["converged"].get<bool>());
+  for (const char* id : {"lab_a", "lab_b", "lab_c"}) {
+    const auto& cam = counts["cameras"][id];
+    std::printf("%s: label σ %.3f ± %.3f px (given %.1f), %s\n", id, cam["label_sigma_px"].get<double>(),
+                cam["label_sigma_sd_px"].get<double>(), cam["label_sigma_a_priori_px"].get<double>(),
+                cam["label_sigma_source"].get<std::string>().c_str());
+    EXPECT_EQ(cam["label_sigma_a_priori_px"].get<double>(), 1.0);
+    EXPECT_GT(cam["label_sigma_px"].get<double>(), 0.1) << id;
+    EXPECT_LT(cam["label_sigma_px"].get<double>(), 0.26) << id;
+    EXPECT_EQ(cam["label_sigma_source"].get<std::string>().rfind("estimated from the views", 0), 0u) << id;
+  }
+  const auto summary = nlohmann::json::parse(test::read_text(dir / "out" / "trajectory.json"));
+  EXPECT_EQ(summary["settings"]["label_sigma"]["mode"], "estimate");
+}
+
 TEST(TrajectoryCli, BadImportedCalibrationsNameTheirCause) {
   const fs::path dir = test::scratch_dir("trajectory_cli_imported_bad");
   const nlohmann::json good = imported_mission(dir);

@@ -3,9 +3,12 @@
 // output instant t, every camera that labelled the target in the two frames around t gives one view —
 // its label linearly interpolated to t, with the image velocity between those frames — and the views
 // are triangulated (triangulation.hpp) with the point's covariance from three sources:
-//   labels:       the camera's image σ per axis (the network's estimated image variance component),
-//                 taken whole for the interpolated label (neighbouring labels' errors are correlated
-//                 on real tracks, so no √((1−a)² + a²) reduction is claimed);
+//   labels:       the camera's label σ per axis (the network's estimated image variance component, a
+//                 stated σ, a label's own), taken whole for the interpolated label (neighbouring
+//                 labels' errors are correlated on real tracks, so no √((1−a)² + a²) reduction is
+//                 claimed) — or, when asked, estimated from the views' disagreement with that σ as
+//                 its a-priori value and the labels' correlation with it
+//                 (label_variance_components.hpp);
 //   timing:       the label's instant is uncertain by σ_t (the camera clock's σ at that time, its
 //                 wander, a stated timing σ), which moves it by σ_t·g along its image velocity g;
 //   calibration:  each camera's parameter covariance and, for cameras calibrated together, the cross
@@ -21,6 +24,7 @@
 
 #include "gnss/time/utc_time.hpp"
 #include "vision/calibration/image_coverage.hpp"
+#include "vision/triangulation/label_variance_components.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
@@ -58,6 +62,13 @@ struct TrajectoryOptions {
   /// where the calibration saw the lamp is extrapolated there, by an error its covariance does not
   /// carry (docs/trajectory.md "Extrapolated views"; 0: none).
   double extrapolation_sigma_px_per_px = 0.05;
+  /// Each camera's label σ estimated from the views' disagreement (label_variance_components.hpp;
+  /// docs/trajectory.md "Label σ"), the σ given (`label_sigma_px`, a label's own) as its a-priori
+  /// value; false (the default): the σ given, as given.
+  bool estimate_label_sigma = false;
+  /// The estimate uses at most this many instants seen by two cameras or more, evenly spread.
+  std::size_t label_sigma_max_instants = 2000;
+  LabelVcOptions label_sigma;
 };
 
 /// The target at one instant.
@@ -90,6 +101,10 @@ struct Trajectory {
   std::size_t instants = 0;             ///< instants tried
   std::size_t single_camera = 0;        ///< instants with one camera's view only (not triangulated)
   std::vector<std::string> warnings;    ///< triangulation failures, one per instant (capped)
+  /// The labels' σ as estimated (TrajectoryOptions::estimate_label_sigma): per camera its scale of
+  /// the σ given, by camera index; empty when not estimated.
+  LabelVcResult label_sigma;
+  bool label_sigma_estimated = false;
 };
 
 /// The instants every 1/rate_hz s on a grid of whole UTC seconds, from the first to the last instant

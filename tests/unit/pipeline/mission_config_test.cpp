@@ -657,6 +657,13 @@ TEST(MissionConfig, TargetTrack) {
   j["trajectory"]["smoothing"] = "constant_acceleration";
   c = parse_mission_config(j.dump(), kPath, false);
   EXPECT_TRUE(c.trajectory.smooth);
+  EXPECT_FALSE(c.trajectory.estimate_label_sigma);  // the default: "stated"
+  j["trajectory"]["label_sigma"] = "estimate";
+  c = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_TRUE(c.trajectory.estimate_label_sigma);
+  j["trajectory"]["label_sigma"] = "stated";
+  c = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_FALSE(c.trajectory.estimate_label_sigma);
   ASSERT_TRUE(c.cameras[0].target_track);
   EXPECT_EQ(c.cameras[0].target_track->file, "/missions/m1/cam1/target.csv");
   EXPECT_DOUBLE_EQ(c.cameras[0].target_track->timing_sigma_s, 0.0005);
@@ -691,6 +698,8 @@ TEST(MissionConfig, TargetTrackErrors) {
   expect_error(j, "trajectory.extrapolation_sigma_px_per_px", "from 0 to 1");
   j["trajectory"] = {{"smoothing", "spline"}};
   expect_error(j, "trajectory.smoothing", "constant_acceleration");
+  j["trajectory"] = {{"label_sigma", "estimated"}};
+  expect_error(j, "trajectory.label_sigma", "\"estimate\" or \"stated\"");
   j["trajectory"] = {{"extrapolation_sigma_px_per_px", -0.1}};
   expect_error(j, "trajectory.extrapolation_sigma_px_per_px", "from 0 to 1");
 }
