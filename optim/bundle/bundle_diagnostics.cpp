@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "config/chi2_quantile.hpp"
 #include "config/number_format.hpp"
 
 namespace rangecal {
@@ -110,10 +111,8 @@ std::vector<CalibrationWarning> fit_warnings(const BundleDetails& d) {
              " mm at 1.5 m/s²): shift the frame time stamps by it and rerun align, detect and calibrate"});
   }
   if (d.dof > 0) {
-    // χ² test at the 1 % level (Wilson–Hilferty approximation of the χ² quantile).
-    const double k = d.dof, z = 2.326;
-    const double q99 = k * std::pow(1 - 2 / (9 * k) + z * std::sqrt(2 / (9 * k)), 3);
-    if (d.chi2 > q99)
+    // χ² test at the 1 % level.
+    if (d.chi2 > chi2_quantile_wilson_hilferty(d.dof, kNormalQuantile99))
       out.push_back({CalibrationWarningKind::variance_factor,
                      {},
                      "a-posteriori variance factor " + g3(d.variance_factor) +

@@ -67,7 +67,7 @@ struct CalibrateRecord {
   /// The held-out check of an estimated PPK model (pipeline/steps/held_out_prediction.hpp), as
   /// held_out_scores_json wrote it; null when it did not run.
   nlohmann::json held_out;
-  /// Each camera's lens set chosen by the held-out blocks (pipeline/steps/lens_selection.hpp), as
+  /// Each camera's lens set chosen by significance and the rim (pipeline/steps/lens_selection.hpp), as
   /// lens_selection_json wrote it; null when it did not run.
   nlohmann::json lens_selection;
 };

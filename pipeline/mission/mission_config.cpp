@@ -398,10 +398,12 @@ PixelSigmaConfig parse_pixel_sigma(const JsonView& v) {
   return out;
 }
 
+std::vector<std::string> free_parameter_names(const JsonView& f, std::size_t min_size);
+
 CameraConfig parse_camera(const Loader& L, const JsonView& c) {
   c.require_object("a camera object {\"id\", \"frames\", \"sensor\", \"lens\", ...}");
   c.check_keys({"id", "frames", "track", "sensor", "lens", "pole_observations", "priors", "pixel_sigma_px",
-                "target_track"});
+                "target_track", "free"});
   CameraConfig cam;
   cam.id = parse_camera_id(c);
   if (auto f = c.find("frames")) cam.frames = parse_frames(L, *f);
@@ -424,6 +426,7 @@ CameraConfig parse_camera(const Loader& L, const JsonView& c) {
     cam.pole_observations = L.input_file(*p, "a pole-pixel CSV path (id,u,v)");
   if (auto pr = c.find("priors")) cam.priors = parse_priors(*pr, cam.sensor);
   if (auto ps = c.find("pixel_sigma_px")) cam.pixel_sigma = parse_pixel_sigma(*ps);
+  if (auto f = c.find("free")) cam.free = free_parameter_names(*f, 1);
   return cam;
 }
 
@@ -546,7 +549,16 @@ CalibrateConfig parse_calibrate(const JsonView& c) {
   CalibrateConfig cal;
   if (auto m = c.find("method")) cal.method = method_name(*m);
   if (auto f = c.find("free")) cal.free = free_parameter_names(*f, 1);
-  if (auto f = c.find("free_candidates")) cal.free_candidates = free_parameter_names(*f, 0);
+  if (auto f = c.find("free_candidates")) {
+    cal.free_candidates = free_parameter_names(*f, 0);
+    // Each candidate is tested as one parameter (its t against its σ): a group has no single σ.
+    for (std::size_t i = 0; i < cal.free_candidates.size(); ++i)
+      if (!parameter_from_name(cal.free_candidates[i]))
+        f->element(i).fail(
+            "'" + cal.free_candidates[i] +
+            "' is a group of parameters; a candidate is one parameter (f, sx, u0, v0, k1, k2, k3, "
+            "p1, p2, a1, a2, clock_offset)");
+  }
   if (auto cmp = c.find("compare")) {
     const std::size_t n = cmp->require_array("an array of method names (" + join(kMethods) + ")");
     for (std::size_t i = 0; i < n; ++i) {

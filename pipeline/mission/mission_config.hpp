@@ -112,6 +112,9 @@ struct CameraConfig {
   std::string pole_observations;  ///< `id,u,v` CSV, or empty
   CameraPriors priors;
   PixelSigmaConfig pixel_sigma;
+  /// This camera's free parameters (docs/config.md `cameras[i].free`): a lens known to need k2, or
+  /// known not to; empty: calibrate.free.
+  std::vector<std::string> free;
 };
 
 struct AlignConfig {
@@ -149,8 +152,8 @@ struct CalibrateConfig {
   /// independent look.
   bool image_time_correlation = true;
   /// calibrate.free_candidates: parameters each camera of the network may add to `free` when the
-  /// held-out blocks show it predicts clearly better (pipeline/steps/lens_selection.hpp); empty:
-  /// every camera keeps `free`.
+  /// data determine it significantly and it predicts the camera's rim no clearly worse
+  /// (pipeline/steps/lens_selection.hpp); empty: every camera keeps `free`.
   std::vector<std::string> free_candidates = {"k2"};
 };
 

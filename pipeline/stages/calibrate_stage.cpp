@@ -317,7 +317,7 @@ std::string held_out_check(const NetworkProblem& n, const NetworkResult& r, cons
          format_number("%.2f", estimated.z_rms) + ", over " + std::to_string(estimated.epochs) + " epochs)";
 }
 
-/// Each camera's lens set chosen by the held-out blocks under the family the guard kept
+/// Each camera's lens set chosen by significance and the rim under the family the guard kept
 /// (pipeline/steps/lens_selection.hpp): the chosen free sets replace the problem's. True when a
 /// camera gained a parameter (the network is then to be solved again).
 bool select_lenses(const MissionConfig& cfg, bool white_only, const NetworkResult& r, NetworkProblem* n,

@@ -26,7 +26,7 @@ CalibrationProblem make_calibration_problem(const CameraConfig& cam, const Calib
   p.sensor = sensor_geometry(cam.sensor);
   p.nominal_focal_mm = cam.nominal_focal_mm;
   p.priors = cam.priors;
-  p.free = calibrate.free;
+  p.free = cam.free.empty() ? calibrate.free : cam.free;
   // A free principal point is held by its prior; without one given, the prior is the image centre
   // under principal_point_sigma_px (docs/config.md "The principal point").
   const std::vector<CameraParameter> free = expand_free_parameters(p.free);

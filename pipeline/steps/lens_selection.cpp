@@ -1,8 +1,53 @@
 #include "pipeline/steps/lens_selection.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "config/error.hpp"
+#include "optim/network/network_adjustment.hpp"
+#include "vision/camera/camera_parameters.hpp"
 
 namespace rangecal {
+
+namespace {
+
+// Question 1: camera c's candidate `name` with every epoch, against the value it was held at. Its σ
+// is the network's, scaled by √(variance factor) where that exceeds 1: a σ the residuals show too
+// small would make every term look significant (with the image σ estimated the factor is about 1).
+LensSignificance significance_of(const HeldOutCandidate& trial, std::size_t c, const std::string& name,
+                                 const std::vector<NetworkPoint>& points,
+                                 const std::vector<NetworkObservation>& observations) {
+  LensSignificance s;
+  s.candidate = trial.name;
+  const std::optional<CameraParameter> p = parameter_from_name(name);
+  if (!p) {
+    s.why = "'" + name + "' is not one parameter";
+    return s;
+  }
+  try {
+    const NetworkResult r = network_adjust(trial.cameras, points, observations, trial.options);
+    const CalibrationResult& cal = r.cameras[c].calibration;
+    const double sigma = cal.sigma(*p) * std::sqrt(std::max(1.0, r.statistics.variance_factor));
+    if (!(sigma > 0)) {
+      s.why = cal.parameter_index(*p) < 0
+                  ? "the network did not estimate " + name
+                  : "the network's covariance is rank-deficient: " + name + " has no σ";
+      return s;
+    }
+    const NetworkCamera& held = trial.cameras[c];
+    s.value = parameter_value(cal.camera, *p, cal.camera, cal.clock_offset_s);
+    s.held_value = parameter_value(held.initial, *p, cal.camera, held.options.initial_clock_offset_s);
+    s.sigma = sigma;
+    s.t = (s.value - s.held_value) / s.sigma;
+    s.solved = true;
+  } catch (const Error& e) {
+    s.why = e.reason();
+  }
+  return s;
+}
+
+}  // namespace
 
 LensSelection select_lens_parameters(const std::vector<NetworkCamera>& cameras,
                                      const std::vector<NetworkPoint>& points,
@@ -14,11 +59,6 @@ LensSelection select_lens_parameters(const std::vector<NetworkCamera>& cameras,
   LensSelection s;
   s.cameras = cameras;
   s.added.resize(cameras.size());
-  HeldOutScore best =
-      score_held_out_blocks(cameras, points, observations, {{"starting set", options, {}}}, held_out)[0];
-  s.scores.push_back(best);
-  s.scored = best.scored;
-  if (!s.scored) return s;
   for (std::size_t c = 0; c < cameras.size(); ++c) {
     std::vector<HeldOutCandidate> trials;
     std::vector<std::string> names;
@@ -31,10 +71,11 @@ LensSelection select_lens_parameters(const std::vector<NetworkCamera>& cameras,
       names.push_back(p);
     }
     if (trials.empty()) continue;
-    const std::vector<HeldOutScore> scores =
-        score_held_out_blocks(cameras, points, observations, trials, held_out);
-    s.scores.insert(s.scores.end(), scores.begin(), scores.end());
-    // The same candidates asked for the rim of this camera's image from the rest of it.
+    std::vector<LensSignificance> tests;
+    for (std::size_t i = 0; i < trials.size(); ++i)
+      tests.push_back(significance_of(trials[i], c, names[i], points, observations));
+    s.significance.insert(s.significance.end(), tests.begin(), tests.end());
+    // Question 2: the same candidates asked for the rim of this camera's image from the rest of it.
     HeldOutOptions rim_options = held_out;
     rim_options.blocks = outer_ring_blocks(cameras, points, observations, c);
     rim_options.both_splits = false;
@@ -43,16 +84,15 @@ LensSelection select_lens_parameters(const std::vector<NetworkCamera>& cameras,
     for (HeldOutCandidate& t : rim_trials) t.name += ", its rim";
     const std::vector<HeldOutScore> rim =
         score_held_out_blocks(cameras, points, observations, rim_trials, rim_options);
-    s.scores.insert(s.scores.end(), rim.begin(), rim.end());
-    std::size_t pick = scores.size();
-    for (std::size_t i = 0; i < scores.size(); ++i)
-      if (clearly_better(scores[i], best) && !clearly_better(rim[0], rim[i + 1]) &&
-          (pick == scores.size() || scores[i].score < scores[pick].score))
+    s.rim_scores.insert(s.rim_scores.end(), rim.begin(), rim.end());
+    std::size_t pick = trials.size();
+    for (std::size_t i = 0; i < trials.size(); ++i)
+      if (tests[i].solved && std::abs(tests[i].t) >= kSignificantT && !clearly_better(rim[0], rim[i + 1]) &&
+          (pick == trials.size() || std::abs(tests[i].t) > std::abs(tests[pick].t)))
         pick = i;
-    if (pick == scores.size()) continue;
+    if (pick == trials.size()) continue;
     s.cameras[c] = trials[pick].cameras[c];
     s.added[c].push_back(names[pick]);
-    best = scores[pick];
   }
   return s;
 }
@@ -61,7 +101,23 @@ nlohmann::json lens_selection_json(const LensSelection& s, const std::vector<std
                                    const std::vector<std::string>& camera_ids) {
   nlohmann::json added = nlohmann::json::object();
   for (std::size_t c = 0; c < s.added.size() && c < camera_ids.size(); ++c) added[camera_ids[c]] = s.added[c];
-  return {{"candidates", candidates}, {"added", added}, {"scores", held_out_scores_json(s.scores)}};
+  nlohmann::json tests = nlohmann::json::array();
+  for (const LensSignificance& t : s.significance) {
+    nlohmann::json j = {{"candidate", t.candidate}, {"solved", t.solved}};
+    if (!t.solved) {
+      j["why"] = t.why;
+    } else {
+      j["value"] = t.value;
+      j["held_value"] = t.held_value;
+      j["sigma"] = t.sigma;
+      j["t"] = t.t;
+    }
+    tests.push_back(j);
+  }
+  return {{"candidates", candidates},
+          {"added", added},
+          {"significance", tests},
+          {"rim_scores", held_out_scores_json(s.rim_scores)}};
 }
 
 }  // namespace rangecal

@@ -7,19 +7,11 @@
 #include <limits>
 #include <utility>
 
+#include "config/chi2_quantile.hpp"
+
 namespace rangecal {
 
 namespace {
-
-// The χ²_k quantile of upper-tail probability 0.1 % (Wilson & Hilferty's cube-root normal
-// approximation, Proc. Natl. Acad. Sci. 17, 1931): 11.2 against the exact 10.83 for k = 1, closer
-// above. Cutting there leaves out ~0.1 % of honest instants, which lowers a scale by ~1 % at most.
-double chi2_quantile_999(int k) {
-  const double z = 3.090232306167813;  // the standard normal's 99.9 % quantile
-  const double a = 2.0 / (9.0 * k);
-  const double c = 1 - a + z * std::sqrt(a);
-  return k * c * c * c;
-}
 
 // Which component scales each camera's label variance. A label interpolated at weight w between two
 // frames whose labels err alike (correlation ρ) has variance σ²·((1 − w)² + w² + 2ρ·w(1 − w)): the
@@ -227,7 +219,8 @@ VcScores score_pass(const std::vector<VcInstantData>& data, const Grouping& grou
 }
 
 // The instants to use under `theta`: those whose χ² about the calibration error û lies below its
-// 99.9 % quantile.
+// 99.9 % quantile (config/chi2_quantile.hpp). Cutting there leaves out ~0.1 % of honest instants,
+// which lowers a scale by ~1 % at most.
 std::vector<char> screen(const std::vector<VcInstantData>& data, const Grouping& group,
                          const std::vector<double>& theta, const Eigen::VectorXd& u_hat) {
   std::vector<char> keep(data.size(), 0);
@@ -237,7 +230,7 @@ std::vector<char> screen(const std::vector<VcInstantData>& data, const Grouping&
     if (!pk.ok) continue;
     Eigen::VectorXd e = d.r;
     if (!d.columns.empty()) e -= d.B * u_hat(d.columns);
-    keep[k] = e.dot(pk.P * e) <= chi2_quantile_999(d.dof) ? 1 : 0;
+    keep[k] = e.dot(pk.P * e) <= chi2_quantile_wilson_hilferty(d.dof, kNormalQuantile999) ? 1 : 0;
   }
   return keep;
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 
+#include "config/chi2_quantile.hpp"
 #include "config/error.hpp"
 
 namespace rangecal {
@@ -13,16 +14,6 @@ namespace rangecal {
 namespace {
 
 constexpr std::size_t kMaxWarnings = 20;
-
-// The χ²_k quantile of upper-tail probability 1 % by Wilson & Hilferty's cube-root normal
-// approximation (Proc. Natl. Acad. Sci. 17, 1931): within 1 % of the exact value for k ≥ 1 (6.58
-// against 6.63 for k = 1).
-double chi2_quantile_99(int k) {
-  const double z = 2.3263478740408408;  // the standard normal's 99 % quantile
-  const double a = 2.0 / (9.0 * k);
-  const double c = 1 - a + z * std::sqrt(a);
-  return k * c * c * c;
-}
 
 double median_interval_s(const std::vector<TimedLabel>& labels) {
   std::vector<double> d;
@@ -58,36 +49,53 @@ struct ViewAt {
   double weight = 0;  // where t lies between the two labels: 0 at the first, 1 at the second
 };
 
-// The camera's view of the target at t: its two labels around t, at most max_gap apart. Its label σ
-// is the labels' σ interpolated, times `label_scale` and √((1 − w)² + w² + 2ρ·w(1 − w)): neighbouring
-// labels whose errors correlate by ρ (1: the σ whole).
-std::optional<ViewAt> view_at(const TrajectoryCamera& c, double max_gap_s, double extrapolation_px_per_px,
-                              UtcTime t, double label_scale = 1, double rho = 1) {
+// The camera's two labels around t, at most max_gap apart, and where t lies between them (0 at the
+// first, 1 at the second); none when t is outside the labels or across a wider gap. On a label: it
+// and a neighbour (for the image velocity).
+struct LabelPair {
+  std::size_t a = 0, b = 0;
+  double weight = 0;
+};
+
+std::optional<LabelPair> label_pair_at(const TrajectoryCamera& c, double max_gap_s, UtcTime t) {
   const auto it = std::lower_bound(c.labels.begin(), c.labels.end(), t,
                                    [](const TimedLabel& l, UtcTime x) { return l.t < x; });
   if (it == c.labels.end()) return std::nullopt;
   const auto i = static_cast<std::size_t>(it - c.labels.begin());
-  std::size_t ia = 0, ib = 0;
-  if (it->t == t) {  // on a label: it and a neighbour (for the image velocity)
+  LabelPair p;
+  if (it->t == t) {
     if (i + 1 < c.labels.size()) {
-      ia = i;
-      ib = i + 1;
+      p.a = i;
+      p.b = i + 1;
     } else if (i > 0) {
-      ia = i - 1;
-      ib = i;
+      p.a = i - 1;
+      p.b = i;
     } else {
       return std::nullopt;
     }
   } else {
     if (i == 0) return std::nullopt;
-    ia = i - 1;
-    ib = i;
+    p.a = i - 1;
+    p.b = i;
   }
+  const double span = seconds_between(c.labels[p.a].t, c.labels[p.b].t);
+  if (!(span > 0) || span > max_gap_s) return std::nullopt;
+  p.weight = seconds_between(c.labels[p.a].t, t) / span;
+  return p;
+}
+
+// The camera's view of the target at t from its label pair (label_pair_at). Its label σ
+// is the labels' σ interpolated, times `label_scale` and √((1 − w)² + w² + 2ρ·w(1 − w)): neighbouring
+// labels whose errors correlate by ρ (1: the σ whole).
+std::optional<ViewAt> view_at(const TrajectoryCamera& c, double max_gap_s, double extrapolation_px_per_px,
+                              UtcTime t, double label_scale = 1, double rho = 1) {
+  const std::optional<LabelPair> pair = label_pair_at(c, max_gap_s, t);
+  if (!pair) return std::nullopt;
+  const std::size_t ia = pair->a, ib = pair->b;
   const TimedLabel& a = c.labels[ia];
   const TimedLabel& b = c.labels[ib];
   const double span = seconds_between(a.t, b.t);
-  if (!(span > 0) || span > max_gap_s) return std::nullopt;
-  const double w = seconds_between(a.t, t) / span;  // 0 at a, 1 at b
+  const double w = pair->weight;
   ViewAt out;
   TriangulationView& v = out.view;
   v.camera = c.camera;
@@ -214,7 +222,7 @@ LabelVcResult estimate_label_sigma(const std::vector<TrajectoryCamera>& cameras,
   for (std::size_t k = 0; k < instants.size(); ++k) {
     int n = 0;
     for (std::size_t c = 0; c < cameras.size() && n < 2; ++c)
-      n += view_at(cameras[c], max_gap_s[c], options.extrapolation_sigma_px_per_px, instants[k]) ? 1 : 0;
+      n += label_pair_at(cameras[c], max_gap_s[c], instants[k]) ? 1 : 0;
     if (n >= 2) judged.push_back(k);
   }
   const std::size_t take = std::min(judged.size(), options.label_sigma_max_instants);
@@ -370,7 +378,7 @@ Trajectory estimate_trajectory(const std::vector<TrajectoryCamera>& cameras,
       p.chi2 += p.fix.residuals_px[i].dot(cov.ldlt().solve(p.fix.residuals_px[i]));
     }
     p.dof = 2 * static_cast<int>(views.size()) - 3;
-    if (p.chi2 > chi2_quantile_99(p.dof)) {
+    if (p.chi2 > chi2_quantile_wilson_hilferty(p.dof, kNormalQuantile99)) {
       const double f = p.chi2 / p.dof;
       p.inflated = true;
       p.fix.cov_pick_m2 *= f;

@@ -182,6 +182,8 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--datasets", default="dataset1,dataset2")
     ap.add_argument("--config-extra", default="{}", help="JSON merged into each mission (for experiments)")
+    ap.add_argument("--camera-extra", default="{}",
+                    help="JSON {camera name: {key: value}} merged into that camera's config (e.g. its \"free\")")
     ap.add_argument("--readout", default="", help="'estimate': each camera's rolling-shutter readout found with its clock")
     ap.add_argument("--imported", default="", choices=["", "opencv_yml", "rangecal_json"],
                     help="also run the trajectory with the cameras imported back: 'opencv_yml' (rangecal's export, "
@@ -194,6 +196,7 @@ def main():
     results = json.load(open(os.path.join(args.eth_out, "results.json")))
     alignment = json.load(open(os.path.join(args.eth_out, "alignment.json")))
     extra = json.loads(args.config_extra)
+    camera_extra = json.loads(args.camera_extra)
     os.makedirs(args.out, exist_ok=True)
     summary = {}
     for name in args.datasets.split(","):
@@ -252,6 +255,8 @@ def main():
                    "output_dir": os.path.join(d, "out")}
             for k, v in extra.items():
                 cfg[k] = v if not isinstance(v, dict) else {**cfg.get(k, {}), **v}
+            for cc in cfg["cameras"]:
+                cc.update(camera_extra.get(cc["id"], {}))
             cfg_path = os.path.join(d, "mission.json")
             json.dump(cfg, open(cfg_path, "w"), indent=1)
             for stage in ("gnss", "align", "detect", "calibrate"):

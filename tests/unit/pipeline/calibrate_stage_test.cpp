@@ -120,6 +120,37 @@ TEST(CalibrateStage, DefaultFreesThePrincipalPointUnderAnImageCentrePrior) {
             Eigen::Vector2d(650, 390));
 }
 
+TEST(CalibrateStage, ACameraOwnFreeSetReplacesTheMissionOne) {
+  // cameras[i].free (docs/config.md): a lens with k2 (4 px at 15 mm from the centre) calibrated with
+  // k2 in its own free set recovers it and fits the noise-free data exactly; the mission's set (no
+  // k2: f, k1 and the principal point absorb most of it) leaves a misfit (measured 0.05 px rms).
+  Camera truth = test::range_camera(-3.4e-4, 1.0, 12.0, -9.0);
+  truth.intr.dist.k2 = 1e-7;
+  const auto pts = test::observe(truth, test::range_world_points(truth));
+  std::vector<Correspondence> pairs;
+  for (const auto& c : pts) {
+    Correspondence k;
+    k.enu = c.world, k.uv = c.pixel, k.sd_enu = Eigen::Vector3d::Constant(0.001);
+    pairs.push_back(k);
+  }
+  CameraConfig cam;
+  cam.id = "cam1";
+  cam.sensor.width_px = 1280, cam.sensor.height_px = 800;
+  cam.sensor.pixel_size_um[0] = cam.sensor.pixel_size_um[1] = 20;
+  cam.nominal_focal_mm = 135;
+  const CalibrationProblem mission = make_calibration_problem(cam, CalibrateConfig{}, pairs);
+  EXPECT_EQ(mission.free, default_calibrate_free());
+  cam.free = {"f", "k1", "k2", "u0", "v0", "pose"};
+  const CalibrationProblem own = make_calibration_problem(cam, CalibrateConfig{}, pairs);
+  EXPECT_EQ(own.free, cam.free);
+  const CalibrationResult with = calibrate_camera("bundle", own);
+  const CalibrationResult without = calibrate_camera("bundle", mission);
+  EXPECT_NEAR(with.camera.intr.dist.k2, 1e-7, 1e-9);
+  EXPECT_LT(with.reprojection.rms_px, 0.01);
+  EXPECT_GT(without.reprojection.rms_px, 0.03);
+  EXPECT_GT(without.reprojection.rms_px, 100 * with.reprojection.rms_px);
+}
+
 TEST(CalibrateStage, BundleStatesItsSigmaUnderThePpkErrorModel) {
   // make_calibration_problem gives each lamp pair its time (s from the first pair); run_bundle
   // hands the problem's PPK error model to the bundle, which keeps its estimate and states σ under

@@ -375,6 +375,8 @@ TEST(MissionConfigErrors, FreeCandidatesAreFreeParameterNames) {
   expect_error(j, "calibrate.free_candidates[1]", "unknown parameter 'k4'");
   j["calibrate"] = {{"free_candidates", {"k2", "k2"}}};
   expect_error(j, "calibrate.free_candidates[1]", "listed twice");
+  j["calibrate"] = {{"free_candidates", {"k2", "pose"}}};
+  expect_error(j, "calibrate.free_candidates[1]", "'pose' is a group of parameters");
   j["calibrate"] = {{"free_candidates", "k2"}};
   expect_error(j, "calibrate.free_candidates", "array of distinct parameter names");
   j["calibrate"] = {{"free_candidates", {"k2", "p1", "p2"}}};
@@ -382,6 +384,18 @@ TEST(MissionConfigErrors, FreeCandidatesAreFreeParameterNames) {
   EXPECT_EQ(cfg.calibrate.free_candidates, (std::vector<std::string>{"k2", "p1", "p2"}));
   j["calibrate"] = {{"free_candidates", nlohmann::json::array()}};
   EXPECT_TRUE(parse_mission_config(j.dump(), kPath, false).calibrate.free_candidates.empty());
+}
+
+TEST(MissionConfig, ACameraMayHaveItsOwnFreeSet) {
+  auto j = minimal();
+  j["cameras"][0]["free"] = {"f", "k1", "k2", "u0", "v0", "pose"};
+  const MissionConfig cfg = parse_mission_config(j.dump(), kPath, false);
+  EXPECT_EQ(cfg.cameras[0].free, (std::vector<std::string>{"f", "k1", "k2", "u0", "v0", "pose"}));
+  EXPECT_EQ(cfg.calibrate.free, default_calibrate_free());
+  j["cameras"][0]["free"] = {"f", "k4"};
+  expect_error(j, "cameras[0].free[1]", "unknown parameter 'k4'");
+  j["cameras"][0]["free"] = nlohmann::json::array();
+  expect_error(j, "cameras[0].free", "non-empty array");
 }
 
 TEST(MissionConfig, ClockOffsetIsAFreeParameter) {
