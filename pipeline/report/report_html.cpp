@@ -587,7 +587,8 @@ std::string reading_cell(const CameraVerdict& v) {
                 : "a slow wander with time: PPK errors correlated in time (gnss.error_model)";
   if (v.clock_offset_shown)
     causes += "; they follow the lamp's motion as a camera clock offset of " +
-              fmt("%.2f", v.clock_offset_s * 1e3) + " ms would: add clock_offset to calibrate.free";
+              fmt("%.2f", v.clock_offset_s * 1e3) +
+              " ms would: add clock_offset to the camera's free set (calibrate.free, or its cameras[i].free)";
   return "<span class=\"bad\">residuals " + fmt("%.1f", v.residual_ratio) +
          "&#215; the noise model's: look at the residual plots (" + causes + ")</span>";
 }

@@ -319,15 +319,22 @@ std::string held_out_check(const NetworkProblem& n, const NetworkResult& r, cons
 
 /// Each camera's lens set chosen by significance and the rim under the family the guard kept
 /// (pipeline/steps/lens_selection.hpp): the chosen free sets replace the problem's. True when a
-/// camera gained a parameter (the network is then to be solved again).
+/// camera gained a parameter (the network is then to be solved again). A camera with its own free
+/// set (cameras[i].free) keeps it as given.
 bool select_lenses(const MissionConfig& cfg, bool white_only, const NetworkResult& r, NetworkProblem* n,
                    PerCameraPass* pass) {
   if (cfg.calibrate.free_candidates.empty()) return false;
   std::vector<std::string> ids;
-  for (const auto& done : pass->done) ids.push_back(done.first);
-  const LensSelection s = select_lens_parameters(n->cameras, n->points, n->observations,
-                                                 network_options(cfg.gnss, cfg.calibrate, white_only),
-                                                 cfg.calibrate.free_candidates, ids, held_out_options(r));
+  std::vector<bool> as_given;
+  for (const auto& done : pass->done) {
+    ids.push_back(done.first);
+    const auto cam = std::find_if(cfg.cameras.begin(), cfg.cameras.end(),
+                                  [&](const CameraConfig& c) { return c.id == done.first; });
+    as_given.push_back(cam != cfg.cameras.end() && !cam->free.empty());
+  }
+  const LensSelection s = select_lens_parameters(
+      n->cameras, n->points, n->observations, network_options(cfg.gnss, cfg.calibrate, white_only),
+      cfg.calibrate.free_candidates, ids, held_out_options(r), as_given);
   pass->record.lens_selection = lens_selection_json(s, cfg.calibrate.free_candidates, ids);
   const bool changed = std::any_of(s.added.begin(), s.added.end(), [](const auto& a) { return !a.empty(); });
   if (changed) n->cameras = s.cameras;

@@ -55,11 +55,12 @@ LensSelection select_lens_parameters(const std::vector<NetworkCamera>& cameras,
                                      const NetworkOptions& options,
                                      const std::vector<std::string>& candidates,
                                      const std::vector<std::string>& camera_ids,
-                                     const HeldOutOptions& held_out) {
+                                     const HeldOutOptions& held_out, const std::vector<bool>& as_given) {
   LensSelection s;
   s.cameras = cameras;
   s.added.resize(cameras.size());
   for (std::size_t c = 0; c < cameras.size(); ++c) {
+    if (c < as_given.size() && as_given[c]) continue;
     std::vector<HeldOutCandidate> trials;
     std::vector<std::string> names;
     for (const std::string& p : candidates) {

@@ -53,14 +53,13 @@ struct LensSelection {
 /// `candidates` (free-parameter names, docs/config.md `calibrate.free`) to add to its free set.
 /// `options` are the network's, as the run will solve it; `camera_ids` name the cameras in the
 /// records' candidate names ("cam2 + k2"); `held_out` the rim scoring's options (its blocks are
-/// replaced by each camera's rim).
-LensSelection select_lens_parameters(const std::vector<NetworkCamera>& cameras,
-                                     const std::vector<NetworkPoint>& points,
-                                     const std::vector<NetworkObservation>& observations,
-                                     const NetworkOptions& options,
-                                     const std::vector<std::string>& candidates,
-                                     const std::vector<std::string>& camera_ids,
-                                     const HeldOutOptions& held_out = {});
+/// replaced by each camera's rim); `as_given` (per camera, empty: none) the cameras whose free set
+/// the user gave (cameras[i].free): not tried.
+LensSelection select_lens_parameters(
+    const std::vector<NetworkCamera>& cameras, const std::vector<NetworkPoint>& points,
+    const std::vector<NetworkObservation>& observations, const NetworkOptions& options,
+    const std::vector<std::string>& candidates, const std::vector<std::string>& camera_ids,
+    const HeldOutOptions& held_out = {}, const std::vector<bool>& as_given = {});
 
 /// run.json `stages.calibrate.counts.lens_selection`: {candidates, added: {camera id: [names]},
 /// significance: [{candidate, solved, why | value, held_value, sigma, t}], rim_scores:

@@ -80,5 +80,28 @@ TEST(LensSelection, AddsK2WhereTheLensHasItAndRarelyWhereItDoesNot) {
   EXPECT_EQ(j["rim_scores"][3]["candidate"], "cam2 + k2, its rim");
 }
 
+TEST(LensSelection, ACameraWithItsOwnFreeSetIsNotTried) {
+  // cameras[i].free is the user's statement of the lens (docs/config.md): the selection leaves it.
+  AscentNetworkOptions o;
+  o.rate_hz = 2, o.pixel_sigma_px = 0.3;
+  CrbNetwork truth = ascent_network(o);
+  truth.cameras[0].truth.intr.dist.k2 = kTrueK2;
+  std::vector<Camera> start;
+  for (const CrbCamera& c : truth.cameras) start.push_back(c.truth);
+  start[0].intr.dist.k2 = 0;
+  GaussMarkovPpk ppk;
+  ppk.white_h_m = 0.005, ppk.white_v_m = 0.008;
+  NetworkOptions options;
+  options.ppk_error = network_model(ppk);
+  DeterministicRandom rng(777);
+  const NetworkInput in = network_input(truth, ppk, draw_network_noise(truth, ppk, &rng), start);
+  const LensSelection s = select_lens_parameters(in.cameras, in.points, in.observations, options, {"k2"},
+                                                 {"cam1", "cam2"}, {}, {true, false});
+  EXPECT_TRUE(s.added[0].empty());
+  EXPECT_EQ(s.cameras[0].options.free, in.cameras[0].options.free);
+  ASSERT_EQ(s.significance.size(), 1u);
+  EXPECT_EQ(s.significance[0].candidate, "cam2 + k2");
+}
+
 }  // namespace
 }  // namespace rangecal::test
