@@ -81,22 +81,33 @@ TEST(CalibrateStage, BundleAndDltLmqnReportSigmaForEveryFreeParameter) {
   }
 }
 
-TEST(CalibrateStage, DefaultFreesThePrincipalPointUnderAnImageCentrePrior) {
-  // docs/config.md "The principal point": by default u0, v0 are free under a prior at the image
-  // centre (σ 30 px) unless the camera's priors give one; fixed (f, k1, pose) there is no prior.
-  const Camera truth = test::range_camera(-3.4e-4, 1.0, 12.0, -9.0);  // 15 px off centre
-  const auto pts = test::observe(truth, test::range_world_points(truth));
+// The lamp pairs `truth` sees of the range scene, noise-free, each fix stated at 1 mm.
+std::vector<Correspondence> noise_free_pairs(const Camera& truth) {
   std::vector<Correspondence> pairs;
-  for (const auto& c : pts) {
+  for (const auto& c : test::observe(truth, test::range_world_points(truth))) {
     Correspondence k;
     k.enu = c.world, k.uv = c.pixel, k.sd_enu = Eigen::Vector3d::Constant(0.001);
     pairs.push_back(k);
   }
+  return pairs;
+}
+
+// The config of test::range_camera: 1280 × 800 px of 20 µm, 135 mm.
+CameraConfig range_camera_config() {
   CameraConfig cam;
   cam.id = "cam1";
   cam.sensor.width_px = 1280, cam.sensor.height_px = 800;
   cam.sensor.pixel_size_um[0] = cam.sensor.pixel_size_um[1] = 20;
   cam.nominal_focal_mm = 135;
+  return cam;
+}
+
+TEST(CalibrateStage, DefaultFreesThePrincipalPointUnderAnImageCentrePrior) {
+  // docs/config.md "The principal point": by default u0, v0 are free under a prior at the image
+  // centre (σ 30 px) unless the camera's priors give one; fixed (f, k1, pose) there is no prior.
+  const Camera truth = test::range_camera(-3.4e-4, 1.0, 12.0, -9.0);  // 15 px off centre
+  const std::vector<Correspondence> pairs = noise_free_pairs(truth);
+  CameraConfig cam = range_camera_config();
   const CalibrationProblem p = make_calibration_problem(cam, CalibrateConfig{}, pairs);
   ASSERT_TRUE(p.priors.principal_point_px.has_value());
   EXPECT_EQ(*p.priors.principal_point_px, Eigen::Vector2d(639.5, 399.5));
@@ -126,18 +137,8 @@ TEST(CalibrateStage, ACameraOwnFreeSetReplacesTheMissionOne) {
   // k2: f, k1 and the principal point absorb most of it) leaves a misfit (measured 0.05 px rms).
   Camera truth = test::range_camera(-3.4e-4, 1.0, 12.0, -9.0);
   truth.intr.dist.k2 = 1e-7;
-  const auto pts = test::observe(truth, test::range_world_points(truth));
-  std::vector<Correspondence> pairs;
-  for (const auto& c : pts) {
-    Correspondence k;
-    k.enu = c.world, k.uv = c.pixel, k.sd_enu = Eigen::Vector3d::Constant(0.001);
-    pairs.push_back(k);
-  }
-  CameraConfig cam;
-  cam.id = "cam1";
-  cam.sensor.width_px = 1280, cam.sensor.height_px = 800;
-  cam.sensor.pixel_size_um[0] = cam.sensor.pixel_size_um[1] = 20;
-  cam.nominal_focal_mm = 135;
+  const std::vector<Correspondence> pairs = noise_free_pairs(truth);
+  CameraConfig cam = range_camera_config();
   const CalibrationProblem mission = make_calibration_problem(cam, CalibrateConfig{}, pairs);
   EXPECT_EQ(mission.free, default_calibrate_free());
   cam.free = {"f", "k1", "k2", "u0", "v0", "pose"};
