@@ -39,8 +39,8 @@ std::optional<SliceGrid> flight_grid(const ReportData& d) {
 }
 
 IntersectionSigmaSlice slice_on(const SliceGrid& g, const std::vector<const CalibrationResult*>& cams,
-                                const CrossCovariances* cross) {
-  return intersection_sigma_slice(cams, g.e_range_m, g.n_range_m, g.up_m, 36, 28, cross);
+                                double pick_sigma_px, const CrossCovariances* cross) {
+  return intersection_sigma_slice(cams, g.e_range_m, g.n_range_m, g.up_m, 36, 28, pick_sigma_px, cross);
 }
 
 }  // namespace
@@ -64,7 +64,7 @@ FlightVolumeSigma flight_volume_sigma(const ReportData& d) {
   const std::vector<const CalibrationResult*> cams = calibrated_cameras(d);
   const std::optional<SliceGrid> g = flight_grid(d);
   if (cams.size() < 2 || !g) return out;
-  out.slice = slice_on(*g, cams, network_cross_or_null(d));
+  out.slice = slice_on(*g, cams, d.pick_sigma_px, network_cross_or_null(d));
   out.stats = slice_stats(*out.slice);
   if (!d.network_datum_floor || d.network_datum_floor->blocks.size() != cams.size()) return out;
   // The floor's own blocks in place of each calibration's covariance and the cross blocks
@@ -77,7 +77,7 @@ FlightVolumeSigma flight_volume_sigma(const ReportData& d) {
   }
   std::vector<const CalibrationResult*> floor_cams;
   for (const CalibrationResult& c : floor) floor_cams.push_back(&c);
-  out.datum_floor = slice_on(*g, floor_cams, &blocks);
+  out.datum_floor = slice_on(*g, floor_cams, d.pick_sigma_px, &blocks);
   out.datum_floor_image_factor = d.network_datum_floor->image_factor;
   // Both medians over the cells where both have a σ, so that the ratio compares like with like.
   IntersectionSigmaSlice both = *out.slice, floor_both = *out.datum_floor;

@@ -1,6 +1,5 @@
 #include "pipeline/report/intersection_prediction.hpp"
 
-#include <Eigen/Cholesky>
 #include <limits>
 
 #include "vision/triangulation/triangulation.hpp"
@@ -9,63 +8,50 @@ namespace rangecal {
 
 PredictedIntersection predict_intersection(const std::vector<const CalibrationResult*>& cams,
                                            const Eigen::Vector3d& X_enu_m, double pick_sigma_px,
-                                           const CrossCovariances* cross) {
+                                           const CrossCovariances* cross, bool weigh_calibration) {
   PredictedIntersection p;
-  struct View {
-    std::size_t camera = 0;  // index into cams
-    Eigen::Matrix<double, 2, 3> Jx;
-    Eigen::MatrixXd K;  // ∂pixel/∂θ (2 × parameters; empty without a covariance)
-  };
-  std::vector<View> views;
-  Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
+  std::vector<TriangulationView> views;
+  std::vector<std::size_t> seen;  // index into cams of each view
   for (std::size_t i = 0; i < cams.size(); ++i) {
     const CalibrationResult* c = cams[i];
-    Eigen::Vector2d uv;
-    if (!(world_to_camera(c->camera.pose, X_enu_m).z() > 0) || !project(c->camera, X_enu_m, &uv) ||
-        !inside_image(c->camera.intr, uv))
+    TriangulationView v;
+    if (!(world_to_camera(c->camera.pose, X_enu_m).z() > 0) || !project(c->camera, X_enu_m, &v.uv_px) ||
+        !inside_image(c->camera.intr, v.uv_px))
       continue;
-    View v;
-    v.camera = i;
+    v.camera = c->camera;
     const auto n = static_cast<Eigen::Index>(c->parameters.size());
-    const bool has_cov = n > 0 && c->covariance.rows() == n && c->covariance.cols() == n;
-    const Eigen::MatrixXd K = pixel_jacobian_wrt_parameters(
-        c->camera, has_cov ? c->parameters : std::vector<CameraParameter>{}, X_enu_m, &v.Jx);
-    if (has_cov) v.K = K;
-    N += v.Jx.transpose() * v.Jx;
+    if (n > 0 && c->covariance.rows() == n && c->covariance.cols() == n)
+      v.calibration = {c->parameters, c->covariance};
+    v.pick_sigma_px = pick_sigma_px;
     views.push_back(v);
+    seen.push_back(i);
   }
   p.n_cameras = static_cast<int>(views.size());
   if (p.n_cameras < 2) return p;
-  const Eigen::Matrix3d Ninv = N.ldlt().solve(Eigen::Matrix3d::Identity());
-  // Σ_cal = Σ_i Σ_j A_i K_i Σ_ij K_jᵀ A_jᵀ, A_i = N⁻¹J_iᵀ: the diagonal blocks are each camera's
-  // covariance, the others the joint (network) covariance's cross blocks when given.
-  for (const View& a : views) {
-    if (a.K.size() == 0) continue;
-    const Eigen::Matrix<double, 3, 2> Aa = Ninv * a.Jx.transpose();
-    for (const View& b : views) {
-      if (b.K.size() == 0) continue;
-      const Eigen::Matrix<double, 3, 2> Ab = Ninv * b.Jx.transpose();
-      Eigen::MatrixXd S;
-      if (a.camera == b.camera) {
-        S = cams[a.camera]->covariance;
-      } else if (cross && a.camera < cross->size() && b.camera < (*cross)[a.camera].size() &&
-                 (*cross)[a.camera][b.camera].rows() == a.K.cols() &&
-                 (*cross)[a.camera][b.camera].cols() == b.K.cols()) {
-        S = (*cross)[a.camera][b.camera];
-      } else {
-        continue;
+  // The cross blocks of the cameras that see X, where they match their calibrations' parameters.
+  CrossCovariances sub;
+  if (cross) {
+    sub.assign(views.size(), std::vector<Eigen::MatrixXd>(views.size()));
+    for (std::size_t a = 0; a < views.size(); ++a)
+      for (std::size_t b = 0; b < views.size(); ++b) {
+        if (a == b || seen[a] >= cross->size() || seen[b] >= (*cross)[seen[a]].size()) continue;
+        const Eigen::MatrixXd& S = (*cross)[seen[a]][seen[b]];
+        if (S.rows() == static_cast<Eigen::Index>(views[a].calibration.parameters.size()) &&
+            S.cols() == static_cast<Eigen::Index>(views[b].calibration.parameters.size()))
+          sub[a][b] = S;
       }
-      p.cov_calibration_m2 += Aa * (a.K * S * b.K.transpose()) * Ab.transpose();
-    }
   }
-  p.cov_pick_m2 = pick_sigma_px * pick_sigma_px * Ninv;
+  const TriangulationResult t =
+      triangulation_covariance_at(views, X_enu_m, cross ? &sub : nullptr, weigh_calibration);
+  p.cov_calibration_m2 = t.cov_calibration_m2;
+  p.cov_pick_m2 = t.cov_pick_m2;
   return p;
 }
 
 IntersectionSigmaSlice intersection_sigma_slice(const std::vector<const CalibrationResult*>& cams,
                                                 const Eigen::Vector2d& e_range_m,
                                                 const Eigen::Vector2d& n_range_m, double up_m, int nx, int ny,
-                                                const CrossCovariances* cross) {
+                                                double pick_sigma_px, const CrossCovariances* cross) {
   IntersectionSigmaSlice s;
   s.up_m = up_m;
   for (int i = 0; i < nx; ++i) s.e_m.push_back(e_range_m[0] + (i + 0.5) * (e_range_m[1] - e_range_m[0]) / nx);
@@ -74,7 +60,7 @@ IntersectionSigmaSlice intersection_sigma_slice(const std::vector<const Calibrat
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const PredictedIntersection p =
-          predict_intersection(cams, Eigen::Vector3d(s.e_m[i], s.n_m[j], up_m), 0, cross);
+          predict_intersection(cams, Eigen::Vector3d(s.e_m[i], s.n_m[j], up_m), pick_sigma_px, cross, false);
       s.sigma_m(j, i) = p.n_cameras >= 2 ? std::sqrt(p.cov_calibration_m2.trace())
                                          : std::numeric_limits<double>::quiet_NaN();
     }

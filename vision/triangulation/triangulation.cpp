@@ -190,11 +190,13 @@ void linear_midpoint(const std::vector<TriangulationView>& views, const std::str
   }
 }
 
-// 2. Gauss–Newton on the weighted reprojection error from res.linear_point; sets point and iterations.
+// 2. Gauss–Newton on the reprojection error weighted by W_i = `weights[i]`, from `start`; sets point
+// and adds to iterations.
 void gauss_newton_point(const std::vector<TriangulationView>& views, const ViewParameters& vp,
+                        const std::vector<Eigen::Matrix2d>& weights, const Eigen::Vector3d& start,
                         const std::string& what, TriangulationResult& res) {
   const std::size_t n = views.size();
-  Eigen::Vector3d X = res.linear_point;
+  Eigen::Vector3d X = start;
   Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
   bool converged = false;
   for (int it = 0; it < 50 && !converged; ++it) {
@@ -203,14 +205,13 @@ void gauss_newton_point(const std::vector<TriangulationView>& views, const ViewP
     for (std::size_t i = 0; i < n; ++i) {
       const ProjectionDerivatives pd = differentiate(views[i].camera, vp.center_mode[i] != 0, X, false);
       if (!(pd.depth > 0)) behind_camera(what, views[i].camera, pd.depth);
-      const Eigen::Matrix2d W = view_covariance(views[i]).inverse();
-      N += pd.d_point.transpose() * W * pd.d_point;
-      g += pd.d_point.transpose() * W * (pd.uv - views[i].uv_px);
+      N += pd.d_point.transpose() * weights[i] * pd.d_point;
+      g += pd.d_point.transpose() * weights[i] * (pd.uv - views[i].uv_px);
     }
     const Eigen::Vector3d step = -N.ldlt().solve(g);
     if (!step.allFinite()) throw_calibration_error(what, "the reprojection normal equations are singular");
     X += step;
-    res.iterations = it + 1;
+    ++res.iterations;
     converged = step.norm() < 1e-10 * (1.0 + X.norm());
   }
   if (!converged)
@@ -218,50 +219,81 @@ void gauss_newton_point(const std::vector<TriangulationView>& views, const ViewP
   res.point = X;
 }
 
-// 3. Residuals and covariance at res.point: pick noise through N⁻¹, calibration covariance (and the
-// cross-camera blocks) through ∂X/∂θ.
-void residuals_and_covariance(const std::vector<TriangulationView>& views, const ViewParameters& vp,
-                              const std::string& what, const CrossCovariances* cross,
-                              TriangulationResult& res) {
+// Each view's ∂pixel/∂θ over its calibration's parameters at X (2×m; empty without a covariance).
+std::vector<Eigen::MatrixXd> calibration_jacobians(const std::vector<TriangulationView>& views,
+                                                   const ViewParameters& vp, const Eigen::Vector3d& X,
+                                                   const std::string& what) {
+  std::vector<Eigen::MatrixXd> J(views.size());
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const std::vector<int>& idx = vp.param_idx[i];
+    if (idx.empty()) continue;
+    const ProjectionDerivatives pd = differentiate(views[i].camera, vp.center_mode[i] != 0, X, true);
+    if (!(pd.depth > 0)) behind_camera(what, views[i].camera, pd.depth);
+    J[i].resize(2, static_cast<Eigen::Index>(idx.size()));
+    for (std::size_t k = 0; k < idx.size(); ++k)
+      J[i].col(static_cast<Eigen::Index>(k)) = pd.d_params.col(idx[k]);
+  }
+  return J;
+}
+
+// The weights W_i = (σ_px²·I + σ_t²·g·gᵀ + J_θi·Σ_θi·J_θiᵀ)⁻¹ (the last term only `with_calibration`):
+// with it, the generalised least-squares weights of a point whose views' errors are the labels',
+// their instants' and their cameras' calibrations' (the cross-camera blocks left out of the weights;
+// the covariance below carries them).
+std::vector<Eigen::Matrix2d> view_weights(const std::vector<TriangulationView>& views,
+                                          const std::vector<Eigen::MatrixXd>& jacobians,
+                                          bool with_calibration) {
+  std::vector<Eigen::Matrix2d> W(views.size());
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    Eigen::Matrix2d C = view_covariance(views[i]);
+    if (with_calibration && jacobians[i].size() > 0)
+      C += jacobians[i] * views[i].calibration.covariance * jacobians[i].transpose();
+    W[i] = C.inverse();
+  }
+  return W;
+}
+
+// 3. Covariance at res.point of the estimate weighted by W_i = `weights[i]`: with N = Σ J_iᵀW_iJ_i
+// and A_i = N⁻¹J_iᵀW_i, the labels' part Σ A_i·σ²I·A_iᵀ, the timing's Σ A_i·σ_t²ggᵀ·A_iᵀ, the
+// calibration's through ∂X/∂θ_i = −A_i·J_θi (J_θi = `jacobians[i]`, and the cross-camera blocks);
+// with `residuals`, each view's residual and their rms as well.
+void covariance_at(const std::vector<TriangulationView>& views, const ViewParameters& vp,
+                   const std::vector<Eigen::Matrix2d>& weights, const std::vector<Eigen::MatrixXd>& jacobians,
+                   const std::string& what, const CrossCovariances* cross, bool residuals,
+                   TriangulationResult& res) {
   const std::size_t n = views.size();
   const Eigen::Vector3d& X = res.point;
   Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
   std::vector<ProjectionDerivatives> pds(n);
-  std::vector<Eigen::Matrix2d> Ws(n);
+  const std::vector<Eigen::Matrix2d>& Ws = weights;
   double sum_sq = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    pds[i] = differentiate(views[i].camera, vp.center_mode[i] != 0, X, !vp.param_idx[i].empty());
+    pds[i] = differentiate(views[i].camera, vp.center_mode[i] != 0, X, false);
     if (!(pds[i].depth > 0)) behind_camera(what, views[i].camera, pds[i].depth);
-    Ws[i] = view_covariance(views[i]).inverse();
     N += pds[i].d_point.transpose() * Ws[i] * pds[i].d_point;
+    if (!residuals) continue;
     res.residuals_px.push_back(pds[i].uv - views[i].uv_px);
     sum_sq += res.residuals_px.back().squaredNorm();
   }
-  res.rms_px = std::sqrt(sum_sq / static_cast<double>(n));
+  if (residuals) res.rms_px = std::sqrt(sum_sq / static_cast<double>(n));
   const Eigen::Matrix3d Ninv = N.inverse();
-  // N⁻¹ = N⁻¹·(Σ JᵀW·(σ²I + σ_t²ggᵀ)·WJ)·N⁻¹: the pick's share and the timing's.
-  Eigen::Matrix3d pick = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d pick = Eigen::Matrix3d::Zero(), timing = Eigen::Matrix3d::Zero();
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Matrix<double, 3, 2> JW = pds[i].d_point.transpose() * Ws[i];
-    pick += views[i].pick_sigma_px * views[i].pick_sigma_px * JW * JW.transpose();
+    const TriangulationView& v = views[i];
+    pick += v.pick_sigma_px * v.pick_sigma_px * JW * JW.transpose();
+    const Eigen::Vector3d Jg = JW * v.image_velocity_px_s;
+    timing += v.timing_sigma_s * v.timing_sigma_s * Jg * Jg.transpose();
   }
-  bool timed = false;
-  for (const TriangulationView& v : views) timed = timed || v.timing_sigma_s > 0;
-  if (timed) {
-    res.cov_pick_m2 = Ninv * pick * Ninv;
-    res.cov_pick_m2 = 0.5 * (res.cov_pick_m2 + res.cov_pick_m2.transpose()).eval();
-    res.cov_timing_m2 = Ninv - res.cov_pick_m2;
-  } else {
-    res.cov_pick_m2 = Ninv;
-  }
+  res.cov_pick_m2 = Ninv * pick * Ninv;
+  res.cov_pick_m2 = 0.5 * (res.cov_pick_m2 + res.cov_pick_m2.transpose()).eval();
+  res.cov_timing_m2 = Ninv * timing * Ninv;
+  res.cov_timing_m2 = 0.5 * (res.cov_timing_m2 + res.cov_timing_m2.transpose()).eval();
   std::vector<Eigen::MatrixXd> dXs(n);
   res.calibration_pixel_cov.assign(n, Eigen::Matrix2d::Zero());
   for (std::size_t i = 0; i < n; ++i) {
-    const std::vector<int>& idx = vp.param_idx[i];
-    if (idx.empty()) continue;
-    Eigen::MatrixXd Jt(2, static_cast<Eigen::Index>(idx.size()));
-    for (std::size_t k = 0; k < idx.size(); ++k)
-      Jt.col(static_cast<Eigen::Index>(k)) = pds[i].d_params.col(idx[k]);
+    const Eigen::MatrixXd& Jt = jacobians[i];
+    if (Jt.size() == 0) continue;
     const Eigen::MatrixXd dX = -Ninv * (pds[i].d_point.transpose() * Ws[i]) * Jt;  // ∂X/∂θ_i, 3×m
     res.cov_calibration_m2 += dX * views[i].calibration.covariance * dX.transpose();
     res.calibration_pixel_cov[i] = Jt * views[i].calibration.covariance * Jt.transpose();
@@ -308,8 +340,39 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
   const ViewParameters vp = validated_views(views, what);
   TriangulationResult res;
   linear_midpoint(views, what, res);
-  gauss_newton_point(views, vp, what, res);
-  residuals_and_covariance(views, vp, what, cross, res);
+  std::vector<Eigen::Matrix2d> weights = view_weights(views, std::vector<Eigen::MatrixXd>(n), false);
+  gauss_newton_point(views, vp, weights, res.linear_point, what, res);
+  // The calibrations' errors are part of each view's error: weighed with them (at the first
+  // solution; one more solve), the point is the generalised least-squares one, never less precise
+  // than the labels' weights give when the covariances hold (Gauss–Markov theorem).
+  // The calibration's Jacobians at that first solution serve the weights and the covariance alike
+  // (the second solve moves the point by a fraction of its σ: a change of second order).
+  const std::vector<Eigen::MatrixXd> jacobians = calibration_jacobians(views, vp, res.point, what);
+  bool calibrated = false;
+  for (const Eigen::MatrixXd& J : jacobians) calibrated = calibrated || J.size() > 0;
+  if (calibrated) {
+    weights = view_weights(views, jacobians, true);
+    gauss_newton_point(views, vp, weights, res.point, what, res);
+  }
+  covariance_at(views, vp, weights, jacobians, what, cross, true, res);
+  return res;
+}
+
+TriangulationResult triangulation_covariance_at(const std::vector<TriangulationView>& views,
+                                                const Eigen::Vector3d& X, const CrossCovariances* cross,
+                                                bool weigh_calibration) {
+  const std::string what = "the point " + format_number("(%.3f", X.x()) + format_number(", %.3f", X.y()) +
+                           format_number(", %.3f)", X.z());
+  if (views.size() < 2)
+    throw_calibration_error(what, "seen by " + std::to_string(views.size()) +
+                                      " calibrated camera(s); an intersection needs at least two");
+  const ViewParameters vp = validated_views(views, what);
+  TriangulationResult res;
+  res.point = X;
+  res.linear_point = X;
+  const std::vector<Eigen::MatrixXd> jacobians = calibration_jacobians(views, vp, X, what);
+  covariance_at(views, vp, view_weights(views, jacobians, weigh_calibration), jacobians, what, cross, false,
+                res);
   return res;
 }
 

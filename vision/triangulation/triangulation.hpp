@@ -8,12 +8,17 @@
 //  2. Nonlinear: Gauss–Newton on the reprojection error (camera_model's project, distortion
 //     inverted exactly), each camera's residual weighted by W_i = (σ_px²·I + σ_t²·g·gᵀ)⁻¹ — for a
 //     moving point the label's instant is uncertain by σ_t, which moves it along its image
-//     velocity g (0 for a static point: W_i = I/σ_px²).
-//  3. Covariance, first order at the solution (J_i = ∂pixel_i/∂X, N = Σ J_iᵀ W_i J_i):
-//       pick noise and timing:  N⁻¹ = Σ_pick + Σ_timing, split by the two parts of W_i⁻¹
-//       calibration:  ∂X/∂θ_i = −N⁻¹ J_iᵀ W_i ∂pixel_i/∂θ_i      (implicit-function theorem)
-//                     Σ_cal  = Σ_i (∂X/∂θ_i) Σ_θi (∂X/∂θ_i)ᵀ   (cameras independent)
-//       Σ_X = Σ_pick + Σ_timing + Σ_cal;  sigma_m = √trace Σ_X, the predicted RMS of ΔR (Table 4).
+//     velocity g (0 for a static point) — then, when a view has a calibration covariance, once
+//     more from that solution with W_i = (σ_px²·I + σ_t²·g·gᵀ + J_θi Σ_θi J_θiᵀ)⁻¹ (J_θi =
+//     ∂pixel_i/∂θ_i there): the generalised least-squares point of views whose errors include their
+//     cameras' calibrations' (cross-camera blocks left out of the weights).
+//  3. Covariance, first order at the solution (J_i = ∂pixel_i/∂X, N = Σ J_iᵀ W_i J_i,
+//     A_i = N⁻¹ J_iᵀ W_i):
+//       pick noise:   Σ_pick   = Σ_i A_i σ_px² A_iᵀ;   timing: Σ_timing = Σ_i A_i σ_t² g gᵀ A_iᵀ
+//       calibration:  ∂X/∂θ_i = −A_i ∂pixel_i/∂θ_i      (implicit-function theorem)
+//                     Σ_cal  = Σ_i (∂X/∂θ_i) Σ_θi (∂X/∂θ_i)ᵀ (+ the cross-camera blocks)
+//       Σ_X = Σ_pick + Σ_timing + Σ_cal (= N⁻¹ plus the cross terms: the weights are the views'
+//       covariances); sigma_m = √trace Σ_X, the predicted RMS of ΔR (Table 4).
 #include <Eigen/Core>
 #include <array>
 #include <string>
@@ -78,6 +83,19 @@ using CrossCovariances = std::vector<std::vector<Eigen::MatrixXd>>;
 TriangulationResult triangulate_point(const std::vector<TriangulationView>& views,
                                       const std::string& what = "point",
                                       const CrossCovariances* cross = nullptr);
+
+/// The covariance triangulate_point states, evaluated at the world point X (ENU, m) instead of at
+/// a solution: the views' weights (step 2, with their calibrations) and the parts of step 3 at X;
+/// the views' pixels are not used (point = X, no residuals). For predictions — what a target
+/// anywhere in the volume would be given. `weigh_calibration` false: the views weighted by their
+/// pick and timing σ alone (step 2's first solve), so that covariances compared with each other
+/// (a calibration's and its datum floor's) are carried through one estimate. Throws as
+/// triangulate_point for fewer than two views, a malformed covariance, a pick σ not positive, or X
+/// behind a camera.
+TriangulationResult triangulation_covariance_at(const std::vector<TriangulationView>& views,
+                                                const Eigen::Vector3d& X,
+                                                const CrossCovariances* cross = nullptr,
+                                                bool weigh_calibration = true);
 
 /// ∂pixel/∂θ (2×n) of `camera` at world point X for `parameters` (perturbation model as above),
 /// and ∂pixel/∂X (2×3) in `d_point` when non-null. Throws like triangulate_point for T mixed with C

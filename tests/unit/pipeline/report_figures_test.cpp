@@ -93,13 +93,13 @@ TEST(ReportFigures, PredictedIntersectionEqualsTheTriangulationsCovariance) {
   EXPECT_LT((pj.cov_calibration_m2 - tj.cov_calibration_m2).norm(), 1e-6 * tj.cov_calibration_m2.norm());
   // Outside camera b's view: no intersection there.
   EXPECT_LT(predict_intersection({&a, &b}, Eigen::Vector3d(-40, 40, 4), 0.5).n_cameras, 2);
-  const IntersectionSigmaSlice s = intersection_sigma_slice({&a, &b}, {-1, 1}, {0, 2}, 4.5, 3, 3);
+  const IntersectionSigmaSlice s = intersection_sigma_slice({&a, &b}, {-1, 1}, {0, 2}, 4.5, 3, 3, 0.5);
   EXPECT_NEAR(s.e_m[1], 0, 1e-12);
   EXPECT_NEAR(s.n_m[1], 1, 1e-12);
-  EXPECT_NEAR(
-      s.sigma_m(1, 1),
-      std::sqrt(predict_intersection({&a, &b}, Eigen::Vector3d(0, 1, 4.5), 0).cov_calibration_m2.trace()),
-      1e-15);
+  EXPECT_NEAR(s.sigma_m(1, 1),
+              std::sqrt(predict_intersection({&a, &b}, Eigen::Vector3d(0, 1, 4.5), 0.5, nullptr, false)
+                            .cov_calibration_m2.trace()),
+              1e-15);
 }
 
 TEST(ReportFigures, FunnelCountsComeFromRunJson) {

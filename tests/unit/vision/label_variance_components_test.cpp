@@ -163,7 +163,9 @@ TEST(LabelVarianceComponents, EachCamerasSigmaOverTwentyMissions) {
     EXPECT_LT(std::sqrt(var) / stated_sd, 1.6);
     // The simulated labels are independent from frame to frame: ρ = 0, within 3 of its stated 1σ
     // (north's frames fall at varying places between the instants: its ρ is estimated).
-    if (c == 2) EXPECT_GE(rho[c].size(), 10u);
+    if (c == 2) {
+      EXPECT_GE(rho[c].size(), 10u);
+    }
     if (!rho[c].empty()) {
       std::printf("; correlation in %zu missions, mean %.3f (stated sd %.3f)", rho[c].size(), mean_of(rho[c]),
                   mean_of(rho_sd[c]));
