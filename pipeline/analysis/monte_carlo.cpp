@@ -19,6 +19,7 @@
 #include "optim/network/network_adjustment.hpp"
 #include "pipeline/simulate/ppk_error.hpp"
 #include "pipeline/steps/network_problem.hpp"
+#include "vision/triangulation/calibration_covariance.hpp"
 #include "vision/triangulation/triangulation.hpp"
 
 namespace rangecal {
@@ -296,7 +297,41 @@ struct TrialInputs {
   const NetworkMembers& network;
   const std::vector<MonteCarloPole>& poles;
   const MonteCarloOptions& options;
+  const CrossCovariances* reference_cross;  ///< the joint covariance's cross blocks (null: none)
 };
+
+/// The cross blocks between the views' cameras `used` (indices into the reference's), as
+/// triangulate_point takes them for views in that order: a block that does not fit the two views'
+/// calibrations (one without a usable covariance, a table of another size) is left out, those
+/// cameras taken as independent, as the intersect stage does. Empty without a reference.
+CrossCovariances cross_of(const CrossCovariances* reference_cross, const std::vector<std::size_t>& used,
+                          const std::vector<TriangulationView>& views) {
+  CrossCovariances cross;
+  if (!reference_cross || reference_cross->empty()) return cross;
+  cross.assign(used.size(), std::vector<Eigen::MatrixXd>(used.size()));
+  for (std::size_t i = 0; i < used.size(); ++i)
+    for (std::size_t j = 0; j < used.size(); ++j) {
+      if (i == j || used[i] >= reference_cross->size() || used[j] >= (*reference_cross)[used[i]].size())
+        continue;
+      const Eigen::MatrixXd& m = (*reference_cross)[used[i]][used[j]];
+      if (m.rows() == static_cast<Eigen::Index>(views[i].calibration.parameters.size()) &&
+          m.cols() == static_cast<Eigen::Index>(views[j].calibration.parameters.size()))
+        cross[i][j] = m;
+    }
+  return cross;
+}
+
+/// A view of a pole at `uv` through `camera`, weighed as the intersect stage weighs it: the pick σ
+/// and the reference calibration's covariance (none when it has no usable one: taken as exact).
+TriangulationView pole_view(const Camera& camera, const Eigen::Vector2d& uv,
+                            const MonteCarloCamera& reference, const MonteCarloOptions& options) {
+  TriangulationView v;
+  v.camera = camera;
+  v.uv_px = uv;
+  v.calibration = camera_covariance(reference.reference);
+  v.pick_sigma_px = options.pick_sigma_px;
+  return v;
+}
 
 /// Trial t's calibrations: every camera from its own noisy problem, the network's cameras adjusted
 /// together. A calibration error is the trial's failure for that camera; any other error stops.
@@ -338,26 +373,28 @@ void calibrate_trial(const TrialInputs& in, std::size_t t, TrialOutcome* out) {
 }
 
 /// Trial t's pole errors: every pole picked with noise in the cameras that see it and
-/// triangulated with the trial's cameras (none when fewer than two calibrated cameras see it).
+/// triangulated with the trial's cameras, weighed as the intersect stage weighs the run's (none
+/// when fewer than two calibrated cameras see it).
 void triangulate_trial_poles(const TrialInputs& in, std::size_t t, TrialOutcome* out) {
   DeterministicRandom rng(mix_seed(in.options.seed, kPoleStream, t));
   for (const MonteCarloPole& pole : in.poles) {
     std::vector<TriangulationView> views;
+    std::vector<std::size_t> used;
     for (std::size_t c : pole.cameras) {
       Eigen::Vector2d uv;
       const bool ok = project(in.cameras[c].reference.camera, pole.enu, &uv);
       const double zu = rng.normal(), zv = rng.normal();  // drawn always: streams stay aligned
       if (!ok || !out->cameras[c]) continue;
-      TriangulationView v;
-      v.camera = out->cameras[c]->camera;
-      v.uv_px = uv + in.options.pick_sigma_px * Eigen::Vector2d(zu, zv);
-      v.pick_sigma_px = in.options.pick_sigma_px;
-      views.push_back(v);
+      views.push_back(pole_view(out->cameras[c]->camera,
+                                uv + in.options.pick_sigma_px * Eigen::Vector2d(zu, zv), in.cameras[c],
+                                in.options));
+      used.push_back(c);
     }
     std::optional<Eigen::Vector3d> err;
     if (views.size() >= 2) {
       try {
-        err = triangulate_point(views, "pole " + pole.id).point - pole.enu;
+        const CrossCovariances cross = cross_of(in.reference_cross, used, views);
+        err = triangulate_point(views, "pole " + pole.id, cross.empty() ? nullptr : &cross).point - pole.enu;
       } catch (const Error&) {
       }
     }
@@ -412,22 +449,12 @@ double predicted_pole_sigma(const MonteCarloPole& pole, const std::vector<MonteC
   std::vector<TriangulationView> views;
   std::vector<std::size_t> used;
   for (std::size_t c : pole.cameras) {
-    TriangulationView v;
-    v.camera = cameras[c].reference.camera;
-    if (!project(v.camera, pole.enu, &v.uv_px)) continue;
-    v.calibration.parameters = cameras[c].reference.parameters;
-    v.calibration.covariance = cameras[c].reference.covariance;
-    v.pick_sigma_px = options.pick_sigma_px;
-    views.push_back(v);
+    Eigen::Vector2d uv;
+    if (!project(cameras[c].reference.camera, pole.enu, &uv)) continue;
+    views.push_back(pole_view(cameras[c].reference.camera, uv, cameras[c], options));
     used.push_back(c);
   }
-  CrossCovariances cross;
-  if (reference_cross && !reference_cross->empty()) {
-    cross.assign(used.size(), std::vector<Eigen::MatrixXd>(used.size()));
-    for (std::size_t i = 0; i < used.size(); ++i)
-      for (std::size_t j = 0; j < used.size(); ++j)
-        if (i != j) cross[i][j] = (*reference_cross)[used[i]][used[j]];
-  }
+  const CrossCovariances cross = cross_of(reference_cross, used, views);
   double sigma = kNaN;
   if (views.size() >= 2) {
     try {
@@ -475,7 +502,7 @@ MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,
     truth.push_back(make_truth(c, options.shared_world_noise, options.ppk_error));
   const GaussMarkovChains chains = gauss_markov_chains(truth, options.ppk_error);
   const NetworkMembers network = network_members(cameras, truth);
-  const TrialInputs in{cameras, truth, chains, network, poles, options};
+  const TrialInputs in{cameras, truth, chains, network, poles, options, reference_cross};
 
   const std::size_t nt = static_cast<std::size_t>(options.trials);
   std::vector<TrialOutcome> outcome(nt);

@@ -110,7 +110,8 @@ struct MonteCarloResult {
 /// trial: one network (optim/network/network_adjustment.hpp) whose points are the world-noise keys
 /// they share, so their statistics are the network's, not the per-camera bundle's.
 /// `reference_cross` (indexed by camera, as network.json's cross blocks for the cameras' reference
-/// parameters; null or empty: cameras independent) enters the poles' predicted σ.
+/// parameters; null or empty: cameras independent) enters the poles' predicted σ and, as the
+/// intersect stage's weights, every trial's triangulation of them.
 /// Throws rangecal::Error: usage for trials < 1 or a bad pole camera index; calibration when a
 /// reference camera cannot project enough of its points or every trial of a camera fails.
 MonteCarloResult run_monte_carlo(const std::vector<MonteCarloCamera>& cameras,

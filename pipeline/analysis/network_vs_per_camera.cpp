@@ -98,7 +98,9 @@ double predicted_intersection_rms(const std::vector<Camera>& truth,
       TriangulationView v;
       if (!project(truth[c], X, &v.uv_px) || !inside_image(truth[c].intr, v.uv_px)) continue;
       v.camera = truth[c];
-      // Noise-free pixels with one common pick σ: the weights cancel, Σ_cal is the calibration's.
+      // One common pick σ and the picks' weights alone (not the calibration's: the covariances
+      // compared — per camera, network, datum floor — are then carried through one estimate): the
+      // weights cancel, Σ_cal is the calibration's.
       v.pick_sigma_px = 1;
       const Eigen::Index at = static_cast<Eigen::Index>(c) * p;
       v.calibration = {params, joint.block(at, at, p, p)};
@@ -111,7 +113,7 @@ double predicted_intersection_rms(const std::vector<Camera>& truth,
       for (std::size_t j = 0; j < views.size(); ++j)
         if (i != j) cross[i][j] = joint.block(camera_of[i], camera_of[j], p, p);
     try {
-      sum += triangulate_point(views, "flight-volume point", with_cross ? &cross : nullptr)
+      sum += triangulation_covariance_at(views, X, with_cross ? &cross : nullptr, false)
                  .cov_calibration_m2.trace();
       ++used;
     } catch (const Error&) {

@@ -10,11 +10,12 @@
 //     δθ = F⁻¹ Σ_i J_iᵀ W_i P_i δ,   F = Σ_i J_iᵀ W_i J_i,   P_i = ∂π/∂(u0, v0) at X̄_i,
 // (the other parameters absorb what they can of the shift), and the estimated camera maps a world
 // point X to a pixel off the true one by e(X) = K(X)·δθ − P(X)·δ. A point triangulated from true
-// pixels then moves by δX = −N⁻¹ Σ_c J_X,cᵀ e_c(X), N = Σ_c J_X,cᵀ J_X,c (vision/triangulation,
-// equal pick σ). With each camera's shift of size d in an unknown direction, independent between
-// cameras, the mean |δX|² over directions is Σ_c ½(|δX_c(d·ê_u)|² + |δX_c(d·ê_v)|²); the figure is
-// its root mean over the flight-volume points. A camera whose principal point is free carries the
-// shift in its estimate (its prior pulls it back by only (σ/σ_prior)² of δ) and is left out.
+// pixels then moves by δX = −N⁻¹ Σ_c J_X,cᵀ e_c(X), N = Σ_c J_X,cᵀ J_X,c (vision/triangulation's
+// first solve, equal pick σ: an unmodelled bias has no covariance to weigh the views by). With each camera's
+// shift of size d in an unknown direction, independent between cameras, the mean |δX|² over directions is Σ_c
+// ½(|δX_c(d·ê_u)|² + |δX_c(d·ê_v)|²); the figure is its root mean over the flight-volume points. A camera
+// whose principal point is free carries the shift in its estimate (its prior pulls it back by only
+// (σ/σ_prior)² of δ) and is left out.
 #include <Eigen/Core>
 #include <vector>
 

@@ -367,16 +367,10 @@ Trajectory estimate_trajectory(const std::vector<TrajectoryCamera>& cameras,
       if (out.warnings.size() < kMaxWarnings) out.warnings.push_back(e.what());
       continue;
     }
-    // The views' χ² under everything that moves a residual: the label's and timing σ and the
-    // camera's calibration covariance projected to its pixel (cameras taken as independent here).
-    for (std::size_t i = 0; i < views.size(); ++i) {
-      const TriangulationView& v = views[i];
-      Eigen::Matrix2d cov =
-          v.pick_sigma_px * v.pick_sigma_px * Eigen::Matrix2d::Identity() +
-          v.timing_sigma_s * v.timing_sigma_s * v.image_velocity_px_s * v.image_velocity_px_s.transpose();
-      cov += p.fix.calibration_pixel_cov[i];
-      p.chi2 += p.fix.residuals_px[i].dot(cov.ldlt().solve(p.fix.residuals_px[i]));
-    }
+    // The views' χ² under everything that moves a residual: the labels' and timing σ and the
+    // calibrations' covariance projected to the pixels, cross blocks included — the weights the
+    // point was solved with.
+    p.chi2 = p.fix.weighted_chi2;
     p.dof = 2 * static_cast<int>(views.size()) - 3;
     if (p.chi2 > chi2_quantile_wilson_hilferty(p.dof, kNormalQuantile99)) {
       const double f = p.chi2 / p.dof;

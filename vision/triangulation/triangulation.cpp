@@ -3,6 +3,7 @@
 #include <ceres/jet.h>
 #include <ceres/rotation.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
@@ -190,25 +191,27 @@ void linear_midpoint(const std::vector<TriangulationView>& views, const std::str
   }
 }
 
-// 2. Gauss–Newton on the reprojection error weighted by W_i = `weights[i]`, from `start`; sets point
-// and adds to iterations.
+// 2. Gauss–Newton on the reprojection error weighted by W (2n×2n, the views' pixels stacked), from
+// `start`; sets point and adds to iterations.
 void gauss_newton_point(const std::vector<TriangulationView>& views, const ViewParameters& vp,
-                        const std::vector<Eigen::Matrix2d>& weights, const Eigen::Vector3d& start,
-                        const std::string& what, TriangulationResult& res) {
+                        const Eigen::MatrixXd& W, const Eigen::Vector3d& start, const std::string& what,
+                        TriangulationResult& res) {
   const std::size_t n = views.size();
   Eigen::Vector3d X = start;
-  Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
+  Eigen::MatrixXd J(2 * n, 3);
+  Eigen::VectorXd r(2 * n);
   bool converged = false;
   for (int it = 0; it < 50 && !converged; ++it) {
-    N.setZero();
-    Eigen::Vector3d g = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < n; ++i) {
       const ProjectionDerivatives pd = differentiate(views[i].camera, vp.center_mode[i] != 0, X, false);
       if (!(pd.depth > 0)) behind_camera(what, views[i].camera, pd.depth);
-      N += pd.d_point.transpose() * weights[i] * pd.d_point;
-      g += pd.d_point.transpose() * weights[i] * (pd.uv - views[i].uv_px);
+      const auto row = static_cast<Eigen::Index>(2 * i);
+      J.block<2, 3>(row, 0) = pd.d_point;
+      r.segment<2>(row) = pd.uv - views[i].uv_px;
     }
-    const Eigen::Vector3d step = -N.ldlt().solve(g);
+    const Eigen::MatrixXd WJ = W * J;
+    const Eigen::Matrix3d N = J.transpose() * WJ;
+    const Eigen::Vector3d step = -N.ldlt().solve(WJ.transpose() * r);
     if (!step.allFinite()) throw_calibration_error(what, "the reprojection normal equations are singular");
     X += step;
     ++res.iterations;
@@ -236,79 +239,120 @@ std::vector<Eigen::MatrixXd> calibration_jacobians(const std::vector<Triangulati
   return J;
 }
 
-// The weights W_i = (σ_px²·I + σ_t²·g·gᵀ + J_θi·Σ_θi·J_θiᵀ)⁻¹ (the last term only `with_calibration`):
-// with it, the generalised least-squares weights of a point whose views' errors are the labels',
-// their instants' and their cameras' calibrations' (the cross-camera blocks left out of the weights;
-// the covariance below carries them).
-std::vector<Eigen::Matrix2d> view_weights(const std::vector<TriangulationView>& views,
-                                          const std::vector<Eigen::MatrixXd>& jacobians,
-                                          bool with_calibration) {
-  std::vector<Eigen::Matrix2d> W(views.size());
-  for (std::size_t i = 0; i < views.size(); ++i) {
-    Eigen::Matrix2d C = view_covariance(views[i]);
-    if (with_calibration && jacobians[i].size() > 0)
-      C += jacobians[i] * views[i].calibration.covariance * jacobians[i].transpose();
-    W[i] = C.inverse();
-  }
-  return W;
+// The calibrations' covariance between views i and j projected to their pixels, K_i·Σ_ij·K_jᵀ
+// (Σ_ii the view's own; Σ_ij a cross block when `cross` gives one); none (empty) without.
+Eigen::MatrixXd calibration_pixel_block(const std::vector<TriangulationView>& views,
+                                        const std::vector<Eigen::MatrixXd>& K, const CrossCovariances* cross,
+                                        std::size_t i, std::size_t j, const std::string& what) {
+  if (K[i].size() == 0 || K[j].size() == 0) return {};
+  if (i == j) return K[i] * views[i].calibration.covariance * K[i].transpose();
+  if (!cross || i >= cross->size() || j >= (*cross)[i].size() || (*cross)[i][j].size() == 0) return {};
+  const Eigen::MatrixXd& S = (*cross)[i][j];
+  if (S.rows() != K[i].cols() || S.cols() != K[j].cols())
+    throw_calibration_error(what, "a cross-camera covariance block does not match the cameras' parameters");
+  return K[i] * S * K[j].transpose();
 }
 
-// 3. Covariance at res.point of the estimate weighted by W_i = `weights[i]`: with N = Σ J_iᵀW_iJ_i
-// and A_i = N⁻¹J_iᵀW_i, the labels' part Σ A_i·σ²I·A_iᵀ, the timing's Σ A_i·σ_t²ggᵀ·A_iᵀ, the
-// calibration's through ∂X/∂θ_i = −A_i·J_θi (J_θi = `jacobians[i]`, and the cross-camera blocks);
-// with `residuals`, each view's residual and their rms as well.
+// The views' pixel errors' covariance, stacked (2n×2n): each view's label and timing terms
+// (view_covariance) and, with `K` (the calibrations' pixel Jacobians; all empty: none), the
+// calibrations' K_i·Σ_ij·K_jᵀ, cross blocks included — what one draw of every error moves the
+// residuals by. Its inverse is the weight of the generalised least-squares point.
+Eigen::MatrixXd stacked_covariance(const std::vector<TriangulationView>& views,
+                                   const std::vector<Eigen::MatrixXd>& K, const CrossCovariances* cross,
+                                   const std::string& what) {
+  const std::size_t n = views.size();
+  Eigen::MatrixXd C =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(2 * n), static_cast<Eigen::Index>(2 * n));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto ri = static_cast<Eigen::Index>(2 * i), cj = static_cast<Eigen::Index>(2 * j);
+      if (i == j) C.block<2, 2>(ri, cj) = view_covariance(views[i]);
+      const Eigen::MatrixXd P = calibration_pixel_block(views, K, cross, i, j, what);
+      if (P.size() > 0) C.block<2, 2>(ri, cj) += P;
+    }
+  return 0.5 * (C + C.transpose());
+}
+
+// C⁻¹, after checking C is positive definite: with every covariance positive semi-definite it is
+// (the labels' σ > 0); a calibration's or a network's covariance that is not makes it fail, named.
+Eigen::MatrixXd weight_of(const Eigen::MatrixXd& C, const std::vector<TriangulationView>& views,
+                          const std::string& what) {
+  const Eigen::LLT<Eigen::MatrixXd> llt(C);
+  if (llt.info() == Eigen::Success) return llt.solve(Eigen::MatrixXd::Identity(C.rows(), C.cols()));
+  std::string ids;
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const auto ri = static_cast<Eigen::Index>(2 * i);
+    if (Eigen::LLT<Eigen::Matrix2d>(Eigen::Matrix2d(C.block<2, 2>(ri, ri))).info() != Eigen::Success)
+      throw_calibration_error(
+          "camera " + views[i].camera.id + " covariance",
+          "is not positive semi-definite: its pixel covariance at " + what + " is not positive definite");
+    ids += (ids.empty() ? "" : ", ") + views[i].camera.id;
+  }
+  throw_calibration_error(what, "the joint calibration covariance of cameras " + ids +
+                                    " (its cross blocks) is not positive semi-definite");
+}
+
+// 3. Covariance at res.point of the estimate weighted by W (2n×2n): with J the views' ∂pixel/∂X
+// stacked, N = JᵀWJ and A = N⁻¹JᵀW, each part A·(its term of the stacked covariance)·Aᵀ — the
+// labels', the timing's, and the calibrations' through ∂X/∂θ_i = −A_i·K_i (K_i = `K[i]`, with the
+// cross-camera blocks). When W is the inverse of the whole stacked covariance the parts sum to N⁻¹.
+// With `residuals`, each view's residual, their rms and rᵀWr as well.
 void covariance_at(const std::vector<TriangulationView>& views, const ViewParameters& vp,
-                   const std::vector<Eigen::Matrix2d>& weights, const std::vector<Eigen::MatrixXd>& jacobians,
-                   const std::string& what, const CrossCovariances* cross, bool residuals,
-                   TriangulationResult& res) {
+                   const Eigen::MatrixXd& W, const std::vector<Eigen::MatrixXd>& K, const std::string& what,
+                   const CrossCovariances* cross, bool residuals, TriangulationResult& res) {
   const std::size_t n = views.size();
   const Eigen::Vector3d& X = res.point;
-  Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
-  std::vector<ProjectionDerivatives> pds(n);
-  const std::vector<Eigen::Matrix2d>& Ws = weights;
+  Eigen::MatrixXd J(2 * n, 3);
+  Eigen::VectorXd r(2 * n);
   double sum_sq = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    pds[i] = differentiate(views[i].camera, vp.center_mode[i] != 0, X, false);
-    if (!(pds[i].depth > 0)) behind_camera(what, views[i].camera, pds[i].depth);
-    N += pds[i].d_point.transpose() * Ws[i] * pds[i].d_point;
+    const ProjectionDerivatives pd = differentiate(views[i].camera, vp.center_mode[i] != 0, X, false);
+    if (!(pd.depth > 0)) behind_camera(what, views[i].camera, pd.depth);
+    const auto row = static_cast<Eigen::Index>(2 * i);
+    J.block<2, 3>(row, 0) = pd.d_point;
+    r.segment<2>(row) = pd.uv - views[i].uv_px;
     if (!residuals) continue;
-    res.residuals_px.push_back(pds[i].uv - views[i].uv_px);
-    sum_sq += res.residuals_px.back().squaredNorm();
+    res.residuals_px.push_back(r.segment<2>(row));
+    sum_sq += r.segment<2>(row).squaredNorm();
   }
-  if (residuals) res.rms_px = std::sqrt(sum_sq / static_cast<double>(n));
-  const Eigen::Matrix3d Ninv = N.inverse();
+  if (residuals) {
+    res.rms_px = std::sqrt(sum_sq / static_cast<double>(n));
+    res.weighted_chi2 = r.dot(W * r);
+  }
+  const Eigen::MatrixXd JtW = J.transpose() * W;
+  const Eigen::Matrix3d Ninv = (JtW * J).inverse();
+  if (!Ninv.allFinite())
+    throw_calibration_error(what, "the views' normal equations are singular: the rays are (nearly) parallel");
+  const Eigen::MatrixXd A = Ninv * JtW;  // 3×2n: ∂X/∂(pixels)
   Eigen::Matrix3d pick = Eigen::Matrix3d::Zero(), timing = Eigen::Matrix3d::Zero();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Matrix<double, 3, 2> JW = pds[i].d_point.transpose() * Ws[i];
-    const TriangulationView& v = views[i];
-    pick += v.pick_sigma_px * v.pick_sigma_px * JW * JW.transpose();
-    const Eigen::Vector3d Jg = JW * v.image_velocity_px_s;
-    timing += v.timing_sigma_s * v.timing_sigma_s * Jg * Jg.transpose();
-  }
-  res.cov_pick_m2 = Ninv * pick * Ninv;
-  res.cov_pick_m2 = 0.5 * (res.cov_pick_m2 + res.cov_pick_m2.transpose()).eval();
-  res.cov_timing_m2 = Ninv * timing * Ninv;
-  res.cov_timing_m2 = 0.5 * (res.cov_timing_m2 + res.cov_timing_m2.transpose()).eval();
   std::vector<Eigen::MatrixXd> dXs(n);
   res.calibration_pixel_cov.assign(n, Eigen::Matrix2d::Zero());
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::MatrixXd& Jt = jacobians[i];
-    if (Jt.size() == 0) continue;
-    const Eigen::MatrixXd dX = -Ninv * (pds[i].d_point.transpose() * Ws[i]) * Jt;  // ∂X/∂θ_i, 3×m
-    res.cov_calibration_m2 += dX * views[i].calibration.covariance * dX.transpose();
-    res.calibration_pixel_cov[i] = Jt * views[i].calibration.covariance * Jt.transpose();
-    dXs[i] = dX;
+    const TriangulationView& v = views[i];
+    const Eigen::Matrix<double, 3, 2> Ai = A.block<3, 2>(0, static_cast<Eigen::Index>(2 * i));
+    pick += v.pick_sigma_px * v.pick_sigma_px * Ai * Ai.transpose();
+    const Eigen::Vector3d Ag = Ai * v.image_velocity_px_s;
+    timing += v.timing_sigma_s * v.timing_sigma_s * Ag * Ag.transpose();
+    if (K[i].size() == 0) continue;
+    dXs[i] = -Ai * K[i];  // ∂X/∂θ_i, 3×m
+    res.calibration_pixel_cov[i] = K[i] * v.calibration.covariance * K[i].transpose();
   }
-  if (cross)
-    for (std::size_t i = 0; i < n && i < cross->size(); ++i)
-      for (std::size_t j = 0; j < n && j < (*cross)[i].size(); ++j) {
-        const Eigen::MatrixXd& C = (*cross)[i][j];
-        if (i == j || C.size() == 0 || dXs[i].size() == 0 || dXs[j].size() == 0) continue;
-        if (C.rows() != dXs[i].cols() || C.cols() != dXs[j].cols())
-          throw_calibration_error(what,
-                                  "a cross-camera covariance block does not match the cameras' parameters");
-        res.cov_calibration_m2 += dXs[i] * C * dXs[j].transpose();
+  res.cov_pick_m2 = 0.5 * (pick + pick.transpose());
+  res.cov_timing_m2 = 0.5 * (timing + timing.transpose());
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      if (dXs[i].size() == 0 || dXs[j].size() == 0) continue;
+      if (i == j) {
+        res.cov_calibration_m2 += dXs[i] * views[i].calibration.covariance * dXs[i].transpose();
+        continue;
       }
+      if (!cross || i >= cross->size() || j >= (*cross)[i].size() || (*cross)[i][j].size() == 0) continue;
+      const Eigen::MatrixXd& S = (*cross)[i][j];
+      if (S.rows() != dXs[i].cols() || S.cols() != dXs[j].cols())
+        throw_calibration_error(what,
+                                "a cross-camera covariance block does not match the cameras' parameters");
+      res.cov_calibration_m2 += dXs[i] * S * dXs[j].transpose();
+    }
   res.cov_calibration_m2 = 0.5 * (res.cov_calibration_m2 + res.cov_calibration_m2.transpose()).eval();
   res.cov_m2 = res.cov_pick_m2 + res.cov_timing_m2 + res.cov_calibration_m2;
   res.sigma_m = std::sqrt(res.cov_m2.trace());
@@ -340,21 +384,27 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
   const ViewParameters vp = validated_views(views, what);
   TriangulationResult res;
   linear_midpoint(views, what, res);
-  std::vector<Eigen::Matrix2d> weights = view_weights(views, std::vector<Eigen::MatrixXd>(n), false);
-  gauss_newton_point(views, vp, weights, res.linear_point, what, res);
-  // The calibrations' errors are part of each view's error: weighed with them (at the first
-  // solution; one more solve), the point is the generalised least-squares one, never less precise
-  // than the labels' weights give when the covariances hold (Gauss–Markov theorem).
-  // The calibration's Jacobians at that first solution serve the weights and the covariance alike
-  // (the second solve moves the point by a fraction of its σ: a change of second order).
-  const std::vector<Eigen::MatrixXd> jacobians = calibration_jacobians(views, vp, res.point, what);
-  bool calibrated = false;
-  for (const Eigen::MatrixXd& J : jacobians) calibrated = calibrated || J.size() > 0;
-  if (calibrated) {
-    weights = view_weights(views, jacobians, true);
-    gauss_newton_point(views, vp, weights, res.point, what, res);
+  // The views' own terms alone: block-diagonal, each 2×2 block inverted (view_covariance ≥ σ²·I).
+  Eigen::MatrixXd W =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(2 * n), static_cast<Eigen::Index>(2 * n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto r = static_cast<Eigen::Index>(2 * i);
+    W.block<2, 2>(r, r) = view_covariance(views[i]).inverse();
   }
-  covariance_at(views, vp, weights, jacobians, what, cross, true, res);
+  gauss_newton_point(views, vp, W, res.linear_point, what, res);
+  // The calibrations' errors are part of the views' errors, shared between cameras calibrated
+  // together: weighed with them (the stacked covariance at this first solution, its Jacobians
+  // serving the covariance below too: the second solve moves the point by a fraction of its σ),
+  // the point is the generalised least-squares one, the most precise linear estimate when the
+  // covariances hold (Gauss–Markov theorem), and its covariance is N⁻¹.
+  const std::vector<Eigen::MatrixXd> K = calibration_jacobians(views, vp, res.point, what);
+  bool calibrated = false;
+  for (const Eigen::MatrixXd& k : K) calibrated = calibrated || k.size() > 0;
+  if (calibrated) {
+    W = weight_of(stacked_covariance(views, K, cross, what), views, what);
+    gauss_newton_point(views, vp, W, res.point, what, res);
+  }
+  covariance_at(views, vp, W, K, what, cross, true, res);
   return res;
 }
 
@@ -368,11 +418,20 @@ TriangulationResult triangulation_covariance_at(const std::vector<TriangulationV
                                       " calibrated camera(s); an intersection needs at least two");
   const ViewParameters vp = validated_views(views, what);
   TriangulationResult res;
+  // The rays through X's pixels must meet (no prediction where they are nearly parallel) in front
+  // of every camera, as triangulate_point asks.
+  std::vector<TriangulationView> at_x = views;
+  for (TriangulationView& v : at_x)
+    if (!project(v.camera, X, &v.uv_px)) behind_camera(what, v.camera, world_to_camera(v.camera.pose, X).z());
+  linear_midpoint(at_x, what, res);
   res.point = X;
   res.linear_point = X;
-  const std::vector<Eigen::MatrixXd> jacobians = calibration_jacobians(views, vp, X, what);
-  covariance_at(views, vp, view_weights(views, jacobians, weigh_calibration), jacobians, what, cross, false,
-                res);
+  const std::vector<Eigen::MatrixXd> K = calibration_jacobians(views, vp, X, what);
+  const Eigen::MatrixXd W =
+      weight_of(stacked_covariance(views, weigh_calibration ? K : std::vector<Eigen::MatrixXd>(views.size()),
+                                   weigh_calibration ? cross : nullptr, what),
+                views, what);
+  covariance_at(views, vp, W, K, what, cross, false, res);
   return res;
 }
 

@@ -6,19 +6,19 @@
 //  1. Linear: the least-squares midpoint of the undistorted viewing rays (pixel_ray_world):
 //       X0 = argmin Σ_i |(I − d_i d_iᵀ)(X − C_i)|²   (closed form, 3×3 solve).
 //  2. Nonlinear: Gauss–Newton on the reprojection error (camera_model's project, distortion
-//     inverted exactly), each camera's residual weighted by W_i = (σ_px²·I + σ_t²·g·gᵀ)⁻¹ — for a
-//     moving point the label's instant is uncertain by σ_t, which moves it along its image
-//     velocity g (0 for a static point) — then, when a view has a calibration covariance, once
-//     more from that solution with W_i = (σ_px²·I + σ_t²·g·gᵀ + J_θi Σ_θi J_θiᵀ)⁻¹ (J_θi =
-//     ∂pixel_i/∂θ_i there): the generalised least-squares point of views whose errors include their
-//     cameras' calibrations' (cross-camera blocks left out of the weights).
-//  3. Covariance, first order at the solution (J_i = ∂pixel_i/∂X, N = Σ J_iᵀ W_i J_i,
-//     A_i = N⁻¹ J_iᵀ W_i):
+//     inverted exactly), the views' pixels stacked and weighted by W = C⁻¹: first with C the
+//     views' own terms, σ_px²·I + σ_t²·g·gᵀ per view — for a moving point the label's instant is
+//     uncertain by σ_t, which moves it along its image velocity g (0 for a static point) — then,
+//     when a view has a calibration covariance, once more from that solution with C gaining the
+//     calibrations' K_i·Σ_ij·K_jᵀ (K_i = ∂pixel_i/∂θ_i there; Σ_ii a camera's own covariance, Σ_ij
+//     the network's cross blocks): the generalised least-squares point. An error common to the
+//     cameras (a network's datum) moves the point whatever the weights and so weighs no view down.
+//  3. Covariance, first order at the solution (J the stacked ∂pixel/∂X, N = JᵀWJ, A = N⁻¹JᵀW):
 //       pick noise:   Σ_pick   = Σ_i A_i σ_px² A_iᵀ;   timing: Σ_timing = Σ_i A_i σ_t² g gᵀ A_iᵀ
-//       calibration:  ∂X/∂θ_i = −A_i ∂pixel_i/∂θ_i      (implicit-function theorem)
-//                     Σ_cal  = Σ_i (∂X/∂θ_i) Σ_θi (∂X/∂θ_i)ᵀ (+ the cross-camera blocks)
-//       Σ_X = Σ_pick + Σ_timing + Σ_cal (= N⁻¹ plus the cross terms: the weights are the views'
-//       covariances); sigma_m = √trace Σ_X, the predicted RMS of ΔR (Table 4).
+//       calibration:  ∂X/∂θ_i = −A_i K_i      (implicit-function theorem)
+//                     Σ_cal  = Σ_i Σ_j (∂X/∂θ_i) Σ_ij (∂X/∂θ_j)ᵀ
+//       Σ_X = Σ_pick + Σ_timing + Σ_cal (= N⁻¹: the weights are the errors' covariance);
+//       sigma_m = √trace Σ_X, the predicted RMS of ΔR (Table 4).
 #include <Eigen/Core>
 #include <array>
 #include <string>
@@ -60,7 +60,11 @@ struct TriangulationResult {
   std::vector<Eigen::Vector2d> residuals_px;               ///< projected − picked, per view (px)
   /// Each view's calibration covariance projected to its pixel, J_θ·Σ_θ·J_θᵀ (px²; zero without one).
   std::vector<Eigen::Matrix2d> calibration_pixel_cov;
-  double rms_px = 0;             ///< √(mean over views of |residual|²) (px)
+  double rms_px = 0;  ///< √(mean over views of |residual|²) (px)
+  /// rᵀ·W·r, the residuals under the weights the point was solved with (the views' whole stacked
+  /// covariance, calibrations and their cross blocks included, when a view has a calibration
+  /// covariance): the generalised least-squares objective, χ² with 2·views − 3 degrees of freedom.
+  double weighted_chi2 = 0;
   double max_ray_angle_deg = 0;  ///< largest angle between two views' rays (intersection geometry)
   Eigen::Matrix3d cov_pick_m2 = Eigen::Matrix3d::Zero();         ///< from pick noise (m²)
   Eigen::Matrix3d cov_timing_m2 = Eigen::Matrix3d::Zero();       ///< from the views' timing σ (m²)
@@ -79,7 +83,8 @@ using CrossCovariances = std::vector<std::vector<Eigen::MatrixXd>>;
 /// (e.g. "pole A3"). Throws rangecal::Error (calibration) when fewer than two views are given,
 /// the rays are (nearly) parallel (largest angle between them < 1e-4 rad), the point lies behind
 /// a camera, the solution does not converge, or a covariance is malformed (size, T mixed with C,
-/// non-finite); (input) when a pick σ is not positive or a pixel is not finite.
+/// non-finite, not positive semi-definite — a camera's own, or the joint one with its cross
+/// blocks); (input) when a pick σ is not positive or a pixel is not finite.
 TriangulationResult triangulate_point(const std::vector<TriangulationView>& views,
                                       const std::string& what = "point",
                                       const CrossCovariances* cross = nullptr);
@@ -90,8 +95,8 @@ TriangulationResult triangulate_point(const std::vector<TriangulationView>& view
 /// anywhere in the volume would be given. `weigh_calibration` false: the views weighted by their
 /// pick and timing σ alone (step 2's first solve), so that covariances compared with each other
 /// (a calibration's and its datum floor's) are carried through one estimate. Throws as
-/// triangulate_point for fewer than two views, a malformed covariance, a pick σ not positive, or X
-/// behind a camera.
+/// triangulate_point for fewer than two views, rays through X (nearly) parallel, X behind a camera,
+/// a malformed covariance or a pick σ not positive.
 TriangulationResult triangulation_covariance_at(const std::vector<TriangulationView>& views,
                                                 const Eigen::Vector3d& X,
                                                 const CrossCovariances* cross = nullptr,

@@ -152,7 +152,14 @@ double direct_sigma(const std::vector<IntersectCamera>& views, const std::string
       v.calibration = views[c].calibration;
       tv.push_back(v);
     }
-    return triangulate_point(tv).point;
+    // The joint covariance's cross blocks weigh the views too (zero blocks for independent cameras).
+    CrossCovariances cross(nc, std::vector<Eigen::MatrixXd>(nc));
+    for (std::size_t a = 0; a < nc; ++a)
+      for (std::size_t b = 0; b < nc; ++b)
+        if (a != b)
+          cross[a][b] = joint.block(static_cast<Eigen::Index>(a * np), static_cast<Eigen::Index>(b * np),
+                                    static_cast<Eigen::Index>(np), static_cast<Eigen::Index>(np));
+    return triangulate_point(tv, "pole", &cross).point;
   };
   const auto n = static_cast<Eigen::Index>(nc * np);
   Eigen::MatrixXd Jt(3, n), Ju(3, static_cast<Eigen::Index>(2 * nc));

@@ -13,7 +13,9 @@
 // instants; without the calibration covariance it under-covers. Reported beside it: the rms of two
 // ways the DLTdv / Argus / anipose tools take, on the same labels and cameras — every camera's label
 // interpolated to the instant with equal weights (DLTdv, Argus), and each camera's nearest frame
-// (cameras taken as frame-locked, anipose); on the mixed case the weighing must gain over the first.
+// (cameras taken as frame-locked, anipose) — and of the views weighed without their calibrations'
+// covariance; the stage must not lose to any of the three, and on the mixed case gain over
+// the first by 5 % at least.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -153,7 +155,7 @@ Mission simulate(const Case& c, std::mt19937_64* rng) {
 }
 
 struct Tally {
-  double z2 = 0, e2 = 0, e2_equal = 0, e2_nearest = 0;
+  double z2 = 0, e2 = 0, e2_equal = 0, e2_nearest = 0, e2_no_calibration = 0;
   std::size_t n = 0, inside = 0, inside_without_calibration = 0;
 };
 
@@ -182,15 +184,20 @@ void run_case(const Case& c, int missions, Tally* tally) {
     Mission mission = simulate(c, &rng);
     const std::vector<UtcTime> instants = trajectory_instants(mission.cameras, c.rate_hz);
     const Trajectory tr = estimate_trajectory(mission.cameras, instants, nullptr);
-    // The DLTdv / Argus way: the same interpolated labels, every camera weighted alike (no timing
-    // term, no calibration covariance in the weights).
-    std::vector<TrajectoryCamera> equal = mission.cameras;
+    // The views weighed by their labels' and timing σ alone (the calibrations' covariance left out
+    // of the weights), and the DLTdv / Argus way: the same interpolated labels, every camera
+    // weighted alike (one label σ, no timing term, no calibration covariance).
+    std::vector<TrajectoryCamera> no_calibration = mission.cameras;
+    for (TrajectoryCamera& cam : no_calibration) cam.calibration = CameraCovariance{};
+    std::vector<TrajectoryCamera> equal = no_calibration;
     for (TrajectoryCamera& cam : equal) {
-      cam.calibration = CameraCovariance{};
+      cam.label_sigma_px = 1;
       for (TimedLabel& l : cam.labels) l.timing_sigma_s = 0;
     }
+    const Trajectory tr_no_calibration = estimate_trajectory(no_calibration, instants, nullptr);
     const Trajectory tr_equal = estimate_trajectory(equal, instants, nullptr);
     ASSERT_EQ(tr.points.size(), tr_equal.points.size());
+    ASSERT_EQ(tr.points.size(), tr_no_calibration.points.size());
     for (std::size_t i = 0; i < tr.points.size(); ++i) {
       const TrajectoryPoint& p = tr.points[i];
       if (p.cameras.size() < 3) continue;
@@ -201,6 +208,7 @@ void run_case(const Case& c, int missions, Tally* tally) {
       tally->z2 += e.squaredNorm() / (p.fix.sigma_m * p.fix.sigma_m);
       tally->e2 += e.squaredNorm();
       tally->e2_equal += (tr_equal.points[i].fix.point - path(c, t)).squaredNorm();
+      tally->e2_no_calibration += (tr_no_calibration.points[i].fix.point - path(c, t)).squaredNorm();
       tally->e2_nearest += (nearest_frame_point(mission.cameras, p.t) - path(c, t)).squaredNorm();
       tally->inside += d2 <= kChi2_3_95 ? 1 : 0;
       tally->inside_without_calibration += e.dot(without.ldlt().solve(e)) <= kChi2_3_95 ? 1 : 0;
@@ -220,19 +228,21 @@ double check(const Case& c, int missions = 40) {
   const double z = std::sqrt(t.z2 / t.n), cover = static_cast<double>(t.inside) / t.n,
                cover_without = static_cast<double>(t.inside_without_calibration) / t.n;
   const double rms = std::sqrt(t.e2 / t.n), rms_equal = std::sqrt(t.e2_equal / t.n),
-               rms_nearest = std::sqrt(t.e2_nearest / t.n);
+               rms_nearest = std::sqrt(t.e2_nearest / t.n),
+               rms_no_calibration = std::sqrt(t.e2_no_calibration / t.n);
   std::printf(
       "%s: %zu instants over %d missions: rms %.2f cm, z rms %.3f, 95%% ellipsoid covers %.1f%% "
-      "(%.1f%% without the calibration covariance); equal weights (DLTdv/Argus) %.2f cm, nearest "
-      "frame %.2f cm\n",
-      c.name, t.n, missions, 100 * rms, z, 100 * cover, 100 * cover_without, 100 * rms_equal,
-      100 * rms_nearest);
+      "(%.1f%% without the calibration covariance); weighed without the calibrations %.2f cm; equal "
+      "weights (DLTdv/Argus) %.2f cm, nearest frame %.2f cm\n",
+      c.name, t.n, missions, 100 * rms, z, 100 * cover, 100 * cover_without, 100 * rms_no_calibration,
+      100 * rms_equal, 100 * rms_nearest);
   EXPECT_GT(z, 0.8) << c.name;
   EXPECT_LT(z, 1.25) << c.name;
   EXPECT_GT(cover, 0.93) << c.name;
   EXPECT_LT(cover, 0.97) << c.name;
   EXPECT_LT(cover_without, 0.85) << c.name;  // the calibration's term matters
   EXPECT_LE(rms, rms_equal * 1.001) << c.name;
+  EXPECT_LE(rms, rms_no_calibration * 1.001) << c.name;  // the calibrations in the weights never cost
   EXPECT_LT(rms, rms_nearest) << c.name;
   return rms / rms_equal;
 }
@@ -247,8 +257,9 @@ TEST(TrajectorySigma, DroneAtTensOfMetres) {
 
 TEST(TrajectorySigma, DroneSeenByCamerasWithAndWithoutTimeCode) {
   // Each view weighed by its label's, its instant's and its calibration's σ: the cameras without
-  // time code count for less along their image tracks (3.6 % lower than weighing every view alike).
-  EXPECT_LT(check(kMixed, 100), 0.98);
+  // time code count for less along their image tracks, the rougher labels and lenses for less
+  // everywhere (8.73 cm against 9.87 weighing every view alike; 8.94 without the calibrations).
+  EXPECT_LT(check(kMixed, 100), 0.95);
 }
 
 }  // namespace
