@@ -239,18 +239,19 @@ std::vector<Eigen::MatrixXd> calibration_jacobians(const std::vector<Triangulati
   return J;
 }
 
-// The calibrations' covariance between views i and j projected to their pixels, K_i·Σ_ij·K_jᵀ
-// (Σ_ii the view's own; Σ_ij a cross block when `cross` gives one); none (empty) without.
-Eigen::MatrixXd calibration_pixel_block(const std::vector<TriangulationView>& views,
-                                        const std::vector<Eigen::MatrixXd>& K, const CrossCovariances* cross,
-                                        std::size_t i, std::size_t j, const std::string& what) {
-  if (K[i].size() == 0 || K[j].size() == 0) return {};
-  if (i == j) return K[i] * views[i].calibration.covariance * K[i].transpose();
+// The calibrations' covariance between views i and j carried through M (per view, its columns the
+// view's calibration parameters: K_i to the pixels, ∂X/∂θ_i to the point), M_i·Σ_ij·M_jᵀ — Σ_ii a
+// camera's own covariance, Σ_ij a cross block when `cross` gives one; none (empty) without.
+Eigen::MatrixXd projected_calibration(const std::vector<TriangulationView>& views,
+                                      const std::vector<Eigen::MatrixXd>& M, const CrossCovariances* cross,
+                                      std::size_t i, std::size_t j, const std::string& what) {
+  if (M[i].size() == 0 || M[j].size() == 0) return {};
+  if (i == j) return M[i] * views[i].calibration.covariance * M[i].transpose();
   if (!cross || i >= cross->size() || j >= (*cross)[i].size() || (*cross)[i][j].size() == 0) return {};
   const Eigen::MatrixXd& S = (*cross)[i][j];
-  if (S.rows() != K[i].cols() || S.cols() != K[j].cols())
+  if (S.rows() != M[i].cols() || S.cols() != M[j].cols())
     throw_calibration_error(what, "a cross-camera covariance block does not match the cameras' parameters");
-  return K[i] * S * K[j].transpose();
+  return M[i] * S * M[j].transpose();
 }
 
 // The views' pixel errors' covariance, stacked (2n×2n): each view's label and timing terms
@@ -267,7 +268,7 @@ Eigen::MatrixXd stacked_covariance(const std::vector<TriangulationView>& views,
     for (std::size_t j = 0; j < n; ++j) {
       const auto ri = static_cast<Eigen::Index>(2 * i), cj = static_cast<Eigen::Index>(2 * j);
       if (i == j) C.block<2, 2>(ri, cj) = view_covariance(views[i]);
-      const Eigen::MatrixXd P = calibration_pixel_block(views, K, cross, i, j, what);
+      const Eigen::MatrixXd P = projected_calibration(views, K, cross, i, j, what);
       if (P.size() > 0) C.block<2, 2>(ri, cj) += P;
     }
   return 0.5 * (C + C.transpose());
@@ -326,7 +327,6 @@ void covariance_at(const std::vector<TriangulationView>& views, const ViewParame
   const Eigen::MatrixXd A = Ninv * JtW;  // 3×2n: ∂X/∂(pixels)
   Eigen::Matrix3d pick = Eigen::Matrix3d::Zero(), timing = Eigen::Matrix3d::Zero();
   std::vector<Eigen::MatrixXd> dXs(n);
-  res.calibration_pixel_cov.assign(n, Eigen::Matrix2d::Zero());
   for (std::size_t i = 0; i < n; ++i) {
     const TriangulationView& v = views[i];
     const Eigen::Matrix<double, 3, 2> Ai = A.block<3, 2>(0, static_cast<Eigen::Index>(2 * i));
@@ -335,23 +335,13 @@ void covariance_at(const std::vector<TriangulationView>& views, const ViewParame
     timing += v.timing_sigma_s * v.timing_sigma_s * Ag * Ag.transpose();
     if (K[i].size() == 0) continue;
     dXs[i] = -Ai * K[i];  // ∂X/∂θ_i, 3×m
-    res.calibration_pixel_cov[i] = K[i] * v.calibration.covariance * K[i].transpose();
   }
   res.cov_pick_m2 = 0.5 * (pick + pick.transpose());
   res.cov_timing_m2 = 0.5 * (timing + timing.transpose());
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = 0; j < n; ++j) {
-      if (dXs[i].size() == 0 || dXs[j].size() == 0) continue;
-      if (i == j) {
-        res.cov_calibration_m2 += dXs[i] * views[i].calibration.covariance * dXs[i].transpose();
-        continue;
-      }
-      if (!cross || i >= cross->size() || j >= (*cross)[i].size() || (*cross)[i][j].size() == 0) continue;
-      const Eigen::MatrixXd& S = (*cross)[i][j];
-      if (S.rows() != dXs[i].cols() || S.cols() != dXs[j].cols())
-        throw_calibration_error(what,
-                                "a cross-camera covariance block does not match the cameras' parameters");
-      res.cov_calibration_m2 += dXs[i] * S * dXs[j].transpose();
+      const Eigen::MatrixXd part = projected_calibration(views, dXs, cross, i, j, what);
+      if (part.size() > 0) res.cov_calibration_m2 += part;
     }
   res.cov_calibration_m2 = 0.5 * (res.cov_calibration_m2 + res.cov_calibration_m2.transpose()).eval();
   res.cov_m2 = res.cov_pick_m2 + res.cov_timing_m2 + res.cov_calibration_m2;

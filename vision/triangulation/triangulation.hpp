@@ -58,9 +58,7 @@ struct TriangulationResult {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();         ///< ENU (m), nonlinear solution
   Eigen::Vector3d linear_point = Eigen::Vector3d::Zero();  ///< ENU (m), midpoint start
   std::vector<Eigen::Vector2d> residuals_px;               ///< projected − picked, per view (px)
-  /// Each view's calibration covariance projected to its pixel, J_θ·Σ_θ·J_θᵀ (px²; zero without one).
-  std::vector<Eigen::Matrix2d> calibration_pixel_cov;
-  double rms_px = 0;  ///< √(mean over views of |residual|²) (px)
+  double rms_px = 0;                                       ///< √(mean over views of |residual|²) (px)
   /// rᵀ·W·r, the residuals under the weights the point was solved with (the views' whole stacked
   /// covariance, calibrations and their cross blocks included, when a view has a calibration
   /// covariance): the generalised least-squares objective, χ² with 2·views − 3 degrees of freedom.
